@@ -1,0 +1,41 @@
+#pragma once
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace orbis {
+
+/// A perspective camera in double precision: world positions in metres, angles in radians.
+/// The view matrix is built from eye, target and up; the projection from the vertical field of
+/// view, the aspect ratio and the near and far distances a frame chooses.
+class Camera final {
+public:
+    Camera() = default;
+    Camera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fieldOfViewYRadians);
+
+    void lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up);
+
+    const glm::dvec3& eye() const noexcept { return _eye; }
+    const glm::dvec3& target() const noexcept { return _target; }
+    const glm::dvec3& up() const noexcept { return _up; }
+    /// Unit vector from eye to target.
+    glm::dvec3 direction() const noexcept;
+    /// Unit vector to the right of the view direction, perpendicular to up.
+    glm::dvec3 right() const noexcept;
+
+    double fieldOfViewY() const noexcept { return _fieldOfViewY; }
+    void setFieldOfViewY(double radians) noexcept { _fieldOfViewY = radians; }
+
+    /// World to eye space, right-handed, looking down -z.
+    glm::dmat4 viewMatrix() const noexcept;
+    /// OpenGL clip space (depth -1..1) for the given aspect ratio (width / height) and distances.
+    glm::dmat4 projectionMatrix(double aspectRatio, double nearDistance, double farDistance) const noexcept;
+
+private:
+    glm::dvec3 _eye{0.0, 0.0, 1.0};
+    glm::dvec3 _target{0.0, 0.0, 0.0};
+    glm::dvec3 _up{0.0, 1.0, 0.0};
+    double _fieldOfViewY = 0.7853981633974483; // 45 degrees
+};
+
+} // namespace orbis

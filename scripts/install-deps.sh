@@ -1,0 +1,30 @@
+#!/bin/sh
+# Installs Orbis's build and run-time dependencies from Debian's archive, only those missing.
+# Needs root (or sudo) the first time; a second run with everything present installs nothing.
+set -eu
+
+packages="
+  build-essential cmake ninja-build ccache pkg-config
+  libglm-dev libgeographiclib-dev catch2 libbenchmark-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
+  libstb-dev libtinygltf-dev nlohmann-json3-dev
+  xplanet-images fonts-dejavu-core
+"
+
+missing=""
+for p in $packages; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+
+if [ -z "$missing" ]; then
+  echo "install-deps: all dependencies present"
+  exit 0
+fi
+
+echo "install-deps: installing$missing"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+# shellcheck disable=SC2086
+$sudo apt-get install -y -qq --no-install-recommends $missing
