@@ -9,6 +9,8 @@ build="${ORBIS_BUILD_DIR:-$root/build}"
 werror=OFF
 [ "${ORBIS_WERROR:-0}" = 1 ] && werror=ON
 jobs=$(nproc 2>/dev/null || echo 2)
+# Paths relative to the checkout, so clones and worktrees share one compiler cache.
+export CCACHE_BASEDIR="$root"
 
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DORBIS_WARNINGS_AS_ERRORS=$werror "$@"
 cmake --build "$build" --parallel "$jobs"
