@@ -31,6 +31,7 @@ namespace orbis {
 /// stops the worker.
 class MessageQueue final {
 public:
+    /// A message: any callable, run once on whichever thread processes it.
     using Message = std::function<void()>;
     /// Receives the exception of a posted message; must not throw (what it throws is kept for
     /// takeErrors() instead).
