@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 const Ellipsoid kEarth = Ellipsoid::wgs84();
@@ -14,7 +16,7 @@ TEST_CASE("Camera builds a right-handed view looking down -z", "[scene][camera]"
 {
     const Camera camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, toRadians(60.0));
     const glm::dvec4 target = camera.viewMatrix() * glm::dvec4(0, 0, 0, 1);
-    REQUIRE(target.z == Approx(-10.0));
+    REQUIRE_THAT(target.z, WithinRel(-10.0, 1e-12));
     REQUIRE(glm::length(camera.right() - glm::dvec3(1, 0, 0)) < 1e-15);
     // An up vector parallel to the view is replaced, never left to produce NaN.
     const Camera straightDown({0, 0, 10}, {0, 0, 0}, {0, 0, 1}, 1.0);
@@ -30,8 +32,8 @@ TEST_CASE("Orbit controller keeps its range, clamps elevation and never zooms be
     Camera camera;
     orbit.handle(InputEvent::drag(100, 0));
     orbit.apply(camera);
-    REQUIRE(glm::length(camera.eye()) == Approx(3 * radius));
-    REQUIRE(orbit.azimuth() == Approx(-0.5));
+    REQUIRE_THAT(glm::length(camera.eye()), WithinRel(3 * radius, 1e-12));
+    REQUIRE_THAT(orbit.azimuth(), WithinRel(-0.5, 1e-12));
 
     orbit.handle(InputEvent::drag(0, 1e6)); // far past the pole
     REQUIRE(orbit.elevation() < kHalfPi);
@@ -42,7 +44,7 @@ TEST_CASE("Orbit controller keeps its range, clamps elevation and never zooms be
     for (int i = 0; i < 1000; ++i) {
         orbit.handle(InputEvent::scroll(5));
     }
-    REQUIRE(orbit.range() - radius == Approx(orbit.minimumHeight)); // approaches, then stops above
+    REQUIRE_THAT(orbit.range() - radius, WithinRel(orbit.minimumHeight, 1e-12)); // approaches, then stops above
     orbit.handle(InputEvent::scroll(-10));
     REQUIRE(orbit.range() - radius > 2 * orbit.minimumHeight);
 }
@@ -53,12 +55,12 @@ TEST_CASE("Fly controller speed follows height, so one key press covers more gro
     const glm::dvec3 high = kEarth.toCartesian(Geodetic3D::fromDegrees(10, 45, 1e6));
     FlyController lowFlyer(kEarth, low, 0.0, 0.0);
     FlyController highFlyer(kEarth, high, 0.0, 0.0);
-    REQUIRE(lowFlyer.speed() == Approx(100.0).margin(1e-6));
-    REQUIRE(highFlyer.speed() == Approx(1e6).margin(1e-3));
+    REQUIRE_THAT(lowFlyer.speed(), WithinAbs(100.0, 1e-6));
+    REQUIRE_THAT(highFlyer.speed(), WithinAbs(1e6, 1e-3));
 
     lowFlyer.handle(InputEvent::keyHeld(InputEvent::Key::Forward, 1.0));
     // Heading 0, pitch 0: due north, 100 m.
-    REQUIRE(glm::length(lowFlyer.position() - low) == Approx(100.0).margin(1e-6));
+    REQUIRE_THAT(glm::length(lowFlyer.position() - low), WithinAbs(100.0, 1e-6));
     REQUIRE(kEarth.toGeodetic2D(lowFlyer.position()).latitude > toRadians(45.0));
 
     lowFlyer.handle(InputEvent::drag(0, -1e5)); // pitch up past vertical: clamped
@@ -80,8 +82,8 @@ TEST_CASE("Camera path passes through its keyframes and crosses the antimeridian
     REQUIRE(glm::length(camera.eye() - kEarth.toCartesian(Geodetic3D::fromDegrees(170, 0, 1e6))) < 1e-6);
     path.apply(5.0, camera);
     const Geodetic3D middle = kEarth.toGeodetic3D(camera.eye());
-    REQUIRE(std::abs(middle.longitude) == Approx(kPi).margin(1e-12)); // 180, not 0
-    REQUIRE(middle.height == Approx(1.5e6).margin(1e-6));
+    REQUIRE_THAT(std::abs(middle.longitude), WithinAbs(kPi, 1e-12)); // 180, not 0
+    REQUIRE_THAT(middle.height, WithinAbs(1.5e6, 1e-6));
     path.apply(99.0, camera); // clamped to the end
     REQUIRE(glm::length(camera.eye() - kEarth.toCartesian(Geodetic3D::fromDegrees(-170, 10, 2e6))) < 1e-6);
 }
