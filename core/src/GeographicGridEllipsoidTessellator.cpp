@@ -48,6 +48,15 @@ TessellationResult GeographicGridEllipsoidTessellator::compute(const Ellipsoid& 
         }
     };
 
+    // On the meridians at multiples of 90 degrees sin or cos of the longitude rounds to 1e-16 instead
+    // of 0: zero that coordinate, so that the antimeridian has y = 0 exactly, as in the other
+    // tessellators, and the prime meridian too.
+    auto snapToAxes = [slices](std::uint32_t j, glm::dvec3& v) {
+        if ((4 * j) % slices == 0) {
+            v[((4 * j) / slices) % 2 == 0 ? 1 : 0] = 0.0;
+        }
+    };
+
     addPole(-1.0);
     for (std::uint32_t i = 1; i < stacks; ++i) {
         const double latitude = -kHalfPi + kPi * i / stacks;
@@ -55,10 +64,13 @@ TessellationResult GeographicGridEllipsoidTessellator::compute(const Ellipsoid& 
         for (std::uint32_t j = 0; j < ringSize; ++j) {
             const Geodetic2D g(-kPi + kTwoPi * j / slices, latitude);
             // The duplicated antimeridian vertex takes the first one's position bit for bit.
-            mesh.positions.push_back(j == slices ? mesh.positions[ringStart] : ellipsoid.toCartesian(g));
+            glm::dvec3 position = ellipsoid.toCartesian(g);
+            glm::dvec3 normal = Ellipsoid::geodeticSurfaceNormal(g);
+            snapToAxes(j, position);
+            snapToAxes(j, normal);
+            mesh.positions.push_back(j == slices ? mesh.positions[ringStart] : position);
             if (normals) {
-                mesh.normals.emplace_back(j == slices ? mesh.normals[ringStart]
-                                                      : glm::vec3(Ellipsoid::geodeticSurfaceNormal(g)));
+                mesh.normals.emplace_back(j == slices ? mesh.normals[ringStart] : glm::vec3(normal));
             }
             if (textureCoordinates) {
                 mesh.textureCoordinates.emplace_back(static_cast<float>(static_cast<double>(j) / slices),

@@ -21,8 +21,9 @@ public:
     /// stackPartitions bands of latitude (at least 2); smaller counts are asserted and clamped.
     /// Vertices: the south pole, the rings of latitude from south to north, the north pole:
     /// 2 + slices * (stacks - 1) of them, and 2 * slices * (stacks - 1) triangles, counter-clockwise
-    /// seen from outside. Positions come from Ellipsoid::toCartesian; normals are geodetic surface
-    /// normals, (0, 0, +-1) at the poles. Texture coordinates are u = j / slices, v = i / stacks for
+    /// seen from outside. Positions come from Ellipsoid::toCartesian, with the coordinate that
+    /// vanishes on the meridians at multiples of 90 degrees set to 0 exactly (the antimeridian has
+    /// y = 0); normals are geodetic surface normals, (0, 0, +-1) at the poles. Texture coordinates are u = j / slices, v = i / stacks for
     /// meridian j and parallel i; asking for them duplicates the antimeridian column (u = 0 and u = 1,
     /// at the same position) and gives each pole one vertex per fan triangle, u at the triangle's
     /// middle, so that there are (slices + 1) * (stacks - 1) + 2 * slices vertices.
