@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cassert>
-#include <unordered_map>
 
 namespace orbis {
 
@@ -27,21 +26,32 @@ Mesh subdividedOctahedron(int subdivisions)
     // Counter-clockwise seen from outside: (+x, +y, +z) has the outward normal (1, 1, 1).
     mesh.indices = {2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 2, 0, 3, 2, 1, 4, 3, 1, 5, 4, 1, 2, 5, 1};
 
+    // Each edge's midpoint is filed under its lower-numbered end: no vertex has more than 6
+    // neighbours, so 6 slots per vertex hold them, and a lookup scans one cache line or two.
+    constexpr std::uint32_t kEmpty = 0xffffffffu;
+    struct Slot {
+        std::uint32_t other;
+        std::uint32_t midpoint;
+    };
     std::vector<std::uint32_t> next;
-    std::unordered_map<std::uint64_t, std::uint32_t> midpoints;
+    std::vector<Slot> midpoints;
     for (int level = 0; level < subdivisions; ++level) {
         const std::size_t triangles = mesh.indices.size() / 3;
         next.clear();
         next.reserve(4 * mesh.indices.size());
-        midpoints.clear();
-        midpoints.reserve(triangles * 3 / 2);
+        midpoints.assign(6 * mesh.positions.size(), Slot{kEmpty, kEmpty});
         auto midpoint = [&](std::uint32_t i, std::uint32_t j) {
-            const std::uint64_t key = (std::uint64_t{std::min(i, j)} << 32) | std::max(i, j);
-            const auto [it, inserted] = midpoints.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
-            if (inserted) {
+            Slot* slot = &midpoints[6 * std::size_t{std::min(i, j)}];
+            const std::uint32_t other = std::max(i, j);
+            while (slot->other != other && slot->other != kEmpty) {
+                ++slot;
+            }
+            assert(slot < midpoints.data() + 6 * (std::size_t{std::min(i, j)} + 1));
+            if (slot->other == kEmpty) {
+                *slot = {other, static_cast<std::uint32_t>(mesh.positions.size())};
                 mesh.positions.push_back(glm::normalize(mesh.positions[i] + mesh.positions[j]));
             }
-            return it->second;
+            return slot->midpoint;
         };
         for (std::size_t t = 0; t < triangles; ++t) {
             const std::uint32_t a = mesh.indices[3 * t];
