@@ -15,7 +15,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <string>
 
 namespace orbis::bench {
@@ -58,31 +57,28 @@ std::vector<std::string> measure(const std::string& tessellator, const std::stri
             formatNumber(allMs, 3)};
 }
 
-/// For each tessellator, the fewest triangles with which it came within the given deviation; empty
-/// when none did in this run.
-std::string cheapestWithin(const std::vector<Row>& rows, double meters)
+/// For each tessellator, the triangles it would need for 1 km, extrapolated from its finest level
+/// in this run: deviation falls as 1 / triangles, so deviation x triangles is its figure of merit.
+std::string trianglesPerKilometre(const std::vector<Row>& rows)
 {
-    std::map<std::string, const Row*> best;
-    std::vector<std::string> order;
+    std::vector<const Row*> finest;
     for (const Row& row : rows) {
-        if (!best.count(row.tessellator)) {
-            order.push_back(row.tessellator);
-            best[row.tessellator] = nullptr;
-        }
-        if (row.deviation <= meters && (!best[row.tessellator] || row.triangles < best[row.tessellator]->triangles)) {
-            best[row.tessellator] = &row;
+        if (!finest.empty() && finest.back()->tessellator == row.tessellator) {
+            finest.back() = &row;
+        } else {
+            finest.push_back(&row);
         }
     }
-    if (std::none_of(order.begin(), order.end(), [&](const std::string& name) { return best[name] != nullptr; })) {
-        return {};
+    std::sort(finest.begin(), finest.end(), [](const Row* a, const Row* b) {
+        return a->deviation * static_cast<double>(a->triangles) < b->deviation * static_cast<double>(b->triangles);
+    });
+    std::string text = "Triangles needed for a 1 km deviation, extrapolated from each tessellator's finest level here "
+                       "as deviation x triangles / 1 km (deviation falls as 1 / triangles), fewest first: ";
+    for (std::size_t i = 0; i < finest.size(); ++i) {
+        text += (i ? "; " : "") + finest[i]->tessellator + " " +
+                formatNumber(finest[i]->deviation * static_cast<double>(finest[i]->triangles) / 1000.0, 2);
     }
-    std::string text = "Fewest triangles within " + formatLength(meters) + ": ";
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        const Row* row = best[order[i]];
-        text += (i ? "; " : "") + order[i] + " " +
-                (row ? std::to_string(row->triangles) + " (" + row->setting + ")" : "not reached in this run");
-    }
-    return text + ". ";
+    return text + ".";
 }
 
 std::vector<Table> run(const Options& options)
@@ -146,8 +142,7 @@ std::vector<Table> run(const Options& options)
                                          repeats, rows));
         }
     }
-    globe.notes = cheapestWithin(rows, 100e3) + cheapestWithin(rows, 10e3) + cheapestWithin(rows, 1e3) +
-                  "Halving the edges quarters the deviation for every tessellator.";
+    globe.notes = "Halving the edges quarters the deviation for every tessellator. " + trianglesPerKilometre(rows);
 
     Table flat;
     flat.title = "Flat proxies on WGS84";
