@@ -26,7 +26,7 @@ public:
     /// vertices shared between faces, 12 n^2 triangles, counter-clockwise seen from outside. Normals
     /// are geodetic surface normals. Texture coordinates map geodetic longitude and latitude to
     /// [0, 1]; they need the poles and the antimeridian on grid lines, so an odd n is asserted and
-    /// rounded up to even when they are asked for. They add n - 1 copies of the antimeridian's
+    /// rounded up to even when they are asked for. They add 2n - 1 copies of the antimeridian's
     /// vertices (u = 0 for the western triangles) and, at each pole, one vertex per triangle around it.
     static TessellationResult compute(const Ellipsoid& ellipsoid, int partitions,
                                       CubeMapSpacing spacing = CubeMapSpacing::EqualAngle,
