@@ -11,6 +11,8 @@
 #include <vector>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -93,7 +95,7 @@ TEST_CASE("BoundingSphere fromPoints of a cube takes the box-centred sphere", "[
     }
     const BoundingSphere sphere = BoundingSphere::fromPoints(corners);
     // The corners lie on the sphere of radius sqrt(3), which is the smallest; rounding only.
-    REQUIRE(sphere.radius == Approx(std::sqrt(3.0)).epsilon(1e-15));
+    REQUIRE_THAT(sphere.radius, WithinRel(std::sqrt(3.0), 1e-15));
     REQUIRE(glm::length(sphere.centre) <= 1e-15);
 }
 
@@ -217,7 +219,7 @@ TEST_CASE("AxisAlignedBoundingBox fromPoints, centre and contains", "[core][geom
     REQUIRE_FALSE(box.contains({0.0, 0.0, -7.0}));
     // The centre of corners near the largest double does not overflow.
     const AxisAlignedBoundingBox huge{glm::dvec3(1e308), glm::dvec3(1.7e308)};
-    REQUIRE(huge.centre().x == Approx(1.35e308).epsilon(1e-15));
+    REQUIRE_THAT(huge.centre().x, WithinRel(1.35e308, 1e-15));
 }
 
 TEST_CASE("Plane fromPointNormal normalises and measures signed distance", "[core][geometry][plane]")
@@ -229,6 +231,6 @@ TEST_CASE("Plane fromPointNormal normalises and measures signed distance", "[cor
     REQUIRE(plane.signedDistance({5.0, 5.0, 0.0}) == -6378137.0);
     REQUIRE(plane.project({5.0, 6.0, 0.0}) == glm::dvec3(5.0, 6.0, 6378137.0));
     const Plane tilted = Plane::fromPointNormal({1.0, 1.0, 1.0}, {1.0, 1.0, 1.0});
-    REQUIRE(glm::length(tilted.normal) == Approx(1.0).epsilon(1e-15));
-    REQUIRE(tilted.signedDistance({1.0, 1.0, 1.0}) == Approx(0.0).margin(1e-15)); // rounding of 1/sqrt(3)
+    REQUIRE_THAT(glm::length(tilted.normal), WithinRel(1.0, 1e-15));
+    REQUIRE_THAT(tilted.signedDistance({1.0, 1.0, 1.0}), WithinAbs(0.0, 1e-15)); // rounding of 1/sqrt(3)
 }

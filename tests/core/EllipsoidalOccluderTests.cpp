@@ -10,6 +10,7 @@
 #include <vector>
 
 using namespace orbis;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -191,14 +192,14 @@ TEST_CASE("EllipsoidalOccluder horizon occlusion point: edge cases", "[core][geo
         const glm::dvec3 p = kEarth.toCartesian(Geodetic3D(0.0, 0.0, height));
         const auto point = occluder.horizonOcclusionPoint(x, std::vector<glm::dvec3>{p});
         REQUIRE(point);
-        REQUIRE(point->x == Approx(occluder.toScaledSpace(p).x).epsilon(1e-13));
+        REQUIRE_THAT(point->x, WithinRel(occluder.toScaledSpace(p).x, 1e-13));
         REQUIRE(point->y == 0.0);
         REQUIRE(point->z == 0.0);
     }
     // A surface point 60 degrees off the direction: 1 / cos(60 deg) = 2.
     const auto sixty = occluder.horizonOcclusionPoint(x, std::vector<glm::dvec3>{kEarth.toCartesian(Geodetic3D::fromDegrees(60.0, 0.0))});
     REQUIRE(sixty);
-    REQUIRE(sixty->x == Approx(2.0).epsilon(1e-13));
+    REQUIRE_THAT(sixty->x, WithinRel(2.0, 1e-13));
     // At or beyond 90 degrees there is no such point; so too for a position below the surface (it
     // counts as the surface point above it), for the centre, no positions and no direction.
     const glm::dvec3 ninety = kEarth.toCartesian(Geodetic3D::fromDegrees(90.0, 0.0));
@@ -213,7 +214,7 @@ TEST_CASE("EllipsoidalOccluder horizon occlusion point: edge cases", "[core][geo
     // A position below the surface along the direction gives the surface point.
     const auto deep = occluder.horizonOcclusionPoint(x, std::vector<glm::dvec3>{glm::dvec3(1000.0, 0.0, 0.0)});
     REQUIRE(deep);
-    REQUIRE(deep->x == Approx(1.0).epsilon(1e-14));
+    REQUIRE_THAT(deep->x, WithinRel(1.0, 1e-14));
 }
 
 TEST_CASE("EllipsoidalOccluder horizon occlusion point hides a tile only when every vertex is hidden", "[core][geometry][occluder][hard]")

@@ -11,6 +11,8 @@
 #include <limits>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -58,7 +60,7 @@ TEST_CASE("Frustum planes pass through the clip volume's corners and face inward
         REQUIRE(std::abs(frustum.plane(ySides[iy]).signedDistance(c)) <= tolerance);
         REQUIRE(std::abs(frustum.plane(zSides[iz]).signedDistance(c)) <= tolerance);
         for (const Plane& plane : frustum.planes()) {
-            REQUIRE(glm::length(plane.normal) == Approx(1.0).epsilon(1e-15));
+            REQUIRE_THAT(glm::length(plane.normal), WithinRel(1.0, 1e-15));
             REQUIRE(plane.signedDistance(c) >= -tolerance);
         }
     }
@@ -67,8 +69,8 @@ TEST_CASE("Frustum planes pass through the clip volume's corners and face inward
     REQUIRE_FALSE(frustum.contains(camera.eye - 1000.0 * camera.forward())); // behind the camera
     REQUIRE_FALSE(frustum.contains(camera.eye + 5e7 * camera.forward()));   // beyond the far plane
     // The near plane faces forward; the far plane backward.
-    REQUIRE(glm::dot(frustum.plane(Frustum::Near).normal, camera.forward()) == Approx(1.0).epsilon(1e-12));
-    REQUIRE(glm::dot(frustum.plane(Frustum::Far).normal, camera.forward()) == Approx(-1.0).epsilon(1e-12));
+    REQUIRE_THAT(glm::dot(frustum.plane(Frustum::Near).normal, camera.forward()), WithinRel(1.0, 1e-12));
+    REQUIRE_THAT(glm::dot(frustum.plane(Frustum::Far).normal, camera.forward()), WithinRel(-1.0, 1e-12));
 }
 
 TEST_CASE("Frustum classifies spheres as inside, intersecting or outside", "[core][geometry][frustum]")
@@ -127,8 +129,8 @@ TEST_CASE("Frustum of an orthographic projection is a box", "[core][geometry][fr
     REQUIRE(frustum.plane(Frustum::Top).normal == glm::dvec3(0.0, -1.0, 0.0));
     REQUIRE(frustum.plane(Frustum::Top).distance == 1.0);
     // The eye looks down -z: near is z = -0.5, far z = -10.
-    REQUIRE(frustum.plane(Frustum::Near).signedDistance({0.0, 0.0, -0.5}) == Approx(0.0).margin(1e-15));
-    REQUIRE(frustum.plane(Frustum::Far).signedDistance({0.0, 0.0, -10.0}) == Approx(0.0).margin(1e-14));
+    REQUIRE_THAT(frustum.plane(Frustum::Near).signedDistance({0.0, 0.0, -0.5}), WithinAbs(0.0, 1e-15));
+    REQUIRE_THAT(frustum.plane(Frustum::Far).signedDistance({0.0, 0.0, -10.0}), WithinAbs(0.0, 1e-14));
     REQUIRE(frustum.contains({1.9, -0.9, -9.9}));
     REQUIRE_FALSE(frustum.contains({2.1, 0.0, -5.0}));
 }

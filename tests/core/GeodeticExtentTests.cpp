@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
 
 namespace {
 
@@ -20,10 +21,10 @@ TEST_CASE("GeodeticExtent width, height, centre and contains for an ordinary ext
     const GeodeticExtent e = GeodeticExtent::fromDegrees(10.0, -20.0, 30.0, 40.0);
     REQUIRE(e.west == toRadians(10.0));
     REQUIRE(e.north == toRadians(40.0));
-    REQUIRE(e.width() == Approx(toRadians(20.0)).margin(1e-15));
-    REQUIRE(e.height() == Approx(toRadians(60.0)).margin(1e-15));
-    REQUIRE(e.centre().longitude == Approx(toRadians(20.0)).margin(1e-15));
-    REQUIRE(e.centre().latitude == Approx(toRadians(10.0)).margin(1e-15));
+    REQUIRE_THAT(e.width(), WithinAbs(toRadians(20.0), 1e-15));
+    REQUIRE_THAT(e.height(), WithinAbs(toRadians(60.0), 1e-15));
+    REQUIRE_THAT(e.centre().longitude, WithinAbs(toRadians(20.0), 1e-15));
+    REQUIRE_THAT(e.centre().latitude, WithinAbs(toRadians(10.0), 1e-15));
     REQUIRE(contains(e, 20.0, 0.0));
     REQUIRE(contains(e, 10.0, -20.0)); // corners are inside
     REQUIRE(contains(e, 30.0, 40.0));
@@ -41,8 +42,8 @@ TEST_CASE("GeodeticExtent width, height, centre and contains for an ordinary ext
 TEST_CASE("GeodeticExtent across the antimeridian (east < west)", "[core][geometry][extent][hard]")
 {
     const GeodeticExtent e = GeodeticExtent::fromDegrees(170.0, -10.0, -170.0, 10.0);
-    REQUIRE(e.width() == Approx(toRadians(20.0)).margin(1e-14));
-    REQUIRE(std::abs(e.centre().longitude) == Approx(kPi).margin(1e-14));
+    REQUIRE_THAT(e.width(), WithinAbs(toRadians(20.0), 1e-14));
+    REQUIRE_THAT(std::abs(e.centre().longitude), WithinAbs(kPi, 1e-14));
     REQUIRE(e.centre().longitude > 0.0); // in (-pi, pi]
     REQUIRE(contains(e, 175.0, 0.0));
     REQUIRE(contains(e, -175.0, 0.0));
@@ -57,15 +58,15 @@ TEST_CASE("GeodeticExtent across the antimeridian (east < west)", "[core][geomet
 
     // Off-centre: 150 E to 170 W is 40 degrees wide, centred on 170 E.
     const GeodeticExtent f = GeodeticExtent::fromDegrees(150.0, 0.0, -170.0, 1.0);
-    REQUIRE(f.width() == Approx(toRadians(40.0)).margin(1e-14));
-    REQUIRE(f.centre().longitude == Approx(toRadians(170.0)).margin(1e-14));
+    REQUIRE_THAT(f.width(), WithinAbs(toRadians(40.0), 1e-14));
+    REQUIRE_THAT(f.centre().longitude, WithinAbs(toRadians(170.0), 1e-14));
     // And 170 E to 150 W centres on 170 W.
     const GeodeticExtent g = GeodeticExtent::fromDegrees(170.0, 0.0, -150.0, 1.0);
-    REQUIRE(g.centre().longitude == Approx(toRadians(-170.0)).margin(1e-14));
+    REQUIRE_THAT(g.centre().longitude, WithinAbs(toRadians(-170.0), 1e-14));
 
     // An extent ending on the antimeridian contains both names of it.
     const GeodeticExtent east = GeodeticExtent::fromDegrees(170.0, 0.0, 180.0, 1.0);
-    REQUIRE(east.width() == Approx(toRadians(10.0)).margin(1e-14));
+    REQUIRE_THAT(east.width(), WithinAbs(toRadians(10.0), 1e-14));
     REQUIRE(contains(east, 180.0, 0.5));
     REQUIRE(contains(east, -180.0, 0.5));
     const GeodeticExtent west = GeodeticExtent::fromDegrees(-180.0, 0.0, -170.0, 1.0);
@@ -84,7 +85,7 @@ TEST_CASE("GeodeticExtent at the poles and for the whole globe", "[core][geometr
     REQUIRE_FALSE(contains(cap, 5.0, -90.0));
     const GeodeticExtent south = GeodeticExtent::fromDegrees(-10.0, -90.0, 10.0, -60.0);
     REQUIRE(contains(south, 100.0, -90.0));
-    REQUIRE(south.height() == Approx(toRadians(30.0)).margin(1e-15));
+    REQUIRE_THAT(south.height(), WithinAbs(toRadians(30.0), 1e-15));
 
     const GeodeticExtent globe = GeodeticExtent::maximum();
     REQUIRE(globe.width() == kTwoPi);

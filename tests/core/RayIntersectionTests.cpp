@@ -11,6 +11,8 @@
 #include <utility>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -80,6 +82,30 @@ glm::dvec3 tangentDirection(const glm::dvec3& n, const glm::dvec3& r)
     return glm::normalize(t - glm::dot(t, n) * n);
 }
 
+/// Moeller-Trumbore in extended precision: distance and barycentrics of the ray's hit.
+RayTriangleHit referenceRayTriangle(const Ray& ray, const glm::dvec3& p0, const glm::dvec3& p1, const glm::dvec3& p2)
+{
+    Extended o[3], d[3], e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+        o[k] = Extended(ray.origin[k]) - Extended(p0[k]);
+        d[k] = ray.direction[k];
+        e1[k] = Extended(p1[k]) - Extended(p0[k]);
+        e2[k] = Extended(p2[k]) - Extended(p0[k]);
+    }
+    auto cross = [](const Extended* x, const Extended* y, Extended* r) {
+        r[0] = x[1] * y[2] - x[2] * y[1];
+        r[1] = x[2] * y[0] - x[0] * y[2];
+        r[2] = x[0] * y[1] - x[1] * y[0];
+    };
+    auto dot = [](const Extended* x, const Extended* y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; };
+    Extended p[3], q[3];
+    cross(d, e2, p);
+    cross(o, e1, q);
+    const Extended det = dot(e1, p);
+    return {static_cast<double>(dot(e2, q) / det), static_cast<double>(dot(o, p) / det),
+            static_cast<double>(dot(d, q) / det)};
+}
+
 /// How far p is from the surface, in scaled units (|p / radii| - 1).
 double scaledHeight(const glm::dvec3& p, const Ellipsoid& ellipsoid)
 {
@@ -146,13 +172,13 @@ TEST_CASE("Ray-ellipsoid intersection along the axes is exact to rounding", "[co
     // Tolerance: 4 units in the last place of the distance (scaling by rounded 1 / radius).
     auto x = intersectRayEllipsoid({{1e9, 0.0, 0.0}, {-1.0, 0.0, 0.0}}, kEarth);
     REQUIRE(x);
-    REQUIRE(x->nearDistance == Approx(1e9 - r.x).epsilon(4 * kEpsilon));
-    REQUIRE(x->farDistance == Approx(1e9 + r.x).epsilon(4 * kEpsilon));
+    REQUIRE_THAT(x->nearDistance, WithinRel(1e9 - r.x, 4 * kEpsilon));
+    REQUIRE_THAT(x->farDistance, WithinRel(1e9 + r.x, 4 * kEpsilon));
 
     auto z = intersectRayEllipsoid({{0.0, 0.0, -2e7}, {0.0, 0.0, 1.0}}, kEarth);
     REQUIRE(z);
-    REQUIRE(z->nearDistance == Approx(2e7 - r.z).epsilon(4 * kEpsilon));
-    REQUIRE(z->farDistance == Approx(2e7 + r.z).epsilon(4 * kEpsilon));
+    REQUIRE_THAT(z->nearDistance, WithinRel(2e7 - r.z, 4 * kEpsilon));
+    REQUIRE_THAT(z->farDistance, WithinRel(2e7 + r.z, 4 * kEpsilon));
 }
 
 TEST_CASE("Ray-ellipsoid from the centre or from inside returns 0 and the exit", "[core][geometry][intersection]")
@@ -165,7 +191,7 @@ TEST_CASE("Ray-ellipsoid from the centre or from inside returns 0 and the exit",
     auto up = intersectRayEllipsoid({{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}}, kEarth);
     REQUIRE(up);
     REQUIRE(up->nearDistance == 0.0);
-    REQUIRE(up->farDistance == Approx(kEarth.radii().z).epsilon(2 * kEpsilon));
+    REQUIRE_THAT(up->farDistance, WithinRel(kEarth.radii().z, 2 * kEpsilon));
 
     for (int i = 0; i < 20000; ++i) {
         // From the centre, from deep inside, and from within 1 m below the surface.
@@ -232,7 +258,7 @@ TEST_CASE("Ray-ellipsoid counts a tangent ray as touching at its closest approac
     const auto chord = intersectRayEllipsoid({p + glm::dvec3(-1e-3, -1e7, 0.0), {0.0, 1.0, 0.0}}, kEarth);
     REQUIRE(chord);
     // Error bound of the grazing sweep below: 4 eps (|o| + R)(1 + R / L) = 0.15 m here.
-    REQUIRE(chord->farDistance - chord->nearDistance == Approx(2.0 * std::sqrt(2.0 * 6378137.0 * 1e-3)).margin(0.15));
+    REQUIRE_THAT(chord->farDistance - chord->nearDistance, WithinAbs(2.0 * std::sqrt(2.0 * 6378137.0 * 1e-3), 0.15));
 }
 
 TEST_CASE("Ray-ellipsoid grazing rays at Earth scale match extended precision", "[core][geometry][intersection][hard]")
@@ -284,7 +310,7 @@ TEST_CASE("Ray-ellipsoid from 1e9 m away and beyond never returns NaN", "[core][
     const glm::dvec3 from = 1e9 * glm::normalize(glm::dvec3(1.0, 2.0, 0.0));
     const auto head = intersectRayEllipsoid({from, -glm::normalize(from)}, kEarth);
     REQUIRE(head);
-    REQUIRE(head->nearDistance == Approx(1e9 - kEarth.radii().x).epsilon(4 * kEpsilon));
+    REQUIRE_THAT(head->nearDistance, WithinRel(1e9 - kEarth.radii().x, 4 * kEpsilon));
 
     for (int i = 0; i < 20000; ++i) {
         const double distance = std::pow(10.0, 9.0 + 300.0 * unit(random) * (i % 2));
@@ -354,7 +380,7 @@ TEST_CASE("Ray-triangle intersection (Moeller-Trumbore): hits, edges, misses, pa
     REQUIRE_FALSE(intersectRayTriangle({{1.0, 0.0, 1.0}, {0.0, 0.0, 0.0}}, p0, p1, p2)); // no direction
 }
 
-TEST_CASE("Ray-triangle intersection at Earth scale finds the aimed-at point", "[core][geometry][intersection]")
+TEST_CASE("Ray-triangle intersection at Earth scale matches extended precision and finds the aimed-at point", "[core][geometry][intersection]")
 {
     const auto seed = GENERATE(take(1, random(0u, 1000000u)));
     INFO("seed " << seed);
@@ -381,16 +407,22 @@ TEST_CASE("Ray-triangle intersection at Earth scale finds the aimed-at point", "
         }
         const Ray ray{target - distance * direction, direction};
         INFO("i " << i << " u " << u << " v " << v << " distance " << distance);
+        // The rounded ray's own barycentrics, in extended precision: the construction above rounds
+        // by 1e-9 m at this scale, more than the algorithm's error.
+        const RayTriangleHit expected = referenceRayTriangle(ray, p0, p1, p2);
         const auto hit = intersectRayTriangle(ray, p0, p1, p2);
-        // Barycentrics within 1e-9 of the 10 m edges (1e-8 m): a 1e7 m origin rounds to 1e-9 m and
-        // the ray is at least 0.1 rad off the plane. Aim points that close to an edge may miss.
-        const bool nearEdge = u < 1e-9 || v < 1e-9 || u + v > 1.0 - 1e-9;
+        // Tolerance 2e-9 of the 10 m edges (2e-8 m): the edges are differences of 6.4e6 m
+        // coordinates, each rounded to 5e-10 m; the sweep's worst is 4.4e-10.
+        const bool nearEdge = expected.u < 2e-9 || expected.v < 2e-9 || expected.u + expected.v > 1.0 - 2e-9;
         if (!hit) {
             REQUIRE(nearEdge);
             continue;
         }
-        REQUIRE(hit->u == Approx(u).margin(1e-9));
-        REQUIRE(hit->v == Approx(v).margin(1e-9));
-        REQUIRE(hit->distance == Approx(distance).margin(1e-7));
+        REQUIRE_THAT(hit->u, WithinAbs(expected.u, 2e-9));
+        REQUIRE_THAT(hit->v, WithinAbs(expected.v, 2e-9));
+        // 8 ulp of the distance plus 2e-8 m across the plane (the ray meets it at least 0.1 rad off).
+        REQUIRE_THAT(hit->distance, WithinAbs(expected.distance, 8 * kEpsilon * distance + 2e-7));
+        // And the aimed-at point, up to the construction's rounding (1.5e-8 m in the sweep).
+        REQUIRE(glm::length(ray.pointAt(hit->distance) - target) <= 8 * kEpsilon * distance + 1e-7);
     }
 }
