@@ -1,5 +1,6 @@
 // A user's program built against the installed orbis package.
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/renderer/EmbeddedShaders.h>
 
 #include <cstdio>
 
@@ -8,5 +9,7 @@ int main()
     const orbis::Ellipsoid earth = orbis::Ellipsoid::wgs84();
     const orbis::Geodetic3D centre = earth.toGeodetic3D({0.0, 0.0, 0.0});
     std::printf("centre height %.0f\n", centre.height);
+    // The renderer links too (its shaders are embedded; no GL context is needed for this).
+    std::printf("built-in GLSL library %s\n", orbis::embeddedShader("renderer/builtin/constants.glsl") ? "embedded" : "missing");
     return 0;
 }

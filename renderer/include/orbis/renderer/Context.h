@@ -1,0 +1,117 @@
+#pragma once
+
+#include "orbis/core/Mesh.h"
+#include "orbis/renderer/ClearState.h"
+#include "orbis/renderer/DrawCommand.h"
+#include "orbis/renderer/Framebuffer.h"
+#include "orbis/renderer/Image.h"
+#include "orbis/renderer/RenderStatistics.h"
+#include "orbis/renderer/SceneState.h"
+#include "orbis/renderer/VertexArray.h"
+
+#include <memory>
+
+namespace orbis {
+
+class Device;
+class ShaderProgram;
+namespace detail {
+class ContextState;
+class BackendContext;
+} // namespace detail
+
+/// Colour and depth formats of Context::createFramebuffer(width, height, ...).
+struct FramebufferOptions {
+    TextureFormat colorFormat = TextureFormat::RGBA8;
+    /// Depth24Stencil8 by default; set hasDepth to false for colour only.
+    TextureFormat depthFormat = TextureFormat::Depth24Stencil8;
+    bool hasDepth = true;
+};
+
+/// A GL context: it draws. It executes DrawCommands against the current framebuffer, shadows the
+/// GL state so that only what differs is changed, sets the automatic og_ uniforms and counts what
+/// it did. It also creates the objects GL does not share between contexts (vertex arrays and
+/// framebuffers). A context is used on one thread at a time, the one it is current on; the
+/// Device's main context is current on the thread that created the Device.
+///
+/// ```
+/// Device device;                       // EGL surfaceless, or OSMesa
+/// Context& context = device.context();
+/// Framebuffer target = context.createFramebuffer(640, 480);
+/// context.setFramebuffer(&target);
+/// context.clear(ClearState{});
+/// context.draw(command, sceneState);
+/// writePng(context.readPixels(), "frame.png");
+/// ```
+class Context final {
+public:
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    Device& device() const noexcept;
+
+    /// Makes this context current on the calling thread (for a shared context on a worker).
+    void makeCurrent();
+    /// Leaves the calling thread with no current context.
+    void releaseCurrent() noexcept;
+    bool isCurrent() const noexcept;
+
+    /// An empty vertex array, to fill with VertexArray::setAttribute.
+    VertexArray createVertexArray();
+    /// Uploads every attribute the mesh has, at the standard locations ("position" as
+    /// float(position - options.center), "positionHigh"/"positionLow", "normal",
+    /// "textureCoordinate") and its indices.
+    VertexArray createVertexArray(const Mesh& mesh, const VertexArrayOptions& options = {});
+    /// Uploads the attributes the program reads, matched by name. Throws orbis::Error naming the
+    /// attribute when the program reads one the mesh does not have.
+    VertexArray createVertexArray(const Mesh& mesh, const ShaderProgram& program,
+                                  const VertexArrayOptions& options = {});
+
+    /// A framebuffer without attachments.
+    Framebuffer createFramebuffer();
+    /// A framebuffer with a new colour texture and (by default) a depth-stencil texture. Throws
+    /// orbis::Error for a size outside 1..maximum texture size.
+    Framebuffer createFramebuffer(int width, int height, const FramebufferOptions& options = {});
+
+    /// Where draws and clears go when their command names no framebuffer; null for the default
+    /// framebuffer, which only a window has.
+    void setFramebuffer(Framebuffer* framebuffer) noexcept { _framebuffer = framebuffer; }
+    Framebuffer* framebuffer() const noexcept { return _framebuffer; }
+
+    /// Clears the current framebuffer.
+    void clear(const ClearState& clearState);
+    /// Clears the given framebuffer.
+    void clear(const ClearState& clearState, Framebuffer* framebuffer);
+    /// Executes a command. Throws orbis::Error naming the command for bad input: no program or
+    /// vertex array, an attribute the array lacks, a uniform never set or of the wrong type, an
+    /// incomplete framebuffer, no framebuffer where there is no default one.
+    void draw(const DrawCommand& command, const SceneState& sceneState);
+    /// The same with a default SceneState (identity matrices).
+    void draw(const DrawCommand& command);
+
+    /// A colour attachment of a framebuffer (the current one when null) as an RGBA image, top row
+    /// first. Float formats are clamped to 0..1.
+    Image readPixels(const Framebuffer* framebuffer = nullptr, int colorAttachment = 0);
+
+    /// Sends the queued commands to the GPU.
+    void flush();
+    /// Waits until the GPU has executed every queued command.
+    void finish();
+
+    /// What the context did since the last reset.
+    RenderStatistics statistics() const noexcept;
+    void resetStatistics() noexcept;
+
+private:
+    friend class Device;
+    Context(Device& device, std::unique_ptr<detail::ContextState> state);
+    /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
+    Framebuffer* bindTarget(Framebuffer* requested, const std::string& where);
+    Rectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+
+    std::unique_ptr<detail::ContextState> _state;
+    Framebuffer* _framebuffer = nullptr;
+};
+
+} // namespace orbis

@@ -1,0 +1,141 @@
+#pragma once
+
+#include "orbis/renderer/UniformValue.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace orbis {
+
+class Device;
+namespace detail {
+class ContextState;
+struct ShaderProgramAccess;
+} // namespace detail
+
+/// The text of one shader stage and the name its errors are reported under.
+struct ShaderSource {
+    std::string name; ///< "shaders/renderer/builtin/functions.glsl" for embedded files
+    std::string text; ///< GLSL without #version: the renderer adds "#version 330 core"
+
+    /// A file embedded from shaders/ at build time, by its path under shaders/
+    /// ("examples/triangle/triangle.vert.glsl"). Throws orbis::Error when there is none.
+    static ShaderSource embedded(std::string_view path);
+    static ShaderSource fromText(std::string name, std::string text);
+};
+
+/// A preprocessor definition put before a program's sources: "#define name value".
+struct ShaderDefine {
+    std::string name;
+    std::string value = "1";
+    friend bool operator==(const ShaderDefine&, const ShaderDefine&) = default;
+};
+
+/// Everything a program is built from. Two descriptions with the same cacheKey() build the same
+/// program.
+struct ShaderProgramDescription {
+    std::string name; ///< for messages; empty: the vertex shader's name
+    ShaderSource vertex;
+    std::optional<ShaderSource> geometry;
+    ShaderSource fragment;
+    std::vector<ShaderDefine> defines;
+    /// Prepend the built-in GLSL library (shaders/renderer/builtin: og_pi, og_... functions).
+    bool builtinLibrary = true;
+
+    /// Sources, defines and options, joined; the shader cache's key.
+    std::string cacheKey() const;
+};
+
+/// An active vertex attribute of a linked program.
+struct ShaderVertexAttribute {
+    std::string name;
+    int location = -1;
+    UniformType type = UniformType::Unsupported; ///< float, vec2..vec4, int, ivec2..ivec4, matN
+};
+
+/// An active uniform of a linked program.
+struct ShaderUniform {
+    std::string name;
+    int location = -1;
+    UniformType type = UniformType::Unsupported;
+    int arraySize = 1;
+    bool automatic = false; ///< an og_ uniform the Context sets at draw time
+};
+
+/// Vertex, optional geometry, and fragment shaders compiled and linked: one GL program object,
+/// move-only, shared between the device's contexts. Built by Device::createShaderProgram (or the
+/// Device's ShaderCache). Compile errors name the file and line ("shaders/x.frag.glsl:12:...").
+///
+/// Uniform values are kept here and sent to GL at draw time, only those that changed. Automatic
+/// uniforms (og_modelViewProjectionMatrix, og_cameraEyeHigh, ... see docs/renderer.md) are filled by
+/// the Context from the SceneState; sampler uniforms named og_textureN are set to unit N. Every
+/// other active uniform must have been given a value before the first draw.
+///
+/// ```
+/// ShaderProgramDescription description;
+/// description.vertex = ShaderSource::embedded("examples/triangle/triangle.vert.glsl");
+/// description.fragment = ShaderSource::embedded("examples/triangle/triangle.frag.glsl");
+/// ShaderProgram program = device.createShaderProgram(description);
+/// program.setUniform("u_color", glm::vec4(1, 0.5f, 0, 1));
+/// ```
+class ShaderProgram final {
+public:
+    ShaderProgram() noexcept = default;
+    ~ShaderProgram();
+    ShaderProgram(ShaderProgram&& other) noexcept;
+    ShaderProgram& operator=(ShaderProgram&& other) noexcept;
+    ShaderProgram(const ShaderProgram&) = delete;
+    ShaderProgram& operator=(const ShaderProgram&) = delete;
+
+    const std::string& name() const noexcept { return _name; }
+    bool valid() const noexcept { return _handle != 0; }
+
+    const std::vector<ShaderVertexAttribute>& vertexAttributes() const noexcept { return _attributes; }
+    const std::vector<ShaderUniform>& uniforms() const noexcept { return _uniforms; }
+    /// Null when the program has no active attribute of that name.
+    const ShaderVertexAttribute* findVertexAttribute(std::string_view name) const noexcept;
+    /// False also for uniforms declared but unused: the GLSL compiler removes those.
+    bool hasUniform(std::string_view name) const noexcept;
+    /// Bit i set when the program reads attribute location i.
+    std::uint32_t attributeMask() const noexcept { return _attributeMask; }
+
+    /// The index of an active uniform for the fast setter; throws orbis::Error naming the program,
+    /// the uniform and the active ones when it is not active.
+    int uniformIndex(std::string_view name) const;
+    /// Sets a uniform's value; nothing is sent to GL when it equals the current value. Throws
+    /// orbis::Error when the uniform is not active, is automatic, or has another type. Returns true
+    /// when the value changed.
+    bool setUniform(std::string_view name, const UniformValue& value);
+    bool setUniform(int index, const UniformValue& value);
+
+private:
+    friend class Device;
+    friend struct detail::ShaderProgramAccess;
+
+    struct Slot {
+        int location = -1;
+        UniformType type = UniformType::Unsupported;
+        int automatic = -1; ///< an AutomaticUniform, or -1
+        bool hasValue = false;
+        bool dirty = false;
+        alignas(16) unsigned char value[64] = {};
+    };
+
+    Device* _device = nullptr;
+    unsigned _handle = 0;
+    std::uint64_t _serial = 0;
+    std::string _name;
+    std::vector<ShaderVertexAttribute> _attributes;
+    std::vector<ShaderUniform> _uniforms;
+    std::vector<Slot> _slots;           ///< parallel to _uniforms
+    std::vector<int> _dirtySlots;       ///< slots whose value GL does not have yet
+    std::vector<std::pair<int, int>> _automaticSlots; ///< (AutomaticUniform, slot)
+    std::vector<int> _samplerSlots;     ///< slots of sampler uniforms
+    int _unsetCount = 0;                ///< non-automatic slots without a value
+    std::uint32_t _attributeMask = 0;
+};
+
+} // namespace orbis

@@ -1,0 +1,89 @@
+#pragma once
+
+#include "orbis/renderer/Image.h"
+#include "orbis/renderer/RenderState.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace orbis {
+
+class Device;
+
+/// How a texture stores a texel, and the layout copyFromSystemMemory and copyToSystemMemory use:
+/// RGBA8 4 bytes, RGB8 3, R32F one float, RG32F two, RGBA32F four; Depth24 and Depth32F one float
+/// (0..1); Depth24Stencil8 one 32-bit word, depth in the high 24 bits, stencil in the low 8.
+enum class TextureFormat : std::uint8_t { RGBA8, RGB8, R32F, RG32F, RGBA32F, Depth24, Depth32F, Depth24Stencil8 };
+
+/// Bytes per texel in the system-memory layout above.
+std::size_t bytesPerTexel(TextureFormat format) noexcept;
+/// True for Depth24, Depth32F and Depth24Stencil8.
+bool isDepthFormat(TextureFormat format) noexcept;
+/// "RGBA8", ... for messages.
+const char* textureFormatName(TextureFormat format) noexcept;
+
+struct TextureDescription {
+    int width = 0;
+    int height = 0;
+    TextureFormat format = TextureFormat::RGBA8;
+    bool mipmaps = false; ///< allocate the full mipmap chain
+};
+
+/// A 2D texture: one GL texture object, move-only, shared between the device's contexts. Rows in
+/// system memory go bottom to top (GL's order, t = 0 first), tightly packed; Images (top to bottom)
+/// are flipped on the way in and out so that an image looks upright when drawn with t up.
+///
+/// ```
+/// Texture2D texture = device.createTexture2D(readImage("earth.png"), true); // with mipmaps
+/// command.textures.push_back({0, &texture, &sampler}); // read by og_texture0
+/// ```
+class Texture2D final {
+public:
+    Texture2D() noexcept = default;
+    ~Texture2D();
+    Texture2D(Texture2D&& other) noexcept;
+    Texture2D& operator=(Texture2D&& other) noexcept;
+    Texture2D(const Texture2D&) = delete;
+    Texture2D& operator=(const Texture2D&) = delete;
+
+    int width() const noexcept { return _description.width; }
+    int height() const noexcept { return _description.height; }
+    TextureFormat format() const noexcept { return _description.format; }
+    const TextureDescription& description() const noexcept { return _description; }
+    /// Mipmap levels allocated: 1 without mipmaps.
+    int levelCount() const noexcept { return _levels; }
+    bool valid() const noexcept { return _name != 0; }
+
+    /// Replaces a whole level. Throws orbis::Error unless texels holds exactly
+    /// width x height x bytesPerTexel of that level.
+    void copyFromSystemMemory(std::span<const std::byte> texels, int level = 0);
+    /// Replaces a rectangle of a level (rows bottom to top). Throws when it leaves the level.
+    void copyFromSystemMemory(std::span<const std::byte> texels, const Rectangle& region, int level = 0);
+    /// Replaces level 0 with an image (flipped to bottom-up). RGBA8 takes 4 channels, RGB8 3;
+    /// throws for other formats or sizes.
+    void copyFromImage(const Image& image);
+    /// Recomputes levels 1.. from level 0. Throws when the texture has no mipmaps.
+    void generateMipmaps();
+
+    /// A whole level in the system-memory layout of the format.
+    std::vector<std::byte> copyToSystemMemory(int level = 0) const;
+    /// Level 0 as an image, top to bottom (RGBA8: 4 channels, RGB8: 3); throws for other formats.
+    Image copyToImage() const;
+
+private:
+    friend class Device;
+    friend class Context;
+    friend class Framebuffer;
+    Texture2D(Device& device, unsigned name, const TextureDescription& description, int levels) noexcept;
+    void checkLevel(int level, const char* what) const;
+
+    Device* _device = nullptr;
+    unsigned _name = 0;
+    std::uint64_t _serial = 0;
+    TextureDescription _description;
+    int _levels = 1;
+};
+
+} // namespace orbis

@@ -1,0 +1,472 @@
+#include "orbis/renderer/Context.h"
+
+#include "AutomaticUniforms.h"
+#include "ContextState.h"
+#include "GlEnums.h"
+#include "ShaderProgramAccess.h"
+
+#include "orbis/core/Error.h"
+#include "orbis/renderer/Device.h"
+#include "orbis/renderer/Sampler.h"
+#include "orbis/renderer/ShaderProgram.h"
+
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <cstring>
+
+namespace orbis {
+namespace {
+
+using detail::AutomaticUniform;
+using detail::ShaderProgramAccess;
+
+std::string commandLabel(const DrawCommand& command)
+{
+    return command.debugName.empty() ? std::string("DrawCommand (unnamed)") : "DrawCommand '" + command.debugName + "'";
+}
+
+std::string framebufferStatusName(GLenum status)
+{
+    switch (status) {
+    case GL_FRAMEBUFFER_UNDEFINED: return "GL_FRAMEBUFFER_UNDEFINED (no default framebuffer)";
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT (an attachment cannot be rendered to)";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT (no attachment)";
+    case GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER";
+    case GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER: return "GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER";
+    case GL_FRAMEBUFFER_UNSUPPORTED: return "GL_FRAMEBUFFER_UNSUPPORTED (this combination of formats)";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE";
+    default: return "status " + std::to_string(status);
+    }
+}
+
+template <typename T>
+void putAutomatic(ShaderProgram& program, int slot, const T& value, RenderStatistics& statistics)
+{
+    if (!ShaderProgramAccess::assignRaw(program, slot, &value, sizeof value)) {
+        ++statistics.uniformUploadsAvoided;
+    }
+}
+
+glm::mat4 toFloat(const glm::dmat4& m) noexcept
+{
+    return glm::mat4(m);
+}
+
+/// Fills the og_ uniforms the program uses, each computed in double and sent as float.
+void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const glm::dmat4& model,
+                          const Rectangle& viewport, const DepthRange& depthRange, RenderStatistics& statistics)
+{
+    const auto& slots = ShaderProgramAccess::automaticSlots(program);
+    if (slots.empty()) {
+        return;
+    }
+    bool haveModelView = false;
+    glm::dmat4 modelView;
+    auto getModelView = [&]() -> const glm::dmat4& {
+        if (!haveModelView) {
+            modelView = scene.viewMatrix * model;
+            haveModelView = true;
+        }
+        return modelView;
+    };
+    auto relativeToEye = [&] {
+        glm::dmat4 m = getModelView();
+        m[3] = glm::dvec4(0.0, 0.0, 0.0, 1.0);
+        return m;
+    };
+    for (const auto& [id, slot] : slots) {
+        switch (static_cast<AutomaticUniform>(id)) {
+        case AutomaticUniform::ModelMatrix: putAutomatic(program, slot, toFloat(model), statistics); break;
+        case AutomaticUniform::ViewMatrix: putAutomatic(program, slot, toFloat(scene.viewMatrix), statistics); break;
+        case AutomaticUniform::ProjectionMatrix:
+            putAutomatic(program, slot, toFloat(scene.projectionMatrix), statistics);
+            break;
+        case AutomaticUniform::ModelViewMatrix: putAutomatic(program, slot, toFloat(getModelView()), statistics); break;
+        case AutomaticUniform::ViewProjectionMatrix:
+            putAutomatic(program, slot, toFloat(scene.projectionMatrix * scene.viewMatrix), statistics);
+            break;
+        case AutomaticUniform::ModelViewProjectionMatrix:
+            putAutomatic(program, slot, toFloat(scene.projectionMatrix * getModelView()), statistics);
+            break;
+        case AutomaticUniform::NormalMatrix:
+            putAutomatic(program, slot, glm::mat3(glm::transpose(glm::inverse(glm::dmat3(getModelView())))), statistics);
+            break;
+        case AutomaticUniform::ModelViewMatrixRelativeToEye:
+            putAutomatic(program, slot, toFloat(relativeToEye()), statistics);
+            break;
+        case AutomaticUniform::ModelViewProjectionMatrixRelativeToEye:
+            putAutomatic(program, slot, toFloat(scene.projectionMatrix * relativeToEye()), statistics);
+            break;
+        case AutomaticUniform::CameraEye: putAutomatic(program, slot, glm::vec3(scene.cameraEye), statistics); break;
+        case AutomaticUniform::CameraEyeHigh: putAutomatic(program, slot, glm::vec3(scene.cameraEye), statistics); break;
+        case AutomaticUniform::CameraEyeLow: {
+            const glm::dvec3 high = glm::dvec3(glm::vec3(scene.cameraEye));
+            putAutomatic(program, slot, glm::vec3(scene.cameraEye - high), statistics);
+            break;
+        }
+        case AutomaticUniform::Viewport:
+            putAutomatic(program, slot,
+                         glm::vec4(float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height)),
+                         statistics);
+            break;
+        case AutomaticUniform::InverseViewportDimensions:
+            putAutomatic(program, slot, glm::vec2(1.0f / float(viewport.width), 1.0f / float(viewport.height)),
+                         statistics);
+            break;
+        case AutomaticUniform::ViewportTransformationMatrix: {
+            const double halfWidth = 0.5 * viewport.width;
+            const double halfHeight = 0.5 * viewport.height;
+            const double halfDepth = 0.5 * (depthRange.farValue - depthRange.nearValue);
+            glm::dmat4 m(1.0);
+            m[0][0] = halfWidth;
+            m[1][1] = halfHeight;
+            m[2][2] = halfDepth;
+            m[3] = glm::dvec4(viewport.x + halfWidth, viewport.y + halfHeight, depthRange.nearValue + halfDepth, 1.0);
+            putAutomatic(program, slot, toFloat(m), statistics);
+            break;
+        }
+        case AutomaticUniform::NearDistance: putAutomatic(program, slot, float(scene.nearDistance), statistics); break;
+        case AutomaticUniform::FarDistance: putAutomatic(program, slot, float(scene.farDistance), statistics); break;
+        case AutomaticUniform::SunDirection: {
+            const double length = glm::length(scene.sunDirection);
+            const glm::dvec3 sun = length > 0.0 ? scene.sunDirection / length : glm::dvec3(0.0, 0.0, 1.0);
+            putAutomatic(program, slot, glm::vec3(sun), statistics);
+            break;
+        }
+        case AutomaticUniform::SunDirectionEye: {
+            const glm::dvec3 eye = glm::dmat3(scene.viewMatrix) * scene.sunDirection;
+            const double length = glm::length(eye);
+            putAutomatic(program, slot, glm::vec3(length > 0.0 ? eye / length : glm::dvec3(0.0, 0.0, 1.0)),
+                         statistics);
+            break;
+        }
+        case AutomaticUniform::Time: putAutomatic(program, slot, float(scene.timeSeconds), statistics); break;
+        case AutomaticUniform::Count: break;
+        }
+    }
+}
+
+} // namespace
+
+Context::Context(Device& /*device*/, std::unique_ptr<detail::ContextState> state)
+    : _state(std::move(state))
+{
+}
+
+Context::~Context() = default;
+
+Device& Context::device() const noexcept
+{
+    return _state->device;
+}
+
+void Context::makeCurrent()
+{
+    _state->makeCurrent();
+}
+
+void Context::releaseCurrent() noexcept
+{
+    _state->releaseCurrent();
+}
+
+bool Context::isCurrent() const noexcept
+{
+    return _state->isCurrent();
+}
+
+Rectangle Context::targetRectangle(const Framebuffer* framebuffer) const noexcept
+{
+    if (framebuffer) {
+        return {0, 0, framebuffer->width(), framebuffer->height()};
+    }
+    Rectangle r;
+    _state->backend->defaultFramebufferSize(r.width, r.height);
+    return r;
+}
+
+Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& where)
+{
+    detail::ContextState& state = *_state;
+    if (!state.isCurrent()) {
+        throw Error(where + ": the context is not current on this thread");
+    }
+    Framebuffer* framebuffer = requested ? requested : _framebuffer;
+    if (!framebuffer) {
+        if (!state.backend->hasDefaultFramebuffer()) {
+            throw Error(where +
+                        ": no framebuffer to draw into (a headless context has no default framebuffer: pass one in "
+                        "the command or call Context::setFramebuffer)");
+        }
+        state.bindFramebuffer(0, 0);
+        return nullptr;
+    }
+    if (!framebuffer->valid()) {
+        throw Error(where + ": the framebuffer is empty");
+    }
+    if (framebuffer->_owner != &state) {
+        throw Error(where + ": the framebuffer belongs to another context (framebuffers are not shared)");
+    }
+    state.bindFramebuffer(framebuffer->_serial, framebuffer->_name);
+    if (framebuffer->_dirty) {
+        const detail::GlApi& gl = state.gl;
+        GLenum drawBuffers[Framebuffer::kMaxColorAttachments];
+        GLenum readBuffer = GL_NONE;
+        GLsizei drawBufferCount = 0;
+        for (int i = 0; i < Framebuffer::kMaxColorAttachments; ++i) {
+            const auto& texture = framebuffer->_colors[i];
+            const GLenum attachment = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i);
+            if (i < device().info().maxColorAttachments) {
+                gl.glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture ? texture->_name : 0u, 0);
+            } else if (texture) {
+                throw Error(where + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
+                            std::to_string(device().info().maxColorAttachments));
+            }
+            if (texture) {
+                drawBuffers[i] = attachment;
+                drawBufferCount = i + 1;
+                if (readBuffer == GL_NONE) {
+                    readBuffer = attachment;
+                }
+            } else {
+                drawBuffers[i] = GL_NONE;
+            }
+        }
+        const auto& depth = framebuffer->_depth;
+        const bool depthStencil = depth && depth->format() == TextureFormat::Depth24Stencil8;
+        gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, 0u, 0);
+        if (depth) {
+            gl.glFramebufferTexture2D(GL_FRAMEBUFFER, depthStencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
+                                      GL_TEXTURE_2D, depth->_name, 0);
+        }
+        if (drawBufferCount > 0) {
+            gl.glDrawBuffers(drawBufferCount, drawBuffers);
+        } else {
+            const GLenum none = GL_NONE;
+            gl.glDrawBuffers(1, &none);
+        }
+        gl.glReadBuffer(readBuffer);
+        const GLenum status = gl.glCheckFramebufferStatus(GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) {
+            throw Error(where + ": the framebuffer is incomplete: " + framebufferStatusName(status));
+        }
+        framebuffer->_dirty = false;
+    }
+    return framebuffer;
+}
+
+void Context::clear(const ClearState& clearState)
+{
+    clear(clearState, nullptr);
+}
+
+void Context::clear(const ClearState& clearState, Framebuffer* framebuffer)
+{
+    detail::ContextState& state = *_state;
+    bindTarget(framebuffer, "Context::clear");
+    state.applyClearState(clearState);
+    const detail::GlApi& gl = state.gl;
+    GLbitfield mask = 0;
+    if (hasAny(clearState.buffers, ClearBuffers::Color)) {
+        const glm::vec4& c = clearState.color;
+        if (std::memcmp(state.clearColor, &c[0], sizeof state.clearColor) != 0) {
+            gl.glClearColor(c.r, c.g, c.b, c.a);
+            std::memcpy(state.clearColor, &c[0], sizeof state.clearColor);
+        }
+        mask |= GL_COLOR_BUFFER_BIT;
+    }
+    if (hasAny(clearState.buffers, ClearBuffers::Depth)) {
+        if (state.clearDepth != clearState.depth) {
+            gl.glClearDepth(clearState.depth);
+            state.clearDepth = clearState.depth;
+        }
+        mask |= GL_DEPTH_BUFFER_BIT;
+    }
+    if (hasAny(clearState.buffers, ClearBuffers::Stencil)) {
+        if (state.clearStencil != clearState.stencil) {
+            gl.glClearStencil(clearState.stencil);
+            state.clearStencil = clearState.stencil;
+        }
+        mask |= GL_STENCIL_BUFFER_BIT;
+    }
+    if (mask) {
+        gl.glClear(mask);
+        ++state.statistics.clears;
+    }
+}
+
+void Context::draw(const DrawCommand& command)
+{
+    static const SceneState identity;
+    draw(command, identity);
+}
+
+void Context::draw(const DrawCommand& command, const SceneState& scene)
+{
+    detail::ContextState& state = *_state;
+    ShaderProgram* program = command.shaderProgram;
+    const VertexArray* array = command.vertexArray;
+    if (!program || !program->valid()) {
+        throw Error(commandLabel(command) + ": no shader program");
+    }
+    if (!array || !array->valid()) {
+        throw Error(commandLabel(command) + ": no vertex array");
+    }
+    if (ShaderProgramAccess::device(*program) != &state.device) {
+        throw Error(commandLabel(command) + ": the shader program belongs to another Device");
+    }
+    if (array->_owner != &state) {
+        throw Error(commandLabel(command) + ": the vertex array belongs to another context");
+    }
+    if (const std::uint32_t missing = program->attributeMask() & ~array->attributeMask(); missing != 0) {
+        std::string names;
+        for (const ShaderVertexAttribute& attribute : program->vertexAttributes()) {
+            if (attribute.location >= 0 && (missing & (1u << attribute.location))) {
+                names += (names.empty() ? "'" : ", '") + attribute.name + "' (location " +
+                         std::to_string(attribute.location) + ")";
+            }
+        }
+        throw Error(commandLabel(command) + ": shader program '" + program->name() + "' reads vertex attribute " +
+                    names + " but the vertex array does not supply it");
+    }
+    const std::size_t available = array->indexed() ? array->indexCount() : array->vertexCount();
+    if (command.first > available) {
+        throw Error(commandLabel(command) + ": first " + std::to_string(command.first) + " is past the " +
+                    std::to_string(available) + (array->indexed() ? " indices" : " vertices") + " of the vertex array");
+    }
+    const std::size_t count = command.count.value_or(available - command.first);
+    if (count > available - command.first) {
+        throw Error(commandLabel(command) + ": draws " + (array->indexed() ? "indices [" : "vertices [") +
+                    std::to_string(command.first) + ", " + std::to_string(command.first + count) +
+                    ") but the vertex array has " + std::to_string(available));
+    }
+
+    Framebuffer* target = bindTarget(command.framebuffer, commandLabel(command));
+    const Rectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
+                                                                                     : targetRectangle(target);
+    state.applyViewport(viewport);
+    state.applyRenderState(command.renderState);
+    state.bindProgram(ShaderProgramAccess::serial(*program), ShaderProgramAccess::handle(*program));
+    state.bindVertexArray(array->_serial, array->_name);
+
+    std::uint32_t boundUnits = 0;
+    for (const TextureBinding& binding : command.textures) {
+        if (binding.unit < 0 || binding.unit >= state.commandTextureUnits) {
+            throw Error(commandLabel(command) + ": texture unit " + std::to_string(binding.unit) + " is outside 0.." +
+                        std::to_string(state.commandTextureUnits - 1));
+        }
+        if (!binding.texture || !binding.texture->valid()) {
+            throw Error(commandLabel(command) + ": no texture on unit " + std::to_string(binding.unit));
+        }
+        if (binding.texture->_device != &state.device ||
+            (binding.sampler && binding.sampler->_device != &state.device)) {
+            throw Error(commandLabel(command) + ": the texture or sampler on unit " + std::to_string(binding.unit) +
+                        " belongs to another Device");
+        }
+        state.bindTexture(binding.unit, binding.texture->_serial, binding.texture->_name);
+        state.bindSampler(binding.unit, binding.sampler ? binding.sampler->_serial : 0u,
+                          binding.sampler ? binding.sampler->_name : 0u);
+        boundUnits |= 1u << binding.unit;
+    }
+
+    for (const UniformValues::Entry& entry : command.uniforms) {
+        const std::uint64_t serial = ShaderProgramAccess::serial(*program);
+        if (entry.cachedProgramSerial != serial) {
+            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, entry.name);
+            entry.cachedProgramSerial = serial;
+        }
+        if (entry.cachedSlot < 0) {
+            program->uniformIndex(entry.name); // throws, naming the active uniforms
+        }
+        if (!ShaderProgramAccess::assign(*program, entry.cachedSlot, entry.value, commandLabel(command))) {
+            ++state.statistics.uniformUploadsAvoided;
+        }
+    }
+    setAutomaticUniforms(*program, scene, command.modelMatrix, viewport, command.renderState.depthRange,
+                         state.statistics);
+    if (ShaderProgramAccess::unsetCount(*program) != 0) {
+        ShaderProgramAccess::checkAllSet(*program, commandLabel(command));
+    }
+    for (const int slot : ShaderProgramAccess::samplerSlots(*program)) {
+        const int unit = ShaderProgramAccess::samplerUnitOfSlot(*program, slot);
+        if (unit < 0 || unit >= 32 || !(boundUnits & (1u << unit))) {
+            throw Error(commandLabel(command) + ": shader program '" + program->name() + "' samples " +
+                        ShaderProgramAccess::uniformName(*program, slot) + " from texture unit " + std::to_string(unit) +
+                        " but the command binds no texture there");
+        }
+    }
+    state.statistics.uniformUploads += ShaderProgramAccess::flush(*program, state.gl);
+
+    if (count == 0) {
+        return;
+    }
+    const GLenum mode = detail::toGl(command.primitiveType);
+    if (array->indexed()) {
+        const std::size_t offset = command.first * indexSize(array->indexType());
+        state.gl.glDrawElements(mode, static_cast<GLsizei>(count), detail::toGl(array->indexType()),
+                                reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset)));
+    } else {
+        state.gl.glDrawArrays(mode, static_cast<GLint>(command.first), static_cast<GLsizei>(count));
+    }
+    ++state.statistics.drawCalls;
+    state.statistics.primitives += detail::primitiveCount(command.primitiveType, count);
+    state.statistics.vertices += count;
+}
+
+Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
+{
+    detail::ContextState& state = *_state;
+    Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), "Context::readPixels");
+    const Rectangle size = targetRectangle(target);
+    if (target) {
+        if (colorAttachment < 0 || colorAttachment >= Framebuffer::kMaxColorAttachments ||
+            !target->_colors[colorAttachment]) {
+            throw Error("Context::readPixels: the framebuffer has no colour attachment " +
+                        std::to_string(colorAttachment));
+        }
+        state.gl.glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(colorAttachment));
+    } else {
+        state.gl.glReadBuffer(GL_BACK);
+    }
+    Image image(size.width, size.height, 4);
+    if (size.width > 0 && size.height > 0) {
+        state.gl.glReadPixels(0, 0, size.width, size.height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
+        // GL's rows go bottom to top; an Image's top to bottom.
+        const std::size_t rowBytes = static_cast<std::size_t>(size.width) * 4;
+        std::vector<std::uint8_t> row(rowBytes);
+        for (int y = 0; y < size.height / 2; ++y) {
+            std::uint8_t* a = image.pixels.data() + static_cast<std::size_t>(y) * rowBytes;
+            std::uint8_t* b = image.pixels.data() + static_cast<std::size_t>(size.height - 1 - y) * rowBytes;
+            std::memcpy(row.data(), a, rowBytes);
+            std::memcpy(a, b, rowBytes);
+            std::memcpy(b, row.data(), rowBytes);
+        }
+    }
+    return image;
+}
+
+void Context::flush()
+{
+    _state->gl.glFlush();
+}
+
+void Context::finish()
+{
+    _state->gl.glFinish();
+}
+
+RenderStatistics Context::statistics() const noexcept
+{
+    RenderStatistics statistics = _state->statistics;
+    statistics.glCalls = detail::tlsGlCallCount - _state->glCallsAtReset;
+    return statistics;
+}
+
+void Context::resetStatistics() noexcept
+{
+    _state->statistics = {};
+    _state->glCallsAtReset = detail::tlsGlCallCount;
+}
+
+} // namespace orbis

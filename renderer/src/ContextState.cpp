@@ -1,0 +1,449 @@
+#include "ContextState.h"
+
+#include "GlEnums.h"
+
+#include "orbis/core/Error.h"
+
+#include <atomic>
+#include <cstdio>
+#include <string>
+
+namespace orbis::detail {
+namespace {
+
+thread_local ContextState* tlsCurrentState = nullptr;
+
+void APIENTRY printDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                                const GLchar* message, const void* userParam)
+{
+    (void)source;
+    (void)userParam;
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) {
+        return;
+    }
+    const char* kind = type == GL_DEBUG_TYPE_ERROR                 ? "error"
+                       : type == GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR ? "deprecated"
+                       : type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR  ? "undefined behaviour"
+                       : type == GL_DEBUG_TYPE_PERFORMANCE         ? "performance"
+                       : type == GL_DEBUG_TYPE_PORTABILITY         ? "portability"
+                                                                   : "message";
+    std::fprintf(stderr, "orbis: GL %s %u: %.*s\n", kind, id, static_cast<int>(length), message);
+}
+
+/// The GL state of a new context, which the shadow starts from.
+RenderState glInitialState()
+{
+    RenderState s;
+    s.primitiveRestart = {false, 0};
+    s.facetCulling = {false, CullFace::Back, WindingOrder::Counterclockwise};
+    s.rasterizationMode = RasterizationMode::Fill;
+    // The initial scissor box is the first surface's size: unknown here, so never equal.
+    s.scissorTest = {false, {-1, -1, -1, -1}};
+    s.stencilTest.enabled = false;
+    s.depthTest = {false, CompareFunction::Less};
+    s.depthRange = {0.0, 1.0};
+    s.blending = Blending{};
+    s.colorMask = {};
+    s.depthMask = true;
+    s.polygonOffset = {false, 0.0f, 0.0f};
+    s.programPointSize = false;
+    return s;
+}
+
+} // namespace
+
+std::uint64_t nextObjectSerial() noexcept
+{
+    static std::atomic<std::uint64_t> next{1};
+    return next.fetch_add(1, std::memory_order_relaxed);
+}
+
+ContextState* currentState() noexcept
+{
+    return tlsCurrentState;
+}
+
+void setCurrentState(ContextState* state) noexcept
+{
+    tlsCurrentState = state;
+}
+
+ContextState& requireCurrent(const Device* device, const char* what)
+{
+    ContextState* state = tlsCurrentState;
+    if (!state) {
+        throw Error(std::string(what) + ": no Orbis context is current on this thread (call Context::makeCurrent)");
+    }
+    if (&state->device != device) {
+        throw Error(std::string(what) + ": the context current on this thread belongs to another Device");
+    }
+    return *state;
+}
+
+ContextState* currentStateOf(const Device* device) noexcept
+{
+    ContextState* state = tlsCurrentState;
+    return state && &state->device == device ? state : nullptr;
+}
+
+ContextState::ContextState(Device& device_, const GlApi& gl_, std::unique_ptr<BackendContext> backend_,
+                           int commandTextureUnits_)
+    : device(device_)
+    , gl(gl_)
+    , backend(std::move(backend_))
+    , commandTextureUnits(commandTextureUnits_)
+    , _state(glInitialState())
+{
+}
+
+ContextState::~ContextState()
+{
+    if (tlsCurrentState == this) {
+        backend->releaseCurrent();
+        tlsCurrentState = nullptr;
+    }
+}
+
+void ContextState::makeCurrent()
+{
+    backend->makeCurrent();
+    tlsCurrentState = this;
+    if (!_initialized) {
+        initialize();
+    }
+}
+
+void ContextState::releaseCurrent() noexcept
+{
+    backend->releaseCurrent();
+    if (tlsCurrentState == this) {
+        tlsCurrentState = nullptr;
+    }
+}
+
+bool ContextState::isCurrent() const noexcept
+{
+    return tlsCurrentState == this;
+}
+
+void ContextState::initialize()
+{
+    _initialized = true;
+    // Rows in system memory are tightly packed (RGB8 rows need not be multiples of 4 bytes).
+    gl.glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (debugOutput && gl.glDebugMessageCallback) {
+        gl.glEnable(GL_DEBUG_OUTPUT);
+        gl.glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        gl.glDebugMessageCallback(&printDebugMessage, nullptr);
+    }
+}
+
+void ContextState::applyRenderState(const RenderState& wanted)
+{
+    RenderState& s = _state;
+    std::uint64_t made = 0;
+    std::uint64_t avoided = 0;
+    auto enable = [&](bool& current, bool want, GLenum capability) {
+        if (current == want) {
+            ++avoided;
+            return;
+        }
+        if (want) {
+            gl.glEnable(capability);
+        } else {
+            gl.glDisable(capability);
+        }
+        current = want;
+        ++made;
+    };
+    // Sets `current` to `want` with `apply` when they differ.
+    auto update = [&](auto& current, const auto& want, auto&& apply) {
+        if (current == want) {
+            ++avoided;
+            return;
+        }
+        apply();
+        current = want;
+        ++made;
+    };
+
+    const PrimitiveRestart& restart = wanted.primitiveRestart;
+    enable(s.primitiveRestart.enabled, restart.enabled, GL_PRIMITIVE_RESTART);
+    if (restart.enabled) {
+        update(s.primitiveRestart.index, restart.index, [&] { gl.glPrimitiveRestartIndex(restart.index); });
+    }
+
+    const FacetCulling& culling = wanted.facetCulling;
+    enable(s.facetCulling.enabled, culling.enabled, GL_CULL_FACE);
+    if (culling.enabled) {
+        update(s.facetCulling.face, culling.face, [&] { gl.glCullFace(toGl(culling.face)); });
+    }
+    // The winding also decides gl_FrontFacing and which stencil face applies: set it always.
+    update(s.facetCulling.frontFaceWindingOrder, culling.frontFaceWindingOrder,
+           [&] { gl.glFrontFace(toGl(culling.frontFaceWindingOrder)); });
+
+    update(s.rasterizationMode, wanted.rasterizationMode,
+           [&] { gl.glPolygonMode(GL_FRONT_AND_BACK, toGl(wanted.rasterizationMode)); });
+
+    const ScissorTest& scissor = wanted.scissorTest;
+    enable(s.scissorTest.enabled, scissor.enabled, GL_SCISSOR_TEST);
+    if (scissor.enabled) {
+        update(s.scissorTest.rectangle, scissor.rectangle, [&] {
+            const Rectangle& r = scissor.rectangle;
+            gl.glScissor(r.x, r.y, r.width, r.height);
+        });
+    }
+
+    const StencilTest& stencil = wanted.stencilTest;
+    enable(s.stencilTest.enabled, stencil.enabled, GL_STENCIL_TEST);
+    if (stencil.enabled) {
+        auto face = [&](StencilTestFace& current, const StencilTestFace& want, GLenum glFace) {
+            const bool sameFunction = current.function == want.function &&
+                                      current.referenceValue == want.referenceValue && current.mask == want.mask;
+            if (sameFunction) {
+                ++avoided;
+            } else {
+                gl.glStencilFuncSeparate(glFace, toGl(want.function), want.referenceValue, want.mask);
+                current.function = want.function;
+                current.referenceValue = want.referenceValue;
+                current.mask = want.mask;
+                ++made;
+            }
+            const bool sameOperations = current.stencilFailOperation == want.stencilFailOperation &&
+                                        current.depthFailStencilPassOperation == want.depthFailStencilPassOperation &&
+                                        current.depthPassStencilPassOperation == want.depthPassStencilPassOperation;
+            if (sameOperations) {
+                ++avoided;
+            } else {
+                gl.glStencilOpSeparate(glFace, toGl(want.stencilFailOperation),
+                                       toGl(want.depthFailStencilPassOperation),
+                                       toGl(want.depthPassStencilPassOperation));
+                current.stencilFailOperation = want.stencilFailOperation;
+                current.depthFailStencilPassOperation = want.depthFailStencilPassOperation;
+                current.depthPassStencilPassOperation = want.depthPassStencilPassOperation;
+                ++made;
+            }
+            update(current.writeMask, want.writeMask, [&] { gl.glStencilMaskSeparate(glFace, want.writeMask); });
+        };
+        face(s.stencilTest.frontFace, stencil.frontFace, GL_FRONT);
+        face(s.stencilTest.backFace, stencil.backFace, GL_BACK);
+    }
+
+    const DepthTest& depth = wanted.depthTest;
+    enable(s.depthTest.enabled, depth.enabled, GL_DEPTH_TEST);
+    if (depth.enabled) {
+        update(s.depthTest.function, depth.function, [&] { gl.glDepthFunc(toGl(depth.function)); });
+    }
+
+    update(s.depthRange, wanted.depthRange,
+           [&] { gl.glDepthRange(wanted.depthRange.nearValue, wanted.depthRange.farValue); });
+
+    const Blending& blending = wanted.blending;
+    enable(s.blending.enabled, blending.enabled, GL_BLEND);
+    if (blending.enabled) {
+        Blending& current = s.blending;
+        const bool sameFactors = current.sourceRgbFactor == blending.sourceRgbFactor &&
+                                 current.sourceAlphaFactor == blending.sourceAlphaFactor &&
+                                 current.destinationRgbFactor == blending.destinationRgbFactor &&
+                                 current.destinationAlphaFactor == blending.destinationAlphaFactor;
+        if (sameFactors) {
+            ++avoided;
+        } else {
+            gl.glBlendFuncSeparate(toGl(blending.sourceRgbFactor), toGl(blending.destinationRgbFactor),
+                                   toGl(blending.sourceAlphaFactor), toGl(blending.destinationAlphaFactor));
+            current.sourceRgbFactor = blending.sourceRgbFactor;
+            current.sourceAlphaFactor = blending.sourceAlphaFactor;
+            current.destinationRgbFactor = blending.destinationRgbFactor;
+            current.destinationAlphaFactor = blending.destinationAlphaFactor;
+            ++made;
+        }
+        const bool sameEquations =
+            current.rgbEquation == blending.rgbEquation && current.alphaEquation == blending.alphaEquation;
+        if (sameEquations) {
+            ++avoided;
+        } else {
+            gl.glBlendEquationSeparate(toGl(blending.rgbEquation), toGl(blending.alphaEquation));
+            current.rgbEquation = blending.rgbEquation;
+            current.alphaEquation = blending.alphaEquation;
+            ++made;
+        }
+        update(current.color, blending.color,
+               [&] { gl.glBlendColor(blending.color.r, blending.color.g, blending.color.b, blending.color.a); });
+    }
+
+    update(s.colorMask, wanted.colorMask, [&] {
+        const ColorMask& m = wanted.colorMask;
+        gl.glColorMask(m.red, m.green, m.blue, m.alpha);
+    });
+    update(s.depthMask, wanted.depthMask, [&] { gl.glDepthMask(wanted.depthMask); });
+
+    const PolygonOffset& offset = wanted.polygonOffset;
+    enable(s.polygonOffset.enabled, offset.enabled, GL_POLYGON_OFFSET_FILL);
+    if (offset.enabled) {
+        const bool same = s.polygonOffset.factor == offset.factor && s.polygonOffset.units == offset.units;
+        if (same) {
+            ++avoided;
+        } else {
+            gl.glPolygonOffset(offset.factor, offset.units);
+            s.polygonOffset.factor = offset.factor;
+            s.polygonOffset.units = offset.units;
+            ++made;
+        }
+    }
+
+    enable(s.programPointSize, wanted.programPointSize, GL_PROGRAM_POINT_SIZE);
+
+    statistics.stateChangesMade += made;
+    statistics.stateChangesAvoided += avoided;
+}
+
+void ContextState::applyClearState(const ClearState& clear)
+{
+    std::uint64_t made = 0;
+    std::uint64_t avoided = 0;
+    RenderState& s = _state;
+    auto count = [&](bool changed) { ++(changed ? made : avoided); };
+
+    if (s.scissorTest.enabled != clear.scissorTest.enabled) {
+        if (clear.scissorTest.enabled) {
+            gl.glEnable(GL_SCISSOR_TEST);
+        } else {
+            gl.glDisable(GL_SCISSOR_TEST);
+        }
+        s.scissorTest.enabled = clear.scissorTest.enabled;
+        count(true);
+    } else {
+        count(false);
+    }
+    if (clear.scissorTest.enabled) {
+        const Rectangle& r = clear.scissorTest.rectangle;
+        const bool changed = !(s.scissorTest.rectangle == r);
+        if (changed) {
+            gl.glScissor(r.x, r.y, r.width, r.height);
+            s.scissorTest.rectangle = r;
+        }
+        count(changed);
+    }
+    if (hasAny(clear.buffers, ClearBuffers::Color)) {
+        const bool changed = !(s.colorMask == clear.colorMask);
+        if (changed) {
+            const ColorMask& m = clear.colorMask;
+            gl.glColorMask(m.red, m.green, m.blue, m.alpha);
+            s.colorMask = m;
+        }
+        count(changed);
+    }
+    if (hasAny(clear.buffers, ClearBuffers::Depth)) {
+        const bool changed = s.depthMask != clear.depthMask;
+        if (changed) {
+            gl.glDepthMask(clear.depthMask);
+            s.depthMask = clear.depthMask;
+        }
+        count(changed);
+    }
+    if (hasAny(clear.buffers, ClearBuffers::Stencil)) {
+        auto mask = [&](std::uint32_t& current, std::uint32_t want, GLenum face) {
+            const bool changed = current != want;
+            if (changed) {
+                gl.glStencilMaskSeparate(face, want);
+                current = want;
+            }
+            count(changed);
+        };
+        mask(s.stencilTest.frontFace.writeMask, clear.frontStencilMask, GL_FRONT);
+        mask(s.stencilTest.backFace.writeMask, clear.backStencilMask, GL_BACK);
+    }
+    statistics.stateChangesMade += made;
+    statistics.stateChangesAvoided += avoided;
+}
+
+void ContextState::applyViewport(const Rectangle& viewport)
+{
+    if (_viewport == viewport) {
+        ++statistics.stateChangesAvoided;
+        return;
+    }
+    gl.glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+    _viewport = viewport;
+    ++statistics.stateChangesMade;
+}
+
+void ContextState::bindProgram(std::uint64_t serial, GLuint name)
+{
+    if (_program == serial) {
+        ++statistics.bindsAvoided;
+        return;
+    }
+    gl.glUseProgram(name);
+    _program = serial;
+    ++statistics.programBinds;
+}
+
+void ContextState::bindVertexArray(std::uint64_t serial, GLuint name)
+{
+    if (_vertexArray == serial) {
+        ++statistics.bindsAvoided;
+        return;
+    }
+    gl.glBindVertexArray(name);
+    _vertexArray = serial;
+    ++statistics.vertexArrayBinds;
+}
+
+void ContextState::bindFramebuffer(std::uint64_t serial, GLuint name)
+{
+    if (_framebuffer == serial) {
+        ++statistics.bindsAvoided;
+        return;
+    }
+    gl.glBindFramebuffer(GL_FRAMEBUFFER, name);
+    _framebuffer = serial;
+    ++statistics.framebufferBinds;
+}
+
+void ContextState::activeTexture(int unit)
+{
+    if (_activeUnit != unit) {
+        gl.glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+        _activeUnit = unit;
+    }
+}
+
+void ContextState::bindTexture(int unit, std::uint64_t serial, GLuint name)
+{
+    if (_textures[unit] == serial) {
+        ++statistics.bindsAvoided;
+        return;
+    }
+    activeTexture(unit);
+    gl.glBindTexture(GL_TEXTURE_2D, name);
+    _textures[unit] = serial;
+    ++statistics.textureBinds;
+}
+
+void ContextState::bindSampler(int unit, std::uint64_t serial, GLuint name)
+{
+    if (_samplers[unit] == serial) {
+        ++statistics.bindsAvoided;
+        return;
+    }
+    gl.glBindSampler(static_cast<GLuint>(unit), name);
+    _samplers[unit] = serial;
+    ++statistics.textureBinds;
+}
+
+void ContextState::bindTextureForUpload(std::uint64_t serial, GLuint name)
+{
+    const int unit = commandTextureUnits; // one past the units commands may use
+    if (_textures[unit] == serial && _activeUnit == unit) {
+        return;
+    }
+    activeTexture(unit);
+    if (_textures[unit] != serial) {
+        gl.glBindTexture(GL_TEXTURE_2D, name);
+        _textures[unit] = serial;
+    }
+}
+
+} // namespace orbis::detail

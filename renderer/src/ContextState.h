@@ -1,0 +1,91 @@
+#pragma once
+
+// The GL state one context has, as the renderer last set it (the shadow), and the calls that change
+// it only when it differs. One ContextState per GL context; the one current on a thread is found
+// through currentState(). Private.
+
+#include "Backend.h"
+#include "GlApi.h"
+
+#include "orbis/renderer/ClearState.h"
+#include "orbis/renderer/RenderState.h"
+#include "orbis/renderer/RenderStatistics.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+namespace orbis {
+class Device;
+}
+
+namespace orbis::detail {
+
+/// Texture units the shadow tracks; the last usable one is kept for uploads.
+inline constexpr int kMaxTrackedTextureUnits = 32;
+
+/// A number no other GL object of the process ever gets: the shadow compares these, not GL names,
+/// so a deleted name that GL hands out again is never mistaken for the old object.
+std::uint64_t nextObjectSerial() noexcept;
+
+class ContextState {
+public:
+    ContextState(Device& device, const GlApi& gl, std::unique_ptr<BackendContext> backend, int commandTextureUnits);
+    ~ContextState();
+    ContextState(const ContextState&) = delete;
+    ContextState& operator=(const ContextState&) = delete;
+
+    /// Makes the context current on this thread and records it as this thread's state.
+    void makeCurrent();
+    void releaseCurrent() noexcept;
+    bool isCurrent() const noexcept;
+
+    void applyRenderState(const RenderState& state);
+    /// The parts of the state a clear obeys: scissor, colour, depth and stencil write masks.
+    void applyClearState(const ClearState& clear);
+    void applyViewport(const Rectangle& viewport);
+
+    void bindProgram(std::uint64_t serial, GLuint name);
+    void bindVertexArray(std::uint64_t serial, GLuint name);
+    void bindFramebuffer(std::uint64_t serial, GLuint name);
+    void bindTexture(int unit, std::uint64_t serial, GLuint name);
+    void bindSampler(int unit, std::uint64_t serial, GLuint name);
+    /// Binds a texture on the unit kept for uploads, so that draw bindings stay as they are.
+    void bindTextureForUpload(std::uint64_t serial, GLuint name);
+
+    Device& device;
+    const GlApi& gl;
+    std::unique_ptr<BackendContext> backend;
+    const int commandTextureUnits; ///< units 0..commandTextureUnits-1 are for draw commands
+    RenderStatistics statistics;
+    std::uint64_t glCallsAtReset = 0;
+    bool debugOutput = false; ///< ask for KHR_debug messages on first make-current
+    // Clear values GL has (glClearColor, glClearDepth, glClearStencil).
+    float clearColor[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    double clearDepth = 1.0;
+    int clearStencil = 0;
+
+private:
+    void initialize();
+    void activeTexture(int unit);
+
+    bool _initialized = false;
+    RenderState _state;     ///< what GL has
+    Rectangle _viewport{-1, -1, -1, -1};
+    std::uint64_t _program = 0;
+    std::uint64_t _vertexArray = 0;
+    std::uint64_t _framebuffer = 0;
+    int _activeUnit = 0;
+    std::array<std::uint64_t, kMaxTrackedTextureUnits> _textures{};
+    std::array<std::uint64_t, kMaxTrackedTextureUnits> _samplers{};
+};
+
+/// The state of the context current on this thread; null when none is.
+ContextState* currentState() noexcept;
+void setCurrentState(ContextState* state) noexcept;
+/// The current state, which must belong to `device`; throws orbis::Error naming `what` otherwise.
+ContextState& requireCurrent(const Device* device, const char* what);
+/// The current state when it belongs to `device`, for destructors; null otherwise.
+ContextState* currentStateOf(const Device* device) noexcept;
+
+} // namespace orbis::detail

@@ -1,0 +1,143 @@
+#include "orbis/renderer/Framebuffer.h"
+
+#include "ContextState.h"
+
+#include "orbis/core/Error.h"
+#include "orbis/renderer/Context.h"
+#include "orbis/renderer/Device.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace orbis {
+
+Framebuffer::Framebuffer(detail::ContextState& owner, unsigned name) noexcept
+    : _owner(&owner), _name(name), _serial(detail::nextObjectSerial())
+{
+}
+
+Framebuffer::~Framebuffer()
+{
+    if (_name && detail::currentState() == _owner) {
+        _owner->gl.glDeleteFramebuffers.unchecked(1, &_name);
+    }
+}
+
+Framebuffer::Framebuffer(Framebuffer&& other) noexcept
+    : _owner(other._owner)
+    , _name(std::exchange(other._name, 0u))
+    , _serial(std::exchange(other._serial, 0u))
+    , _colors(std::move(other._colors))
+    , _depth(std::move(other._depth))
+    , _dirty(other._dirty)
+{
+}
+
+Framebuffer& Framebuffer::operator=(Framebuffer&& other) noexcept
+{
+    if (this != &other) {
+        Framebuffer moved(std::move(other));
+        std::swap(_owner, moved._owner);
+        std::swap(_name, moved._name);
+        std::swap(_serial, moved._serial);
+        std::swap(_colors, moved._colors);
+        std::swap(_depth, moved._depth);
+        std::swap(_dirty, moved._dirty);
+    }
+    return *this;
+}
+
+void Framebuffer::setColorAttachment(int index, std::shared_ptr<Texture2D> texture)
+{
+    if (index < 0 || index >= kMaxColorAttachments) {
+        throw Error("Framebuffer::setColorAttachment: index " + std::to_string(index) + " is outside 0.." +
+                    std::to_string(kMaxColorAttachments - 1));
+    }
+    if (texture && isDepthFormat(texture->format())) {
+        throw Error(std::string("Framebuffer::setColorAttachment: a ") + textureFormatName(texture->format()) +
+                    " texture cannot be a colour attachment (use setDepthAttachment)");
+    }
+    if (texture && !texture->valid()) {
+        throw Error("Framebuffer::setColorAttachment: empty texture");
+    }
+    _colors[index] = std::move(texture);
+    _dirty = true;
+}
+
+void Framebuffer::setDepthAttachment(std::shared_ptr<Texture2D> texture)
+{
+    if (texture && !isDepthFormat(texture->format())) {
+        throw Error(std::string("Framebuffer::setDepthAttachment: a ") + textureFormatName(texture->format()) +
+                    " texture cannot be a depth attachment (Depth24, Depth32F or Depth24Stencil8 can)");
+    }
+    if (texture && !texture->valid()) {
+        throw Error("Framebuffer::setDepthAttachment: empty texture");
+    }
+    _depth = std::move(texture);
+    _dirty = true;
+}
+
+const std::shared_ptr<Texture2D>& Framebuffer::colorAttachment(int index) const
+{
+    if (index < 0 || index >= kMaxColorAttachments) {
+        throw Error("Framebuffer::colorAttachment: index " + std::to_string(index) + " is outside 0.." +
+                    std::to_string(kMaxColorAttachments - 1));
+    }
+    return _colors[index];
+}
+
+int Framebuffer::width() const noexcept
+{
+    int w = 0;
+    bool any = false;
+    for (const auto& c : _colors) {
+        if (c) {
+            w = any ? std::min(w, c->width()) : c->width();
+            any = true;
+        }
+    }
+    if (_depth) {
+        w = any ? std::min(w, _depth->width()) : _depth->width();
+    }
+    return w;
+}
+
+int Framebuffer::height() const noexcept
+{
+    int h = 0;
+    bool any = false;
+    for (const auto& c : _colors) {
+        if (c) {
+            h = any ? std::min(h, c->height()) : c->height();
+            any = true;
+        }
+    }
+    if (_depth) {
+        h = any ? std::min(h, _depth->height()) : _depth->height();
+    }
+    return h;
+}
+
+Framebuffer Context::createFramebuffer()
+{
+    detail::ContextState& state = *_state;
+    if (!state.isCurrent()) {
+        throw Error("Context::createFramebuffer: the context is not current on this thread");
+    }
+    GLuint name = 0;
+    state.gl.glGenFramebuffers(1, &name);
+    return Framebuffer(state, name);
+}
+
+Framebuffer Context::createFramebuffer(int width, int height, const FramebufferOptions& options)
+{
+    Framebuffer framebuffer = createFramebuffer();
+    Device& d = device();
+    framebuffer.setColorAttachment(0, std::make_shared<Texture2D>(d.createTexture2D({width, height, options.colorFormat})));
+    if (options.hasDepth) {
+        framebuffer.setDepthAttachment(std::make_shared<Texture2D>(d.createTexture2D({width, height, options.depthFormat})));
+    }
+    return framebuffer;
+}
+
+} // namespace orbis

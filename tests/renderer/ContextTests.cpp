@@ -1,0 +1,112 @@
+#include "RendererTestSupport.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/renderer/Device.h>
+
+#include <catch2/catch.hpp>
+
+using namespace orbis;
+using Catch::Matchers::Contains;
+
+TEST_CASE("Drawing the same command again issues only the draw call", "[renderer][context][shadowing]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(16, 16);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    DrawCommand command = test::makeCommand(array, program, framebuffer, {1.0f, 0.0f, 0.0f, 1.0f});
+
+    context.draw(command);
+    context.resetStatistics();
+    context.draw(command);
+    const RenderStatistics second = context.statistics();
+    CHECK(second.drawCalls == 1);
+    CHECK(second.primitives == 2);
+    CHECK(second.stateChangesMade == 0);
+    CHECK(second.stateChangesAvoided > 10);
+    CHECK(second.programBinds == 0);
+    CHECK(second.vertexArrayBinds == 0);
+    CHECK(second.framebufferBinds == 0);
+    CHECK(second.bindsAvoided == 3);
+    CHECK(second.uniformUploads == 0);
+    CHECK(second.uniformUploadsAvoided >= 2); // u_color and the model-view-projection matrix
+    CHECK(second.glCalls == 1);               // glDrawElements, nothing else
+}
+
+TEST_CASE("Changing one part of the render state changes only that part", "[renderer][context][shadowing]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(16, 16);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    DrawCommand opaque = test::makeCommand(array, program, framebuffer, {1.0f, 0.0f, 0.0f, 1.0f});
+    DrawCommand blended = opaque;
+    blended.renderState.blending = Blending::alphaBlending();
+
+    context.draw(opaque);
+    context.resetStatistics();
+    context.draw(blended);
+    RenderStatistics statistics = context.statistics();
+    CHECK(statistics.stateChangesMade == 2); // glEnable(GL_BLEND), glBlendFuncSeparate
+    CHECK(statistics.glCalls == 3);          // and the draw
+
+    // Back to opaque: only glDisable(GL_BLEND); the blend function stays as it is, unused.
+    context.resetStatistics();
+    context.draw(opaque);
+    statistics = context.statistics();
+    CHECK(statistics.stateChangesMade == 1);
+    CHECK(statistics.glCalls == 2);
+
+    // A new uniform value is one upload.
+    context.resetStatistics();
+    opaque.uniforms.set("u_color", glm::vec4(0.0f, 0.0f, 1.0f, 1.0f));
+    context.draw(opaque);
+    statistics = context.statistics();
+    CHECK(statistics.uniformUploads == 1);
+    CHECK(statistics.glCalls == 2);
+}
+
+TEST_CASE("Drawing with no program or no vertex array is a clear error", "[renderer][context][errors]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(8, 8);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+
+    DrawCommand command;
+    command.debugName = "empty";
+    command.framebuffer = &framebuffer;
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("'empty'") && Contains("no shader program"));
+    ShaderProgram moved = std::move(program);
+    command.shaderProgram = &program; // moved from: empty
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("no shader program"));
+    command.shaderProgram = &moved;
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("no vertex array"));
+}
+
+TEST_CASE("Uniforms never set, unknown or of the wrong type are clear errors", "[renderer][context][errors]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(8, 8);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+
+    DrawCommand command;
+    command.debugName = "unset";
+    command.vertexArray = &array;
+    command.shaderProgram = &program;
+    command.framebuffer = &framebuffer;
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("'unset'") && Contains("never given a value: u_color (vec4)"));
+
+    command.uniforms.set("u_colour", glm::vec4(1.0f));
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("no active uniform u_colour") && Contains("active: "));
+    command.uniforms.clear();
+    command.uniforms.set("u_color", 1.0f);
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("u_color is vec4 but the value is float"));
+    command.uniforms.set("u_color", glm::vec4(1.0f));
+    context.draw(command);
+}

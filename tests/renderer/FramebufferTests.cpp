@@ -1,0 +1,104 @@
+#include "RendererTestSupport.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/renderer/Device.h>
+
+#include <catch2/catch.hpp>
+
+using namespace orbis;
+using Catch::Matchers::Contains;
+
+TEST_CASE("A framebuffer of any size clears to the colour and reads back", "[renderer][framebuffer]")
+{
+    const auto [width, height] = GENERATE(table<int, int>({{1, 1}, {37, 19}, {300, 7}, {64, 64}}));
+    Context& context = test::sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(width, height);
+    CHECK(framebuffer.width() == width);
+    CHECK(framebuffer.height() == height);
+    ClearState clear;
+    clear.color = {0.2f, 0.4f, 0.6f, 0.8f};
+    context.clear(clear, &framebuffer);
+    const Image image = context.readPixels(&framebuffer);
+    REQUIRE(image.width == width);
+    REQUIRE(image.height == height);
+    // 0.2 * 255 = 51, 0.4 * 255 = 102, ...
+    CHECK(test::pixelNear(image, 0, 0, {51, 102, 153, 204}));
+    CHECK(test::pixelNear(image, width - 1, height - 1, {51, 102, 153, 204}));
+}
+
+TEST_CASE("readPixels returns the rows top to bottom", "[renderer][framebuffer]")
+{
+    Context& context = test::sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(16, 16);
+    ClearState blue;
+    blue.color = {0.0f, 0.0f, 1.0f, 1.0f};
+    context.clear(blue, &framebuffer);
+    ClearState redBottom; // GL counts rows from the bottom: the scissor keeps the lower 4 rows
+    redBottom.color = {1.0f, 0.0f, 0.0f, 1.0f};
+    redBottom.scissorTest = {true, {0, 0, 16, 4}};
+    context.clear(redBottom, &framebuffer);
+    const Image image = context.readPixels(&framebuffer);
+    INFO(test::describePixel(image, 0, 0) << ", " << test::describePixel(image, 0, 15));
+    CHECK(test::pixelNear(image, 0, 0, {0, 0, 255, 255}));
+    CHECK(test::pixelNear(image, 0, 11, {0, 0, 255, 255}));
+    CHECK(test::pixelNear(image, 0, 12, {255, 0, 0, 255}));
+    CHECK(test::pixelNear(image, 15, 15, {255, 0, 0, 255}));
+}
+
+TEST_CASE("A framebuffer writes a PNG that reads back the same", "[renderer][framebuffer]")
+{
+    Context& context = test::sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(8, 5);
+    ClearState clear;
+    clear.color = {1.0f, 0.5f, 0.0f, 1.0f};
+    context.clear(clear, &framebuffer);
+    const Image image = context.readPixels(&framebuffer);
+    const auto path = std::filesystem::temp_directory_path() / "orbis-framebuffer-test.png";
+    writePng(image, path);
+    const Image back = readImage(path);
+    std::filesystem::remove(path);
+    CHECK(back.width == 8);
+    CHECK(back.height == 5);
+    CHECK(back.pixels == image.pixels);
+}
+
+TEST_CASE("An incomplete framebuffer is a clear error, never a crash", "[renderer][framebuffer][errors]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer empty = context.createFramebuffer();
+    REQUIRE_THROWS_WITH(context.clear(ClearState{}, &empty),
+                        Contains("incomplete") && Contains("MISSING_ATTACHMENT"));
+    REQUIRE_THROWS_WITH(context.readPixels(&empty), Contains("incomplete"));
+
+    auto depth = std::make_shared<Texture2D>(device.createTexture2D({8, 8, TextureFormat::Depth24}));
+    auto color = std::make_shared<Texture2D>(device.createTexture2D({8, 8, TextureFormat::RGBA8}));
+    REQUIRE_THROWS_WITH(empty.setColorAttachment(0, depth), Contains("Depth24") && Contains("colour attachment"));
+    REQUIRE_THROWS_WITH(empty.setDepthAttachment(color), Contains("RGBA8") && Contains("depth attachment"));
+    REQUIRE_THROWS_WITH(empty.setColorAttachment(8, color), Contains("index 8"));
+
+    // Once attached, the same framebuffer becomes complete.
+    empty.setColorAttachment(0, color);
+    context.clear(ClearState{}, &empty);
+    REQUIRE_THROWS_WITH(context.readPixels(&empty, 1), Contains("no colour attachment 1"));
+}
+
+TEST_CASE("Drawing or clearing with no framebuffer on a headless context is a clear error",
+          "[renderer][framebuffer][errors]")
+{
+    Context& context = test::sharedDevice().context();
+    context.setFramebuffer(nullptr);
+    REQUIRE_THROWS_WITH(context.clear(ClearState{}), Contains("no framebuffer"));
+    REQUIRE_THROWS_WITH(context.readPixels(), Contains("no framebuffer"));
+}
+
+TEST_CASE("A colour attachment can be read as a texture after rendering into it", "[renderer][framebuffer]")
+{
+    Context& context = test::sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(4, 4);
+    ClearState clear;
+    clear.color = {0.0f, 1.0f, 0.0f, 1.0f};
+    context.clear(clear, &framebuffer);
+    const Image image = framebuffer.colorAttachment(0)->copyToImage();
+    CHECK(test::pixelNear(image, 3, 3, {0, 255, 0, 255}));
+}

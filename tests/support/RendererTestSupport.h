@@ -1,0 +1,43 @@
+#pragma once
+
+// Small helpers for rendering tests: a device shared by the tests of one process, simple meshes
+// and programs, and pixel checks.
+
+#include <orbis/renderer/Device.h>
+
+#include <glm/vec4.hpp>
+
+#include <string>
+
+namespace orbis::test {
+
+/// One device for the tests of this process (EGL, or OSMesa when EGL fails), its main context made
+/// current on the calling thread.
+Device& sharedDevice();
+
+/// A quad covering [x0, x1] x [y0, y1] at depth z (clip coordinates with the default SceneState),
+/// counter-clockwise, indexed.
+Mesh quad(double x0, double y0, double x1, double y1, double z = 0.0);
+/// The whole viewport at depth z.
+inline Mesh fullScreenQuad(double z = 0.0)
+{
+    return quad(-1.0, -1.0, 1.0, 1.0, z);
+}
+
+/// "position" transformed by og_modelViewProjectionMatrix, coloured by uniform vec4 u_color.
+ShaderProgramDescription solidColorDescription();
+
+/// A pixel of an RGBA image (x from the left, y from the top).
+glm::ivec4 pixelAt(const Image& image, int x, int y);
+
+/// True when every channel is within tolerance of expected.
+bool pixelNear(const Image& image, int x, int y, const glm::ivec4& expected, int tolerance = 1);
+
+/// "(r, g, b, a)" of a pixel, for messages.
+std::string describePixel(const Image& image, int x, int y);
+
+/// A command drawing `array` with `program` into `framebuffer`, the book's default render state.
+DrawCommand makeCommand(const VertexArray& array, ShaderProgram& program, Framebuffer& framebuffer,
+                        const glm::vec4& color, const char* name = "test");
+
+} // namespace orbis::test
