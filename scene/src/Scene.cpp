@@ -28,7 +28,7 @@ double FrameState::metersPerPixel(double distance) const noexcept
 Scene::Scene(const Ellipsoid& ellipsoid, const SceneOptions& options)
     : _ellipsoid(ellipsoid)
     , _options(options)
-    , _multiFrustum(options.multiFrustum)
+    , _binner(options.multiFrustum)
 {
 }
 
@@ -61,11 +61,8 @@ FrameStatistics Scene::render(Context& context)
     const int height = target ? target->height() : 0;
     const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
 
-    if (_multiFrustum.options().farToNearRatio != _options.multiFrustum.farToNearRatio ||
-        _multiFrustum.options().nearLimit != _options.multiFrustum.nearLimit ||
-        _multiFrustum.options().farLimit != _options.multiFrustum.farLimit ||
-        _multiFrustum.options().overlap != _options.multiFrustum.overlap) {
-        _multiFrustum.setOptions(_options.multiFrustum);
+    if (_binner.multiFrustum().options() != _options.multiFrustum) {
+        _binner.multiFrustum().setOptions(_options.multiFrustum);
     }
     const MultiFrustumOptions& limits = _options.multiFrustum;
     const glm::dmat4 view = _camera.viewMatrix();
@@ -103,40 +100,8 @@ FrameStatistics Scene::render(Context& context)
 
     // Cull, then bin what survives into frustums by its extent along the view direction.
     phase = std::chrono::steady_clock::now();
-    statistics.commandsSubmitted = _commands.size();
     const glm::dvec3 eye = _camera.eye();
-    const glm::dvec3 direction = _camera.direction();
-    _visible.clear();
-    _intervals.clear();
-    std::vector<std::uint32_t> overlay;
-    for (std::uint32_t i = 0; i < _commands.size(); ++i) {
-        const DrawCommand& command = _commands[i];
-        if (command.boundingSphere &&
-            frameState.cullingVolume.intersect(*command.boundingSphere) == Intersect::Outside) {
-            ++statistics.commandsCulledByFrustum;
-            continue;
-        }
-        if (command.horizonOcclusionPoint &&
-            !frameState.occluder.isScaledSpacePointVisible(*command.horizonOcclusionPoint)) {
-            ++statistics.commandsCulledByHorizon;
-            continue;
-        }
-        if (command.pass == Pass::Overlay) {
-            overlay.push_back(i);
-            continue;
-        }
-        _visible.push_back(i);
-        if (command.boundingSphere) {
-            const double distance = glm::dot(command.boundingSphere->centre - eye, direction);
-            _intervals.push_back({distance - command.boundingSphere->radius, distance + command.boundingSphere->radius});
-        } else {
-            _intervals.push_back({limits.nearLimit, limits.farLimit});
-        }
-    }
-    _multiFrustum.bin(_intervals);
-    statistics.frustums = _multiFrustum.frustums();
-    statistics.frustumsReused = _multiFrustum.reused();
-    statistics.commandsExecutedMoreThanOnce = _multiFrustum.commandsInSeveralFrustums();
+    _binner.cullAndBin(_commands, frameState.cullingVolume, frameState.occluder, eye, _camera.direction(), statistics);
     statistics.cullMilliseconds = millisecondsSince(phase);
 
     // Draw: back to front, a depth clear per frustum, opaque before translucent.
@@ -152,8 +117,9 @@ FrameStatistics Scene::render(Context& context)
     sceneState.sunDirection = _sunDirection;
     sceneState.timeSeconds = _timeSeconds;
 
-    const auto& frustums = _multiFrustum.frustums();
-    const auto& bins = _multiFrustum.bins();
+    const auto& frustums = _binner.multiFrustum().frustums();
+    const auto& bins = _binner.multiFrustum().bins();
+    const auto& visible = _binner.visible();
     statistics.drawCallsPerFrustum.assign(frustums.size(), 0);
     ClearState depthOnly;
     depthOnly.buffers = ClearBuffers::Depth;
@@ -172,7 +138,7 @@ FrameStatistics Scene::render(Context& context)
         for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
             std::size_t drawn = 0;
             for (const std::uint32_t binned : bins[f]) {
-                const DrawCommand& command = _commands[_visible[binned]];
+                const DrawCommand& command = _commands[visible[binned]];
                 if (command.pass == pass) {
                     context.draw(command, sceneState);
                     ++drawn;
@@ -184,6 +150,7 @@ FrameStatistics Scene::render(Context& context)
         }
         depthDirty = true;
     }
+    const auto& overlay = _binner.overlay();
     if (!overlay.empty()) {
         // Screen-space commands: the whole depth range, after every frustum.
         sceneState.nearDistance = limits.nearLimit;

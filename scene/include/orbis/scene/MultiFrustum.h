@@ -25,6 +25,8 @@ struct MultiFrustumOptions {
     /// Each frustum but the nearest starts this fraction closer, so neighbours overlap and no
     /// tear shows where they meet (course notes, "Multiple Frustum Artifacts").
     double overlap = 0.01;
+
+    friend bool operator==(const MultiFrustumOptions&, const MultiFrustumOptions&) = default;
 };
 
 /// Dynamic multiple frustums (SIGGRAPH 2013 course, chapter 2): the near and far distances come

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/scene/Camera.h"
+#include "orbis/scene/CommandBinner.h"
 #include "orbis/scene/FrameState.h"
 #include "orbis/scene/FrameStatistics.h"
 #include "orbis/scene/MultiFrustum.h"
@@ -63,10 +64,8 @@ private:
     glm::dvec3 _sunDirection{1.0, 0.0, 0.0};
     double _timeSeconds = 0.0;
     std::uint64_t _frameNumber = 0;
-    MultiFrustum _multiFrustum;
-    CommandList _commands;                  ///< reused across frames
-    std::vector<std::uint32_t> _visible;    ///< indices into _commands that survived culling
-    std::vector<DepthInterval> _intervals;  ///< parallel to _visible
+    CommandBinner _binner;
+    CommandList _commands; ///< reused across frames
 };
 
 } // namespace orbis
