@@ -65,13 +65,12 @@ GlyphAtlas::GlyphAtlas(std::shared_ptr<const Font> font, const GlyphAtlasOptions
     assert(_font && options.outlinePixels >= 0 && options.sizePixels > 0.0f);
 }
 
-Glyph GlyphAtlas::prepare(char32_t codepoint, Image& bitmap) const
+Glyph GlyphAtlas::prepare(int glyphIndex, Image& bitmap) const
 {
     Glyph glyph;
-    glyph.codepoint = codepoint;
-    glyph.glyphIndex = _font->glyphIndex(codepoint);
-    glyph.advance = _font->glyphMetrics(glyph.glyphIndex, _options.sizePixels).advance;
-    const GlyphBitmap raster = _font->rasterize(glyph.glyphIndex, _options.sizePixels);
+    glyph.glyphIndex = glyphIndex;
+    glyph.advance = _font->glyphMetrics(glyphIndex, _options.sizePixels).advance;
+    const GlyphBitmap raster = _font->rasterize(glyphIndex, _options.sizePixels);
     if (raster.coverage.width == 0) {
         bitmap = Image(0, 0, 2);
         return glyph;
@@ -96,12 +95,8 @@ const Glyph& GlyphAtlas::glyph(char32_t codepoint)
     if (const auto found = _glyphs.find(codepoint); found != _glyphs.end()) {
         return found->second;
     }
-    Image bitmap;
-    Glyph glyph = prepare(codepoint, bitmap);
-    if (glyph.width > 0) {
-        glyph.atlasIndex = _atlas.add(bitmap).first;
-    }
-    return _glyphs.emplace(codepoint, glyph).first->second;
+    addCodepoints(std::u32string(1, codepoint));
+    return _glyphs.at(codepoint);
 }
 
 TextureAtlas::AddResult GlyphAtlas::addCharacters(std::string_view utf8)
@@ -111,18 +106,28 @@ TextureAtlas::AddResult GlyphAtlas::addCharacters(std::string_view utf8)
 
 TextureAtlas::AddResult GlyphAtlas::addCodepoints(const std::u32string& codepoints)
 {
-    std::u32string missing; // in order of first appearance, so the packing is deterministic
-    std::unordered_set<char32_t> seen;
+    // New characters and the font glyphs they need that are not rasterized yet, both in order of
+    // first appearance so the packing is deterministic. Characters sharing a glyph share its
+    // bitmap: every character the font lacks gets glyph 0, the missing-glyph box, only once.
+    std::u32string characters;
+    std::vector<int> newGlyphs;
+    std::unordered_set<char32_t> seenCharacters;
+    std::unordered_set<int> seenGlyphs;
     for (char32_t c : codepoints) {
-        if (c != U'\n' && !_glyphs.contains(c) && seen.insert(c).second) {
-            missing.push_back(c);
+        if (c == U'\n' || _glyphs.contains(c) || !seenCharacters.insert(c).second) {
+            continue;
+        }
+        characters.push_back(c);
+        const int glyphIndex = _font->glyphIndex(c);
+        if (!_byGlyphIndex.contains(glyphIndex) && seenGlyphs.insert(glyphIndex).second) {
+            newGlyphs.push_back(glyphIndex);
         }
     }
     std::vector<Glyph> glyphs;
     std::vector<Image> bitmaps;
-    for (char32_t c : missing) {
+    for (int glyphIndex : newGlyphs) {
         Image bitmap;
-        glyphs.push_back(prepare(c, bitmap));
+        glyphs.push_back(prepare(glyphIndex, bitmap));
         if (glyphs.back().width > 0) {
             bitmaps.push_back(std::move(bitmap));
         }
@@ -133,7 +138,12 @@ TextureAtlas::AddResult GlyphAtlas::addCodepoints(const std::u32string& codepoin
         if (glyph.width > 0) {
             glyph.atlasIndex = next++;
         }
-        _glyphs.emplace(glyph.codepoint, glyph);
+        _byGlyphIndex.emplace(glyph.glyphIndex, glyph);
+    }
+    for (char32_t c : characters) {
+        Glyph glyph = _byGlyphIndex.at(_font->glyphIndex(c));
+        glyph.codepoint = c;
+        _glyphs.emplace(c, glyph);
     }
     return result;
 }

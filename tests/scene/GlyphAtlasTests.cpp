@@ -226,8 +226,15 @@ TEST_CASE("Accented letters of place names render their own glyphs", "[scene][fo
         char32_t accented;
         char32_t base;
     } pairs[] = {{U'\u00E9', U'e'}, {U'\u00FC', U'u'}, {U'\u00F1', U'n'}, {U'\u0107', U'c'}, {U'\u1EC7', U'e'}};
-    const Glyph& missing = glyphs.glyph(U'\u4E2D'); // CJK: not in DejaVu Sans
+    // Characters the font lacks (CJK here) share its missing-glyph box, rasterized once.
+    const Glyph& missing = glyphs.glyph(U'\u4E2D');
     CHECK(missing.glyphIndex == 0);
+    CHECK(missing.width > 0);
+    const std::size_t bitmaps = glyphs.atlas().size();
+    const Glyph& alsoMissing = glyphs.glyph(U'\u6587');
+    CHECK(alsoMissing.codepoint == U'\u6587');
+    CHECK(alsoMissing.atlasIndex == missing.atlasIndex);
+    CHECK(glyphs.atlas().size() == bitmaps);
     for (const auto& pair : pairs) {
         INFO("U+" << std::hex << static_cast<unsigned>(pair.accented));
         const Glyph& accented = glyphs.glyph(pair.accented);

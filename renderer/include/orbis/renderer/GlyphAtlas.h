@@ -29,7 +29,8 @@ struct Glyph {
     int top = 0;         ///< from the baseline to the bitmap's top row, pixels, y down (negative above)
     int width = 0;       ///< bitmap size; 0 x 0 for a character with nothing to draw (space)
     int height = 0;
-    std::size_t atlasIndex = 0; ///< its rectangle in GlyphAtlas::atlas(); unused when the bitmap is empty
+    std::size_t atlasIndex = 0; ///< its rectangle in GlyphAtlas::atlas(), shared by characters with the same
+                                ///< glyph; unused when the bitmap is empty
 };
 
 /// One glyph of a laid-out text: a width x height quad at integer pixel (x, y) relative to the
@@ -80,19 +81,20 @@ public:
     const TextureAtlas& atlas() const noexcept { return _atlas; }
     const Font& font() const noexcept { return *_font; }
     const GlyphAtlasOptions& options() const noexcept { return _options; }
-    /// Number of distinct characters rasterized so far.
+    /// Number of distinct characters met so far (characters sharing a font glyph share its bitmap).
     std::size_t glyphCount() const noexcept { return _glyphs.size(); }
 
 private:
-    /// Rasterizes a character into a 2-channel bitmap with its halo, without touching the atlas.
-    Glyph prepare(char32_t codepoint, Image& bitmap) const;
+    /// Rasterizes a font glyph into a 2-channel bitmap with its halo, without touching the atlas.
+    Glyph prepare(int glyphIndex, Image& bitmap) const;
     /// Adds the glyphs of these characters that are missing, in one batch.
     TextureAtlas::AddResult addCodepoints(const std::u32string& codepoints);
 
     std::shared_ptr<const Font> _font;
     GlyphAtlasOptions _options;
     TextureAtlas _atlas;
-    std::unordered_map<char32_t, Glyph> _glyphs;
+    std::unordered_map<char32_t, Glyph> _glyphs;  ///< by character
+    std::unordered_map<int, Glyph> _byGlyphIndex; ///< by font glyph; codepoint unset
 };
 
 } // namespace orbis
