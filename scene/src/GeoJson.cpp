@@ -465,11 +465,45 @@ std::pair<std::size_t, std::size_t> lineAndColumn(std::string_view text, std::si
     return {line, column};
 }
 
+/// Byte offset of the first bracket nested deeper than `limit`, or npos. Parsing, reading and
+/// freeing a JSON document recurse once per level, so a hostile file could exhaust the stack.
+std::size_t tooDeep(std::string_view text, std::size_t limit)
+{
+    std::size_t depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\') {
+                ++i;
+            } else if (c == '"') {
+                inString = false;
+            }
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > limit) {
+                return i;
+            }
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return std::string_view::npos;
+}
+
 } // namespace
 
 FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName, const GeoJsonOptions& options)
 {
     const std::string source(sourceName);
+    constexpr std::size_t kMaxDepth = 256;
+    if (const std::size_t offset = tooDeep(text, kMaxDepth); offset != std::string_view::npos) {
+        const auto [line, column] = lineAndColumn(text, offset);
+        throw Error(source + ": JSON nested deeper than " + std::to_string(kMaxDepth) + " levels at line " +
+                    std::to_string(line) + ", column " + std::to_string(column) + " (byte " + std::to_string(offset) +
+                    ")");
+    }
     Json document;
     try {
         document = Json::parse(text.begin(), text.end());

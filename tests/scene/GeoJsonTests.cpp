@@ -196,6 +196,12 @@ TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[scene]
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("{\"type\": \"Point\",\n\"coordinates\": [1, 1e999]}", "big.json"); }),
                Equals("big.json: JSON number out of range at line 2, column 20 (byte 37): 1e999"));
 
+    // Nesting deep enough to exhaust the stack is refused before parsing; brackets in strings do not count.
+    const std::string deep = R"({"type": "Feature", "geometry": null, "properties": {"s": "[[[[", "a": )" +
+                             std::string(100000, '[') + std::string(100000, ']') + "}}";
+    CHECK_THAT(test::errorMessage([&] { parseGeoJson(deep, "deep.json"); }),
+               Equals("deep.json: JSON nested deeper than 256 levels at line 1, column 326 (byte 325)"));
+
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("", "empty.json"); }),
                Contains("empty.json: JSON syntax error at line 1, column 1 (byte 0)"));
 }
