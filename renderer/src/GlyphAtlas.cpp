@@ -148,6 +148,18 @@ TextureAtlas::AddResult GlyphAtlas::addCodepoints(const std::u32string& codepoin
     return result;
 }
 
+float GlyphAtlas::kerning(int left, int right)
+{
+    // stb_truetype searches the GPOS tables on every call; a label collection repeats pairs.
+    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(left)) << 32) |
+                              static_cast<std::uint32_t>(right);
+    const auto [it, inserted] = _kerning.try_emplace(key, 0.0f);
+    if (inserted) {
+        it->second = _font->kerning(left, right, _options.sizePixels);
+    }
+    return it->second;
+}
+
 TextLayout GlyphAtlas::layout(std::string_view utf8)
 {
     TextLayout layout;
@@ -161,7 +173,10 @@ TextLayout GlyphAtlas::layout(std::string_view utf8)
     int right = 0;
     int bottom = 0;
     const std::u32string codepoints = decodeUtf8(utf8);
-    addCodepoints(codepoints);
+    // New characters go into the atlas in one batch; most texts have none.
+    if (std::any_of(codepoints.begin(), codepoints.end(), [&](char32_t c) { return c != U'\n' && !_glyphs.contains(c); })) {
+        addCodepoints(codepoints);
+    }
     for (char32_t c : codepoints) {
         if (c == U'\n') {
             layout.width = std::max(layout.width, pen);
@@ -173,7 +188,7 @@ TextLayout GlyphAtlas::layout(std::string_view utf8)
         }
         const Glyph& g = glyph(c);
         if (previous) {
-            pen += _font->kerning(previous->glyphIndex, g.glyphIndex, _options.sizePixels);
+            pen += kerning(previous->glyphIndex, g.glyphIndex);
         }
         if (g.width > 0) {
             const GlyphQuad quad{static_cast<int>(std::lround(pen)) + g.left, baseline + g.top, g.width, g.height,

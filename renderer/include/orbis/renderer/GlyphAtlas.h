@@ -3,6 +3,7 @@
 #include <orbis/renderer/Font.h>
 #include <orbis/renderer/TextureAtlas.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -87,6 +88,8 @@ public:
 private:
     /// Rasterizes a font glyph into a 2-channel bitmap with its halo, without touching the atlas.
     Glyph prepare(int glyphIndex, Image& bitmap) const;
+    /// The font's kerning of two glyphs at the atlas's size, remembered.
+    float kerning(int left, int right);
     /// Adds the glyphs of these characters that are missing, in one batch.
     TextureAtlas::AddResult addCodepoints(const std::u32string& codepoints);
 
@@ -95,6 +98,7 @@ private:
     TextureAtlas _atlas;
     std::unordered_map<char32_t, Glyph> _glyphs;  ///< by character
     std::unordered_map<int, Glyph> _byGlyphIndex; ///< by font glyph; codepoint unset
+    std::unordered_map<std::uint64_t, float> _kerning; ///< by (left glyph << 32 | right glyph)
 };
 
 } // namespace orbis
