@@ -4,6 +4,7 @@
 #include "ContextState.h"
 #include "GlEnums.h"
 #include "ShaderProgramAccess.h"
+#include "SplitDouble.h"
 
 #include "orbis/core/Error.h"
 #include "orbis/renderer/Device.h"
@@ -99,10 +100,15 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
             putAutomatic(program, slot, toFloat(scene.projectionMatrix * relativeToEye()), statistics);
             break;
         case AutomaticUniform::CameraEye: putAutomatic(program, slot, glm::vec3(scene.cameraEye), statistics); break;
-        case AutomaticUniform::CameraEyeHigh: putAutomatic(program, slot, glm::vec3(scene.cameraEye), statistics); break;
+        case AutomaticUniform::CameraEyeHigh:
         case AutomaticUniform::CameraEyeLow: {
-            const glm::dvec3 high = glm::dvec3(glm::vec3(scene.cameraEye));
-            putAutomatic(program, slot, glm::vec3(scene.cameraEye - high), statistics);
+            glm::vec3 high;
+            glm::vec3 low;
+            for (int i = 0; i < 3; ++i) {
+                detail::splitDouble(scene.cameraEye[i], high[i], low[i]);
+            }
+            putAutomatic(program, slot, static_cast<AutomaticUniform>(id) == AutomaticUniform::CameraEyeHigh ? high : low,
+                         statistics);
             break;
         }
         case AutomaticUniform::Viewport:

@@ -70,6 +70,9 @@ void setCurrentState(ContextState* state) noexcept
 
 ContextState& requireCurrent(const Device* device, const char* what)
 {
+    if (!device) {
+        throw Error(std::string(what) + ": the object is empty (default-constructed or moved from)");
+    }
     ContextState* state = tlsCurrentState;
     if (!state) {
         throw Error(std::string(what) + ": no Orbis context is current on this thread (call Context::makeCurrent)");

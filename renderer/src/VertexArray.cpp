@@ -2,6 +2,7 @@
 
 #include "ContextState.h"
 #include "GlEnums.h"
+#include "SplitDouble.h"
 
 #include "orbis/core/Error.h"
 #include "orbis/renderer/Context.h"
@@ -212,9 +213,10 @@ std::vector<float> meshAttributeData(const Mesh& mesh, MeshAttribute attribute, 
         data.reserve(mesh.positions.size() * 3);
         for (const glm::dvec3& p : mesh.positions) {
             for (int i = 0; i < 3; ++i) {
-                const auto high = static_cast<float>(p[i]);
-                data.push_back(attribute == MeshAttribute::PositionHigh ? high
-                                                                        : static_cast<float>(p[i] - double(high)));
+                float high = 0.0f;
+                float low = 0.0f;
+                detail::splitDouble(p[i], high, low);
+                data.push_back(attribute == MeshAttribute::PositionHigh ? high : low);
             }
         }
         break;

@@ -110,3 +110,42 @@ TEST_CASE("Uniforms never set, unknown or of the wrong type are clear errors", "
     command.uniforms.set("u_color", glm::vec4(1.0f));
     context.draw(command);
 }
+
+TEST_CASE("Statistics count draws, primitives by type and clears until reset", "[renderer][context][statistics]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(8, 8);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    Mesh mesh;
+    mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}, {1, 1, 0}, {0, 0, 0}, {0.5, 0.5, 0}};
+    const VertexArray array = context.createVertexArray(mesh, program);
+    DrawCommand command = test::makeCommand(array, program, framebuffer, glm::vec4(1.0f));
+    command.renderState.facetCulling.enabled = false;
+
+    context.resetStatistics();
+    context.clear(ClearState{}, &framebuffer);
+    const std::pair<PrimitiveType, std::uint64_t> cases[] = {
+        {PrimitiveType::Triangles, 2}, {PrimitiveType::TriangleStrip, 4}, {PrimitiveType::Lines, 3},
+        {PrimitiveType::LineStrip, 5}, {PrimitiveType::Points, 6}};
+    std::uint64_t primitives = 0;
+    for (const auto& [type, count] : cases) {
+        command.primitiveType = type;
+        context.draw(command);
+        primitives += count;
+    }
+    command.count = 0; // nothing to draw: not a draw call
+    context.draw(command);
+    RenderStatistics statistics = context.statistics();
+    CHECK(statistics.drawCalls == 5);
+    CHECK(statistics.primitives == primitives);
+    CHECK(statistics.vertices == 30);
+    CHECK(statistics.clears == 1);
+    CHECK(statistics.glCalls > 5);
+
+    context.resetStatistics();
+    statistics = context.statistics();
+    CHECK(statistics.drawCalls == 0);
+    CHECK(statistics.primitives == 0);
+    CHECK(statistics.glCalls == 0);
+}

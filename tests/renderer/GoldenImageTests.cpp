@@ -1,0 +1,91 @@
+#include "GoldenImage.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+
+using namespace orbis;
+using Catch::Matchers::Contains;
+
+namespace {
+
+Image gradient(int width, int height)
+{
+    Image image(width, height, 4);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            std::uint8_t* p = image.pixel(x, y);
+            p[0] = static_cast<std::uint8_t>(x * 16);
+            p[1] = static_cast<std::uint8_t>(y * 16);
+            p[2] = 128;
+            p[3] = 255;
+        }
+    }
+    return image;
+}
+
+struct TemporaryDirectory {
+    std::filesystem::path path = std::filesystem::temp_directory_path() / "orbis-golden-test";
+    TemporaryDirectory() { std::filesystem::remove_all(path); }
+    ~TemporaryDirectory() { std::filesystem::remove_all(path); }
+};
+
+} // namespace
+
+TEST_CASE("A missing golden image is written and the comparison fails", "[renderer][golden]")
+{
+    unsetenv("ORBIS_UPDATE_GOLDEN");
+    TemporaryDirectory directory;
+    const Image image = gradient(8, 8);
+    test::GoldenResult result = test::compareWithGolden(image, "sub/picture", {}, directory.path);
+    CHECK_FALSE(result.passed);
+    CHECK_THAT(result.message, Contains("no golden image: wrote"));
+    REQUIRE(std::filesystem::exists(directory.path / "sub" / "picture.png"));
+    // The second time, it matches.
+    result = test::compareWithGolden(image, "sub/picture", {}, directory.path);
+    INFO(result.message);
+    CHECK(result.passed);
+}
+
+TEST_CASE("ORBIS_UPDATE_GOLDEN=1 rewrites the golden image and fails", "[renderer][golden]")
+{
+    TemporaryDirectory directory;
+    test::compareWithGolden(gradient(8, 8), "picture", {}, directory.path);
+    setenv("ORBIS_UPDATE_GOLDEN", "1", 1);
+    const test::GoldenResult result = test::compareWithGolden(gradient(4, 4), "picture", {}, directory.path);
+    unsetenv("ORBIS_UPDATE_GOLDEN");
+    CHECK_FALSE(result.passed);
+    CHECK_THAT(result.message, Contains("ORBIS_UPDATE_GOLDEN=1"));
+    CHECK(readImage(directory.path / "picture.png").width == 4);
+}
+
+TEST_CASE("The golden comparison allows the stated tolerance and no more", "[renderer][golden]")
+{
+    unsetenv("ORBIS_UPDATE_GOLDEN");
+    TemporaryDirectory directory;
+    const Image golden = gradient(10, 10);
+    test::compareWithGolden(golden, "tolerance", {}, directory.path);
+
+    Image slightly = golden;
+    slightly.pixel(3, 3)[0] += 2; // within 2
+    CHECK(test::compareWithGolden(slightly, "tolerance", {2, 0.0}, directory.path).passed);
+
+    Image changed = golden;
+    changed.pixel(1, 1)[1] += 40; // one pixel of 100 beyond the tolerance
+    CHECK_FALSE(test::compareWithGolden(changed, "tolerance", {2, 0.0}, directory.path).passed);
+    CHECK(test::compareWithGolden(changed, "tolerance", {2, 0.01}, directory.path).passed);
+    const test::GoldenResult failed = test::compareWithGolden(changed, "tolerance", {50, -1.0}, directory.path);
+    CHECK_FALSE(failed.passed); // a negative fraction allows nothing... but 40 < 50, so no pixel differs
+    CHECK_THAT(failed.message, Contains("0 pixels"));
+
+    const test::GoldenResult sizes = test::compareWithGolden(gradient(9, 10), "tolerance", {}, directory.path);
+    CHECK_FALSE(sizes.passed);
+    CHECK_THAT(sizes.message, Contains("9 x 10") && Contains("10 x 10") && Contains("actual image"));
+
+    const test::ImageDifference difference = test::compareImages(changed, golden, 2);
+    CHECK(difference.sameSize);
+    CHECK(difference.differingPixels == 1);
+    CHECK(difference.maxChannelDifference == 40);
+    CHECK(difference.differingFraction == Approx(0.01));
+}
