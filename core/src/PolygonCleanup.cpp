@@ -62,9 +62,11 @@ std::vector<std::size_t> cleanCircularList(std::size_t count, const Geometry& ge
         }
         const std::size_t a = prev[b];
         const std::size_t c = next[b];
-        if (geometry.duplicate(b, c)) {
-            const std::size_t gone = c > b ? c : b;
-            const std::size_t stay = gone == c ? b : c;
+        // Of two duplicates, the later vertex goes (the first of the ring stays first).
+        if (geometry.duplicate(a, b) || geometry.duplicate(b, c)) {
+            const std::size_t other = geometry.duplicate(a, b) ? a : c;
+            const std::size_t gone = std::max(other, b);
+            const std::size_t stay = gone == b ? other : b;
             remove(gone);
             work.push_back(prev[stay]);
             work.push_back(next[stay]);
