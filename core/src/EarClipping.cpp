@@ -34,6 +34,7 @@ struct Node {
     std::uint32_t vertex = 0; // for messages: the vertex number in the input ring
     int prev = -1;
     int next = -1;
+    bool removed = false;
 };
 
 enum class Location { Inside, Outside, Boundary };
@@ -113,14 +114,26 @@ private:
                 points.push_back(n.p);
             }
             const double area = kept.size() >= 3 ? signedArea(points) : 0.0;
-            if (r == 0 && (kept.size() < 3 || area == 0.0)) {
+            if (r == 0 && kept.size() < 3) {
                 result.vertexCount = kept.size();
                 return false;
+            }
+            if (r == 0 && area == 0.0) {
+                // All on one line, or a ring that crosses itself (validation will say so) or
+                // folds back on itself (clipping will find nothing to clip).
+                bool collinear = true;
+                for (const Node& n : kept) {
+                    collinear = collinear && orient2d(kept[0].p, kept[1].p, n.p) == 0;
+                }
+                if (collinear) {
+                    result.vertexCount = kept.size();
+                    return false;
+                }
             }
             if (r == 0) {
                 _outerArea = std::abs(area);
             }
-            if (kept.size() < 3 || area == 0.0) {
+            if (r != 0 && (kept.size() < 3 || area == 0.0)) {
                 continue; // a hole with no area removes nothing
             }
             // Outer ring counter-clockwise, holes clockwise.
@@ -450,6 +463,10 @@ private:
             const int m = holes[h];
             const int p = findBridge(m, cycles);
             if (p < 0) {
+                if (mergeAtTouch(m)) {
+                    cycles.erase(std::find(cycles.begin(), cycles.end(), m));
+                    continue;
+                }
                 fail("hole ring " + std::to_string(node(m).ring) +
                      " cannot be joined to the outer ring (no vertex in sight; do rings overlap?)");
             }
@@ -471,6 +488,37 @@ private:
             cycles.erase(std::find(cycles.begin(), cycles.end(), m));
         }
         _start = _cycles[0];
+    }
+
+    // A hole with no bridge in sight may touch the outer cycle at a vertex: join it there, with
+    // no bridge (p -> hole from h's next round to h -> p's next), where the hole's edges at the
+    // touch leave into the outer cycle's wedge.
+    bool mergeAtTouch(int hole)
+    {
+        int touchP = -1;
+        int touchH = -1;
+        forEachInCycle(hole, [&](int h) {
+            if (touchP >= 0) {
+                return;
+            }
+            forEachInCycle(_cycles[0], [&](int p) {
+                if (touchP < 0 && pos(p) == pos(h) && locallyInside(p, pos(node(h).next)) &&
+                    locallyInside(p, pos(node(h).prev))) {
+                    touchP = p;
+                    touchH = h;
+                }
+            });
+        });
+        if (touchP < 0) {
+            return false;
+        }
+        const int pNext = node(touchP).next;
+        const int hNext = node(touchH).next;
+        node(touchP).next = hNext;
+        node(hNext).prev = touchP;
+        node(touchH).next = pNext;
+        node(pNext).prev = touchH;
+        return true;
     }
 
     int findBridge(int m, std::span<const int> cycles) const
@@ -630,10 +678,36 @@ private:
         const int c = node(b).next;
         node(a).next = c;
         node(c).prev = a;
+        node(b).removed = true;
         if (_start == b) {
             _start = c;
         }
         --_remaining;
+    }
+
+    // A vertex that bounds no area: the end of a zero-length edge, or the tip of a spike (the
+    // ring comes straight back, its neighbours on one side of it on one line).
+    bool boundsNoArea(int b) const
+    {
+        const glm::dvec2& pa = pos(node(b).prev);
+        const glm::dvec2& pb = pos(b);
+        const glm::dvec2& pc = pos(node(b).next);
+        return pa == pb || pb == pc || (orient2d(pa, pb, pc) == 0 && glm::dot(pb - pa, pc - pb) <= 0.0);
+    }
+
+    // Removes the vertices that bound no area among the given ones and those that become so.
+    void removeNoArea(std::vector<int> work)
+    {
+        while (!work.empty() && _remaining >= 3) {
+            const int b = work.back();
+            work.pop_back();
+            if (node(b).removed || !boundsNoArea(b)) {
+                continue;
+            }
+            work.push_back(node(b).prev);
+            work.push_back(node(b).next);
+            unlink(b);
+        }
     }
 
     // Removes vertices that bound no area: ends of zero-length edges, tips of spikes; with
@@ -667,6 +741,9 @@ private:
         _remaining = 0;
         forEachInCycle(_start, [&](int) { ++_remaining; });
         indices.reserve(3 * _remaining);
+        std::vector<int> all;
+        forEachInCycle(_start, [&](int i) { all.push_back(i); });
+        removeNoArea(std::move(all));
         auto emit = [&](int a, int b, int c) {
             indices.push_back(node(a).index);
             indices.push_back(node(b).index);
@@ -682,7 +759,13 @@ private:
                 const int c = node(ear).next;
                 emit(a, ear, c);
                 unlink(ear);
-                ear = c;
+                removeNoArea({a, c});
+                ear = node(_start).next;
+                if (!node(c).removed) {
+                    ear = c;
+                } else if (!node(a).removed) {
+                    ear = a;
+                }
                 stop = ear;
                 pass = 0;
                 continue;
