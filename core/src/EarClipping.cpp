@@ -13,6 +13,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <unordered_map>
 
 namespace orbis {
 
@@ -64,6 +65,7 @@ public:
         checkHoles();
         bridgeHoles();
         clip(result.indices);
+        flipSlivers(result.indices);
         return result;
     }
 
@@ -794,6 +796,101 @@ private:
                 emit(a, _start, c);
             } else if (turn < 0) {
                 fail("the last triangle is clockwise (do rings overlap or cross?)");
+            }
+        }
+    }
+
+    // Ear clipping has to cut slivers where vertices are collinear but for rounding (as when
+    // positions on one great circle are projected onto a plane). Where a sliver's longest edge is
+    // shared with another triangle and the two form a convex quadrilateral, flipping that edge gives
+    // two fuller triangles; the triangulation stays one of the same polygon.
+    void flipSlivers(std::vector<std::uint32_t>& indices) const
+    {
+        std::unordered_map<std::uint32_t, glm::dvec2> where;
+        for (const Node& n : _nodes) {
+            where.emplace(n.index, n.p);
+        }
+        auto at = [&](std::uint32_t i) -> const glm::dvec2& { return where.find(i)->second; };
+        auto quality = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            const glm::dvec2 ab = at(b) - at(a);
+            const glm::dvec2 bc = at(c) - at(b);
+            const glm::dvec2 ca = at(a) - at(c);
+            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+            return longest > 0.0 ? std::abs(ab.x * bc.y - ab.y * bc.x) / longest : 0.0;
+        };
+        auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+        const std::size_t count = indices.size() / 3;
+        std::unordered_map<std::uint64_t, std::size_t> owner; // directed edge -> triangle
+        auto corner = [&](std::size_t t, std::size_t k) -> std::uint32_t& { return indices[3 * t + k % 3]; };
+        auto own = [&](std::size_t t, bool add) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::uint64_t edge = key(corner(t, k), corner(t, k + 1));
+                if (add) {
+                    owner[edge] = t;
+                } else {
+                    owner.erase(edge);
+                }
+            }
+        };
+        constexpr std::size_t shared = static_cast<std::size_t>(-1); // an edge twice: rings touch, leave it
+        for (std::size_t t = 0; t < count; ++t) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                const auto [it, inserted] = owner.emplace(key(corner(t, k), corner(t, k + 1)), t);
+                if (!inserted) {
+                    it->second = shared;
+                }
+            }
+        }
+        for (int round = 0; round < 4; ++round) {
+            bool flipped = false;
+            for (std::size_t t = 0; t < count; ++t) {
+                const double q = quality(corner(t, 0), corner(t, 1), corner(t, 2));
+                if (q >= kSliverQuality) {
+                    continue;
+                }
+                std::size_t k = 0; // the longest edge, from corner k to corner k + 1
+                double longest = -1.0;
+                for (std::size_t j = 0; j < 3; ++j) {
+                    const glm::dvec2 d = at(corner(t, j + 1)) - at(corner(t, j));
+                    if (glm::dot(d, d) > longest) {
+                        longest = glm::dot(d, d);
+                        k = j;
+                    }
+                }
+                const std::uint32_t u = corner(t, k);
+                const std::uint32_t v = corner(t, k + 1);
+                const std::uint32_t w = corner(t, k + 2);
+                const auto across = owner.find(key(v, u));
+                const auto along = owner.find(key(u, v));
+                if (across == owner.end() || across->second == shared || along->second != t) {
+                    continue;
+                }
+                const std::size_t t2 = across->second;
+                std::uint32_t x = corner(t2, 0);
+                for (std::size_t j = 0; j < 3; ++j) {
+                    if (corner(t2, j) != u && corner(t2, j) != v) {
+                        x = corner(t2, j);
+                    }
+                }
+                if (x == u || x == v || x == w || orient2d(at(u), at(x), at(w)) <= 0 ||
+                    orient2d(at(x), at(v), at(w)) <= 0 ||
+                    std::min(quality(u, x, w), quality(x, v, w)) <= std::min(q, quality(corner(t2, 0), corner(t2, 1), corner(t2, 2)))) {
+                    continue;
+                }
+                own(t, false);
+                own(t2, false);
+                corner(t, 0) = u;
+                corner(t, 1) = x;
+                corner(t, 2) = w;
+                corner(t2, 0) = x;
+                corner(t2, 1) = v;
+                corner(t2, 2) = w;
+                own(t, true);
+                own(t2, true);
+                flipped = true;
+            }
+            if (!flipped) {
+                break;
             }
         }
     }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace orbis {
 
@@ -122,13 +123,24 @@ struct EllipsoidGeometry {
     }
     bool collinear(std::size_t a, std::size_t b, std::size_t c) const noexcept
     {
-        const glm::dvec3 normal = glm::cross(directions[a], directions[c]);
+        const glm::dvec3& u = directions[a];
+        const glm::dvec3& v = directions[b];
+        const glm::dvec3& w = directions[c];
+        const glm::dvec3 normal = glm::cross(u, w);
         const double length = glm::length(normal);
         if (length <= kEllipsoidDuplicateToleranceRadians) {
             // a and c are (nearly) antipodal: no plane through them; b is what decides the path.
             return false;
         }
-        return std::abs(glm::dot(directions[b], normal)) <= tolerance * length;
+        if (std::abs(glm::dot(v, normal)) > tolerance * length) {
+            return false;
+        }
+        // On the curve through a and c: b goes if the path a -> b -> c turns back at b (a spike),
+        // or if it runs straight on and the short way from a to c passes b (less than half a turn).
+        const bool straight = glm::dot(glm::cross(u, v), glm::cross(v, w)) > 0.0;
+        return !straight || std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)) +
+                                    std::atan2(glm::length(glm::cross(v, w)), glm::dot(v, w)) <
+                                kPi - kEllipsoidDuplicateToleranceRadians;
     }
 };
 
@@ -184,22 +196,48 @@ std::optional<Winding> winding(std::span<const glm::dvec2> ring) noexcept
 
 namespace {
 
-// The sum of the signed solid angles of the fan triangles (v0, vi, vi+1), by Van Oosterom and
-// Strackee's formula tan(omega / 2) = u0 . (ui x uj) / (1 + u0.ui + ui.uj + uj.u0).
+// The sum of the signed solid angles of the triangles (d, vi, vi+1) over every edge of the ring,
+// by Van Oosterom and Strackee's formula tan(omega / 2) = d . (vi x vj) / (1 + d.vi + vi.vj + vj.d).
+// Their boundaries add up to the ring, so the sum is the area on the ring's left, modulo 4 pi. The
+// apex d must not be antipodal to any vertex (the arc from d to it would be undefined): of 26
+// directions (axes, face diagonals, corners of a cube) it is the one farthest from all antipodes.
 double fanSolidAngle(std::span<const glm::dvec3> ring) noexcept
 {
     if (ring.size() < 3) {
         return 0.0;
     }
-    const glm::dvec3 u0 = Ellipsoid::geocentricSurfaceNormal(ring[0]);
+    std::vector<glm::dvec3> directions;
+    directions.reserve(ring.size());
+    for (const glm::dvec3& p : ring) {
+        directions.push_back(Ellipsoid::geocentricSurfaceNormal(p));
+    }
+    glm::dvec3 apex(0.0, 0.0, 1.0);
+    double bestMargin = -1.0;
+    for (int x = -1; x <= 1; ++x) {
+        for (int y = -1; y <= 1; ++y) {
+            for (int z = -1; z <= 1; ++z) {
+                if (x == 0 && y == 0 && z == 0) {
+                    continue;
+                }
+                const glm::dvec3 d = glm::normalize(glm::dvec3(x, y, z));
+                double margin = 2.0;
+                for (const glm::dvec3& u : directions) {
+                    margin = std::min(margin, 1.0 + glm::dot(d, u));
+                }
+                if (margin > bestMargin) {
+                    bestMargin = margin;
+                    apex = d;
+                }
+            }
+        }
+    }
     double sum = 0.0;
-    glm::dvec3 ui = Ellipsoid::geocentricSurfaceNormal(ring[1]);
-    for (std::size_t i = 1; i + 1 < ring.size(); ++i) {
-        const glm::dvec3 uj = Ellipsoid::geocentricSurfaceNormal(ring[i + 1]);
-        const double numerator = glm::dot(u0, glm::cross(ui, uj));
-        const double denominator = 1.0 + glm::dot(u0, ui) + glm::dot(ui, uj) + glm::dot(uj, u0);
+    for (std::size_t i = 0; i < directions.size(); ++i) {
+        const glm::dvec3& ui = directions[i];
+        const glm::dvec3& uj = directions[(i + 1) % directions.size()];
+        const double numerator = glm::dot(apex, glm::cross(ui, uj));
+        const double denominator = 1.0 + glm::dot(apex, ui) + glm::dot(ui, uj) + glm::dot(uj, apex);
         sum += 2.0 * std::atan2(numerator, denominator);
-        ui = uj;
     }
     return sum;
 }

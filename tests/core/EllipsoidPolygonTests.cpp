@@ -3,6 +3,7 @@
 #include <orbis/core/EllipsoidPolygon.h>
 #include <orbis/core/Error.h>
 #include <orbis/core/PolygonCleanup.h>
+#include <orbis/core/TriangleMeshSubdivision.h>
 
 #include <glm/geometric.hpp>
 
@@ -16,6 +17,7 @@ using namespace orbis;
 using namespace orbis::testdata;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -58,6 +60,95 @@ void requireWellFormed(const Mesh& mesh, const std::string& label)
         }
     }
     REQUIRE(clockwise == 0);
+}
+
+/// The mesh has no cracks: no directed edge twice, and the edges without a reverse (the boundary)
+/// lie on the planes of the rings' edges and add up to the rings' perimeter, as angles seen from the
+/// centre (angles along one plane through the centre add exactly): a crack along a cut between two
+/// pieces would add its two sides to the boundary. To 1e-9 relative, rounding.
+void requireCrackFree(const Mesh& mesh, const std::vector<std::vector<glm::dvec3>>& rings, const std::string& label)
+{
+    INFO(label);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            REQUIRE(++edges[{mesh.indices[t + k], mesh.indices[t + (k + 1) % 3]}] == 1);
+        }
+    }
+    std::vector<glm::dvec3> planes;
+    double perimeter = 0.0;
+    for (const auto& ring : rings) {
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+            const glm::dvec3& a = ring[i];
+            const glm::dvec3& b = ring[(i + 1) % ring.size()];
+            if (glm::length(glm::cross(glm::normalize(a), glm::normalize(b))) > 1e-12) {
+                planes.push_back(glm::normalize(glm::cross(a, b)));
+                perimeter += centralAngle(a, b);
+            }
+        }
+    }
+    double boundary = 0.0;
+    for (const auto& [edge, count] : edges) {
+        if (edges.count({edge.second, edge.first})) {
+            continue;
+        }
+        const glm::dvec3 p = glm::normalize(mesh.positions[edge.first]);
+        const glm::dvec3 q = glm::normalize(mesh.positions[edge.second]);
+        const bool onRing = std::any_of(planes.begin(), planes.end(), [&](const glm::dvec3& n) {
+            return std::abs(glm::dot(n, p)) < 1e-12 && std::abs(glm::dot(n, q)) < 1e-12;
+        });
+        REQUIRE(onRing);
+        boundary += centralAngle(p, q);
+    }
+    REQUIRE_THAT(boundary, WithinRel(perimeter, 1e-9));
+}
+
+/// True when a triangle of the mesh contains the direction d from the centre.
+bool covers(const Mesh& mesh, const glm::dvec3& d)
+{
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        const glm::dvec3& a = mesh.positions[mesh.indices[t]];
+        const glm::dvec3& b = mesh.positions[mesh.indices[t + 1]];
+        const glm::dvec3& c = mesh.positions[mesh.indices[t + 2]];
+        if (glm::dot(d, glm::cross(a, b)) >= 0.0 && glm::dot(d, glm::cross(b, c)) >= 0.0 &&
+            glm::dot(d, glm::cross(c, a)) >= 0.0) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/// A ring along a parallel, eastwards, every stepDegrees (GeoJSON-closed).
+std::vector<glm::dvec2> parallel(double latitudeDegrees, double stepDegrees)
+{
+    std::vector<glm::dvec2> ring;
+    for (double longitude = -180.0; longitude <= 180.0; longitude += stepDegrees) {
+        ring.emplace_back(longitude, latitudeDegrees);
+    }
+    return ring;
+}
+
+/// Triangulates rings given in degrees and checks the mesh: well formed, no cracks, no edge wider
+/// than the granularity, and the area GeographicLib gives within planeSectionAreaBound. Returns it.
+/// outlineDegrees, when given, is the outline the mesh's boundary must follow (the rings without
+/// the parts the clean-up removes).
+Mesh requireTriangulates(const std::vector<std::vector<glm::dvec2>>& ringsDegrees, const std::string& label,
+                         double granularityDegrees = 1.0, const std::vector<std::vector<glm::dvec2>>& outlineDegrees = {})
+{
+    INFO(label);
+    const auto rings = toCartesian(kEarth, ringsDegrees);
+    const Mesh mesh = triangulatePolygon(kEarth, rings, toRadians(granularityDegrees), label);
+    requireWellFormed(mesh, label);
+    requireCrackFree(mesh, outlineDegrees.empty() ? rings : toCartesian(kEarth, outlineDegrees), label);
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            REQUIRE(centralAngle(mesh.positions[mesh.indices[t + k]], mesh.positions[mesh.indices[t + (k + 1) % 3]]) <=
+                    toRadians(granularityDegrees));
+        }
+    }
+    const double reference = geodesicPolygonArea(ringsDegrees);
+    REQUIRE(std::abs(geodesicMeshArea(mesh) - reference) <= planeSectionAreaBound(ringsDegrees) + 1e-9 * reference);
+    return mesh;
 }
 
 /// The triangles of earClipOnEllipsoid as a mesh over the original positions.
@@ -147,4 +238,193 @@ TEST_CASE("Every polygon of countries-110m triangulates with the area Geographic
     WARN("worst area difference / allowed, ear clipping: " << worstClipped << " (" << worstClippedLabel
                                                           << "); subdivided to 1 degree: " << worstSubdivided << " ("
                                                           << worstSubdividedLabel << ")");
+}
+
+TEST_CASE("Polygons crossing the antimeridian triangulate whether split there or not", "[polygon][antimeridian]")
+{
+    // One ring from 170 east to 170 west with vertices on 180, as world-atlas has Fiji; the same as
+    // two rings cut at 180, as Natural Earth's shapefiles have it.
+    const std::vector<glm::dvec2> across = {{170, -20}, {180, -20}, {-170, -20}, {-170, -10},
+                                            {-180, -10}, {170, -10}, {170, -20}};
+    const std::vector<glm::dvec2> east = {{170, -20}, {180, -20}, {180, -10}, {170, -10}, {170, -20}};
+    const std::vector<glm::dvec2> west = {{-180, -20}, {-170, -20}, {-170, -10}, {-180, -10}, {-180, -20}};
+    const Mesh whole = requireTriangulates({across}, "across");
+    const Mesh eastHalf = requireTriangulates({east}, "east");
+    const Mesh westHalf = requireTriangulates({west}, "west");
+    // The halves' plane sections along 180 are the same curve: areas add up, to rounding.
+    REQUIRE_THAT(geodesicMeshArea(eastHalf) + geodesicMeshArea(westHalf), WithinRel(geodesicMeshArea(whole), 1e-9));
+    REQUIRE(covers(whole, kEarth.toCartesian(Geodetic2D::fromDegrees(180, -15))));
+    REQUIRE_FALSE(covers(whole, kEarth.toCartesian(Geodetic2D::fromDegrees(0, -15))));
+}
+
+TEST_CASE("Polygons around a pole triangulate, however the data closes them", "[polygon][poles]")
+{
+    SECTION("a ring around the north pole, either way round")
+    {
+        std::vector<glm::dvec2> ring = parallel(75.0, 10.0);
+        const Mesh eastwards = requireTriangulates({ring}, "cap eastwards");
+        REQUIRE(covers(eastwards, glm::dvec3(0, 0, 1)));
+        std::reverse(ring.begin(), ring.end());
+        const Mesh westwards = requireTriangulates({ring}, "cap westwards");
+        REQUIRE_THAT(geodesicMeshArea(westwards), WithinRel(geodesicMeshArea(eastwards), 1e-12));
+    }
+    SECTION("a ring closed along the south pole, as Natural Earth's shapefiles close Antarctica")
+    {
+        std::vector<glm::dvec2> coast;
+        for (double longitude = -180.0; longitude <= 180.0; longitude += 15.0) {
+            coast.emplace_back(longitude, -70.0 - 5.0 * std::sin(toRadians(3.0 * longitude)));
+        }
+        std::vector<glm::dvec2> closed = coast;
+        closed.emplace_back(180, -90);
+        closed.emplace_back(-180, -90);
+        closed.push_back(coast.front());
+        // The two ways of closing it bound the same region: the detour down the antimeridian to
+        // the pole and back is a zero-width spike, which the clean-up removes.
+        const Mesh mesh = requireTriangulates({closed}, "closed along the pole", 1.0, {coast});
+        REQUIRE(covers(mesh, glm::dvec3(0, 0, -1)));
+        const Mesh ring = requireTriangulates({coast}, "closed along the coast");
+        REQUIRE_THAT(geodesicMeshArea(mesh), WithinRel(geodesicMeshArea(ring), 1e-12));
+    }
+}
+
+TEST_CASE("Fiji, Russia and Antarctica triangulate across the antimeridian and around the pole", "[polygon][natural-earth]")
+{
+    std::map<std::string, std::vector<const GeoPolygon*>> byName;
+    for (const GeoPolygon& polygon : countries()) {
+        byName[polygon.name].push_back(&polygon);
+    }
+    REQUIRE(byName["Fiji"].size() == 2);
+    REQUIRE(byName["Russia"].size() == 12);
+    REQUIRE(byName["Antarctica"].size() == 8);
+
+    for (const std::string name : {"Fiji", "Russia", "Antarctica"}) {
+        double meshArea = 0.0;
+        double reference = 0.0;
+        std::vector<Mesh> meshes;
+        for (const GeoPolygon* polygon : byName[name]) {
+            meshes.push_back(requireTriangulates(polygon->ringsDegrees, polygon->label()));
+            meshArea += geodesicMeshArea(meshes.back());
+            reference += geodesicPolygonArea(polygon->ringsDegrees);
+        }
+        INFO(name << ": " << meshArea * 1e-6 << " km2, GeographicLib " << reference * 1e-6 << " km2");
+        // Their edges are short: the plane sections and geodesics part by less than 1e-6 of the area.
+        REQUIRE_THAT(meshArea, WithinRel(reference, 1e-6));
+        if (name == "Fiji") {
+            // Fiji's second part spans 180: points on both sides, and (with every edge under a
+            // degree, checked above) no triangle the long way round.
+            const Mesh& across = meshes[1];
+            REQUIRE(covers(across, kEarth.toCartesian(Geodetic2D::fromDegrees(180.0, -16.5))));
+            REQUIRE(covers(across, kEarth.toCartesian(Geodetic2D::fromDegrees(-179.95, -16.3))));
+            REQUIRE(covers(across, kEarth.toCartesian(Geodetic2D::fromDegrees(179.5, -16.5))));
+        }
+        if (name == "Russia") {
+            // Chukotka, east of 180, belongs to the main part (part 9), with Moscow.
+            REQUIRE(covers(meshes[9], kEarth.toCartesian(Geodetic2D::fromDegrees(-175.0, 66.0))));
+            REQUIRE(covers(meshes[9], kEarth.toCartesian(Geodetic2D::fromDegrees(37.6, 55.75))));
+            REQUIRE(covers(meshes[9], kEarth.toCartesian(Geodetic2D::fromDegrees(179.9, 66.0))));
+        }
+        if (name == "Antarctica") {
+            // The last part circles the pole: it covers it, and 14 million km2 or so.
+            REQUIRE(covers(meshes[7], glm::dvec3(0, 0, -1)));
+            REQUIRE(covers(meshes[7], kEarth.toCartesian(Geodetic2D::fromDegrees(180.0, -85.0))));
+            REQUIRE(meshArea > 1.2e13);
+            REQUIRE(meshArea < 1.3e13);
+        }
+    }
+}
+
+TEST_CASE("Polygons too large for one tangent plane are split into octants and welded", "[polygon][split]")
+{
+    SECTION("a cap of 85 degrees around the south pole")
+    {
+        const std::vector<glm::dvec2> ring = parallel(-5.0, 5.0);
+        REQUIRE_THROWS_WITH(earClipOnEllipsoid(kEarth, toCartesian(kEarth, {ring}), "cap"),
+                            Contains("polygon 'cap'") && Contains("triangulatePolygon"));
+        const Mesh mesh = requireTriangulates({ring}, "cap", 2.0);
+        REQUIRE(covers(mesh, glm::dvec3(0, 0, -1)));
+        REQUIRE_FALSE(covers(mesh, glm::dvec3(0, 0, 1)));
+    }
+    SECTION("a thin band along 300 degrees of the equator")
+    {
+        std::vector<glm::dvec2> ring;
+        for (double longitude = -150.0; longitude <= 150.0; longitude += 10.0) {
+            ring.emplace_back(longitude, -1.0);
+        }
+        for (double longitude = 150.0; longitude >= -150.0; longitude -= 10.0) {
+            ring.emplace_back(longitude, 1.0);
+        }
+        ring.push_back(ring.front());
+        const Mesh mesh = requireTriangulates({ring}, "band");
+        REQUIRE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(0, 0))));
+        REQUIRE_FALSE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(180, 0))));
+    }
+    SECTION("a large polygon with holes across the cuts")
+    {
+        const std::vector<glm::dvec2> outer = parallel(-10.0, 10.0);
+        // A hole straddling the planes x = 0 and y = 0 and one around the pole, given either way.
+        const std::vector<glm::dvec2> straddling = {{-30, -40}, {60, -40}, {60, -60}, {-30, -60}, {-30, -40}};
+        const std::vector<glm::dvec2> polar = parallel(-80.0, 30.0);
+        const Mesh mesh = requireTriangulates({outer, straddling, polar}, "holes", 2.0);
+        REQUIRE_FALSE(covers(mesh, glm::dvec3(0, 0, -1)));
+        REQUIRE_FALSE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(0, -50))));
+        REQUIRE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(180, -50))));
+    }
+    SECTION("a ring that bounds two halves of equal area is ambiguous")
+    {
+        REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, toCartesian(kEarth, {parallel(0.0, 30.0)}), 0.1, "equator"),
+                            Contains("polygon 'equator'") && Contains("two halves of equal area"));
+    }
+}
+
+TEST_CASE("subdivideOnEllipsoid refines to the granularity without cracks and keeps the area", "[polygon][subdivision]")
+{
+    // One octant of the unit sphere as one triangle; subdivided, its spherical triangles still tile
+    // the octant, whose solid angle is pi / 2.
+    const Ellipsoid sphere = Ellipsoid::unitSphere();
+    const std::vector<glm::dvec3> corners = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const std::vector<std::uint32_t> triangle = {0, 1, 2};
+    std::size_t previous = 0;
+    for (const double granularity : {30.0, 10.0, 2.0}) {
+        INFO("granularity " << granularity);
+        const Mesh mesh = subdivideOnEllipsoid(sphere, corners, triangle, toRadians(granularity));
+        REQUIRE(mesh.triangleCount() > previous);
+        previous = mesh.triangleCount();
+        REQUIRE(mesh.positions.size() == mesh.normals.size());
+        REQUIRE(std::equal(corners.begin(), corners.end(), mesh.positions.begin()));
+        double solidAngle = 0.0;
+        for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+            const glm::dvec3& a = mesh.positions[mesh.indices[t]];
+            const glm::dvec3& b = mesh.positions[mesh.indices[t + 1]];
+            const glm::dvec3& c = mesh.positions[mesh.indices[t + 2]];
+            REQUIRE(centralAngle(a, b) <= toRadians(granularity));
+            REQUIRE(centralAngle(b, c) <= toRadians(granularity));
+            REQUIRE(centralAngle(c, a) <= toRadians(granularity));
+            solidAngle += 2.0 * std::atan2(glm::dot(a, glm::cross(b, c)), 1.0 + glm::dot(a, b) + glm::dot(b, c) + glm::dot(c, a));
+        }
+        REQUIRE_THAT(solidAngle, WithinRel(kHalfPi, 1e-12));
+        requireCrackFree(mesh, {corners}, "octant");
+    }
+    REQUIRE(subdivideOnEllipsoid(sphere, corners, {}, 0.1).indices.empty());
+}
+
+TEST_CASE("Polygons on the ellipsoid report bad input with the polygon's name", "[polygon]")
+{
+    const auto bowTie = toCartesian(kEarth, {{{0, 0}, {3, 3}, {3, 0}, {0, 2}, {0, 0}}});
+    REQUIRE_THROWS_WITH(earClipOnEllipsoid(kEarth, bowTie, "Bow tie"), Contains("polygon 'Bow tie'") && Contains("crosses"));
+    REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, bowTie, 0.1, "Bow tie"), Contains("polygon 'Bow tie'"));
+
+    auto nan = toCartesian(kEarth, {{{0, 0}, {3, 0}, {3, 3}, {0, 0}}});
+    nan[0][1].y = std::numeric_limits<double>::quiet_NaN();
+    REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, nan, 0.1, "NaN"), Contains("vertex 1 of ring 0 is not finite"));
+
+    const auto island = toCartesian(kEarth, {{{0, 0}, {3, 0}, {3, 3}, {0, 0}}, {{10, 10}, {11, 10}, {11, 11}, {10, 10}}});
+    REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, island, 0.1, "Island"), Contains("polygon 'Island'") && Contains("outside"));
+
+    REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, std::vector<std::vector<glm::dvec3>>{}, 0.1, "None"),
+                        Contains("polygon 'None'") && Contains("no rings"));
+
+    // Fewer than 3 distinct positions: no triangles, not an error.
+    const auto line = toCartesian(kEarth, {{{10, 0}, {10, 1}, {10, 2}, {10, 0}}}); // along a meridian
+    REQUIRE(earClipOnEllipsoid(kEarth, line, "Line").indices.empty());
+    REQUIRE(triangulatePolygon(kEarth, line, 0.1, "Line").indices.empty());
 }

@@ -35,7 +35,9 @@ std::vector<std::size_t> cleanRing(std::span<const glm::dvec2> ring, double rela
 /// cleanRing on the ellipsoid (any ellipsoid centred at the origin): positions are compared by
 /// their directions from the centre; duplicates are closer than kEllipsoidDuplicateToleranceRadians;
 /// a vertex is near-collinear when it lies within toleranceRadians of the plane through the centre
-/// and its neighbours (the plane whose cut is the edge the tessellators draw), between them or not.
+/// and its neighbours (the plane whose cut is the edge the tessellators draw), and goes if the ring
+/// turns back there (a spike) or if the short way between its neighbours passes it (so a ring
+/// around a great circle keeps at least three vertices).
 std::vector<std::size_t> cleanRing(std::span<const glm::dvec3> ring,
                                    double toleranceRadians = kEllipsoidCollinearToleranceRadians);
 
@@ -48,7 +50,8 @@ std::optional<Winding> winding(std::span<const glm::dvec2> ring) noexcept;
 
 /// Area, in steradians of the unit sphere of directions from the centre, of the region to the left
 /// of the ring walked in order and seen from outside, its edges being cut by planes through the
-/// centre. In [0, 4 pi); 0 for fewer than 3 vertices. Accurate to about 1e-15 x the number of edges.
+/// centre. In [0, 4 pi); 0 for fewer than 3 vertices. Accurate to about 1e-15 x the number of edges;
+/// an edge between antipodal vertices has no defined path and makes the result meaningless.
 double leftSolidAngle(std::span<const glm::dvec3> ring) noexcept;
 
 /// The winding of a ring on the ellipsoid around the smaller of the two regions it bounds
