@@ -10,9 +10,11 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <string>
@@ -54,7 +56,33 @@ CleanPolygon cleanPolygon(const Ellipsoid& ellipsoid, std::span<const std::vecto
             }
             surface.push_back(ellipsoid.scaleToGeodeticSurface(rings[r][i]));
         }
-        std::vector<std::size_t> kept = cleanRing(surface);
+        clean.surface.push_back(std::move(surface));
+        clean.offsets.push_back(offset);
+        offset += rings[r].size();
+    }
+    // Positions where rings touch (one position at two places that are not neighbours in a ring)
+    // stay, so that the touch stays a shared vertex (by a hash of the position: a collision only
+    // keeps a vertex that could have gone).
+    std::unordered_map<std::uint64_t, int> seen;
+    auto key = [](const glm::dvec3& p) {
+        return std::bit_cast<std::uint64_t>(p.x) * 0x9e3779b97f4a7c15ull ^ std::bit_cast<std::uint64_t>(p.y) * 0x632be59bd9b4e019ull ^
+               std::bit_cast<std::uint64_t>(p.z);
+    };
+    for (const Ring3& ring : clean.surface) {
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+            if (ring[i] != ring[(i + ring.size() - 1) % ring.size()]) {
+                ++seen[key(ring[i])];
+            }
+        }
+    }
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+        const Ring3& surface = clean.surface[r];
+        const auto pinned = std::make_unique<bool[]>(surface.size());
+        for (std::size_t i = 0; i < surface.size(); ++i) {
+            pinned[i] = seen[key(surface[i])] > 1;
+        }
+        std::vector<std::size_t> kept =
+            cleanRing(surface, kEllipsoidCollinearToleranceRadians, std::span<const bool>(pinned.get(), surface.size()));
         if (kept.size() < 3) {
             if (r == 0) {
                 clean.empty = true;
@@ -62,10 +90,7 @@ CleanPolygon cleanPolygon(const Ellipsoid& ellipsoid, std::span<const std::vecto
                 kept.clear(); // a hole with no area removes nothing
             }
         }
-        clean.surface.push_back(std::move(surface));
         clean.kept.push_back(std::move(kept));
-        clean.offsets.push_back(offset);
-        offset += rings[r].size();
     }
     if (offset > 0xffffffffu) {
         fail(name, "has more vertices than 32-bit indices can address");
@@ -155,6 +180,8 @@ void closeLoop(Ring3& loop, Region& into)
 struct Crossing {
     glm::dvec3 point;
     double theta = 0.0;          // position along the cut
+    double order = 0.0;          // theta measured from the widest gap between crossings
+    double nudge = 0.0;          // at a vertex on the plane: where the crossing moves with the plane
     bool down = false;           // the ring leaves the + side here
     std::size_t ring = 0;
     std::size_t edge = 0;        // on the ring's edge from vertex `edge` to the next
@@ -169,6 +196,11 @@ struct Crossing {
 /// both orders give the same point); along the cut, the region's inside intervals run from each
 /// crossing leaving the + side to the next crossing (in the direction that keeps the + side on the
 /// left) entering it. Intervals wider than 90 degrees get points in between, shared by both parts.
+///
+/// Vertices on the plane are decided as if the plane were moved an infinitesimal distance to the
+/// - side (simulation of simplicity): they are on the + side, and the crossing on an edge from one
+/// of them to the - side sits at the vertex but is ordered along the cut by where it would move
+/// with the plane; crossings still at one place put those leaving the + side first.
 std::pair<Region, Region> splitRegion(const Ellipsoid& ellipsoid, const Region& region, const glm::dvec3& n,
                                       std::string_view name)
 {
@@ -201,10 +233,13 @@ std::pair<Region, Region> splitRegion(const Ellipsoid& ellipsoid, const Region& 
                 continue;
             }
             Crossing c;
-            if (w[i] == 0.0) {
-                c.point = ring[i];
-            } else if (w[j] == 0.0) {
-                c.point = ring[j];
+            if (w[i] == 0.0 || w[j] == 0.0) {
+                const std::size_t on = w[i] == 0.0 ? i : j;
+                const std::size_t off = on == i ? j : i;
+                c.point = ring[on];
+                // Along the cut per unit of depth below the plane (a cotangent, so it is compared
+                // with a relative tolerance: rounding makes an edge along a meridian 1e-10 off).
+                c.nudge = glm::dot(glm::normalize(glm::cross(n, ring[on])), ring[off] - ring[on]) / std::abs(w[off]);
             } else {
                 c.point = ellipsoid.scaleToGeocentricSurface(std::abs(w[j]) * ring[i] + std::abs(w[i]) * ring[j]);
             }
@@ -222,16 +257,57 @@ std::pair<Region, Region> splitRegion(const Ellipsoid& ellipsoid, const Region& 
         return {std::move(plus), std::move(minus)};
     }
 
-    // Along the cut, in +theta order (which keeps the + side on the left); at one place, a ring
-    // leaving the + side comes before one entering it, so that a touch from the - side is a
-    // zero-length interval.
+    // Along the cut, in +theta order (which keeps the + side on the left), measured from the
+    // middle of the widest gap between crossings so that no two close crossings straddle the jump
+    // from pi to -pi. Crossings within 1e-13 rad are at one place (computed from different edges,
+    // one point can differ in the last bits) and are ordered by nudge, then leaving before entering,
+    // so that a touch from the - side is a zero-length interval.
     std::vector<std::size_t> order(crossings.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        const Crossing& ca = crossings[a];
-        const Crossing& cb = crossings[b];
-        return ca.theta != cb.theta ? ca.theta < cb.theta : (ca.down && !cb.down);
-    });
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return crossings[a].theta < crossings[b].theta; });
+    double gapStart = crossings[order.back()].theta;
+    double widest = crossings[order.front()].theta + kTwoPi - gapStart;
+    for (std::size_t k = 0; k + 1 < order.size(); ++k) {
+        const double gap = crossings[order[k + 1]].theta - crossings[order[k]].theta;
+        if (gap > widest) {
+            widest = gap;
+            gapStart = crossings[order[k]].theta;
+        }
+    }
+    const double cut = gapStart + 0.5 * widest;
+    for (Crossing& c : crossings) {
+        c.order = std::fmod(c.theta - cut + 2.0 * kTwoPi, kTwoPi);
+    }
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return crossings[a].order < crossings[b].order; });
+    // Runs of nearly equal keys, in place: sorted by the next key, or put leaving before entering.
+    auto orderRuns = [&](std::size_t from, std::size_t to, auto close, auto then) {
+        for (std::size_t k = from; k < to;) {
+            std::size_t end = k + 1;
+            while (end < to && close(crossings[order[end - 1]], crossings[order[end]])) {
+                ++end;
+            }
+            then(k, end);
+            k = end;
+        }
+    };
+    auto range = [&](std::size_t from, std::size_t to) {
+        return std::pair(order.begin() + static_cast<std::ptrdiff_t>(from), order.begin() + static_cast<std::ptrdiff_t>(to));
+    };
+    orderRuns(0, order.size(), [](const Crossing& a, const Crossing& b) { return b.order - a.order <= 1e-13; },
+              [&](std::size_t from, std::size_t to) {
+                  auto [begin, end] = range(from, to);
+                  std::sort(begin, end, [&](std::size_t a, std::size_t b) { return crossings[a].nudge < crossings[b].nudge; });
+                  orderRuns(from, to,
+                            [](const Crossing& a, const Crossing& b) {
+                                return b.nudge - a.nudge <= 1e-9 * std::max({1.0, std::abs(a.nudge), std::abs(b.nudge)});
+                            },
+                            [&](std::size_t innerFrom, std::size_t innerTo) {
+                                auto [first, last] = range(innerFrom, innerTo);
+                                std::stable_partition(first, last, [&](std::size_t c) { return crossings[c].down; });
+                            });
+              });
     const std::size_t m = order.size();
     for (std::size_t k = 0; k < m; ++k) {
         Crossing& c = crossings[order[k]];
@@ -244,7 +320,7 @@ std::pair<Region, Region> splitRegion(const Ellipsoid& ellipsoid, const Region& 
         }
         c.partner = order[(k + 1) % m];
         next.partner = order[k];
-        double width = next.theta - c.theta;
+        double width = next.order - c.order;
         if (width < 0.0) {
             width += kTwoPi;
         }
@@ -338,50 +414,69 @@ int locate(const glm::dvec2& p, const std::vector<glm::dvec2>& ring)
     return winding != 0 ? 1 : -1;
 }
 
-/// Positions welded by exact equality, so that pieces meeting along a cut share their vertices.
+/// Positions welded when closer than a tolerance (1e-12 of the ellipsoid's largest radius, 6 um on
+/// the Earth), so that pieces meeting along a cut share their vertices: the cuts are computed once
+/// for both sides, but one point reached along different edges can differ in its last bits.
 class WeldedPositions {
 public:
+    explicit WeldedPositions(double tolerance) : _tolerance(tolerance) {}
+
     std::uint32_t add(const glm::dvec3& p)
     {
-        const Key key{std::bit_cast<std::uint64_t>(p.x), std::bit_cast<std::uint64_t>(p.y),
-                      std::bit_cast<std::uint64_t>(p.z)};
-        const auto [it, inserted] = _index.try_emplace(key, static_cast<std::uint32_t>(positions.size()));
-        if (inserted) {
-            positions.push_back(p);
+        const Cell cell = cellOf(p);
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+            for (std::int64_t dy = -1; dy <= 1; ++dy) {
+                for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                    const auto it = _cells.find({cell.x + dx, cell.y + dy, cell.z + dz});
+                    if (it == _cells.end()) {
+                        continue;
+                    }
+                    for (const std::uint32_t i : it->second) {
+                        if (glm::length(positions[i] - p) <= _tolerance) {
+                            return i;
+                        }
+                    }
+                }
+            }
         }
-        return it->second;
+        const auto index = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(p);
+        _cells[cell].push_back(index);
+        return index;
     }
     std::vector<glm::dvec3> positions;
 
 private:
-    struct Key {
-        std::uint64_t x, y, z;
-        bool operator==(const Key&) const = default;
+    struct Cell {
+        std::int64_t x, y, z;
+        bool operator==(const Cell&) const = default;
     };
     struct Hash {
-        std::size_t operator()(const Key& k) const noexcept
+        std::size_t operator()(const Cell& c) const noexcept
         {
-            std::uint64_t h = k.x * 0x9e3779b97f4a7c15ull;
-            h ^= (k.y + 0x632be59bd9b4e019ull + (h << 6) + (h >> 2));
-            h ^= (k.z + 0x85ebca6b27d4eb4full + (h << 6) + (h >> 2));
+            std::uint64_t h = static_cast<std::uint64_t>(c.x) * 0x9e3779b97f4a7c15ull;
+            h ^= static_cast<std::uint64_t>(c.y) + 0x632be59bd9b4e019ull + (h << 6) + (h >> 2);
+            h ^= static_cast<std::uint64_t>(c.z) + 0x85ebca6b27d4eb4full + (h << 6) + (h >> 2);
             return static_cast<std::size_t>(h);
         }
     };
-    std::unordered_map<Key, std::uint32_t, Hash> _index;
+    Cell cellOf(const glm::dvec3& p) const
+    {
+        return {static_cast<std::int64_t>(std::floor(p.x / _tolerance)), static_cast<std::int64_t>(std::floor(p.y / _tolerance)),
+                static_cast<std::int64_t>(std::floor(p.z / _tolerance))};
+    }
+    double _tolerance;
+    std::unordered_map<Cell, std::vector<std::uint32_t>, Hash> _cells;
 };
 
 /// Triangulates the part of a region inside one octant in the octant's tangent plane.
-void clipOctant(const Ellipsoid& ellipsoid, const Region& region, const glm::dvec3& signs, std::string_view name,
+void clipOctant(const Ellipsoid& ellipsoid, const Region& region, const glm::dvec3& centre, std::string_view name,
                 WeldedPositions& welded, std::vector<std::uint32_t>& indices)
 {
-    std::string pieceName = std::string(name) + " (its piece in octant ";
-    for (int axis = 0; axis < 3; ++axis) {
-        pieceName += signs[axis] > 0.0 ? '+' : '-';
-        pieceName += static_cast<char>('x' + axis);
-    }
-    pieceName += ")";
-
-    const EllipsoidTangentPlane plane(ellipsoid, ellipsoid.scaleToGeocentricSurface(signs));
+    const std::string pieceName = std::string(name) + " (its piece in the octant around " +
+                                  std::to_string(toDegrees(std::atan2(centre.y, centre.x))) + " E, " +
+                                  std::to_string(toDegrees(std::asin(std::clamp(centre.z, -1.0, 1.0)))) + " N)";
+    const EllipsoidTangentPlane plane(ellipsoid, ellipsoid.scaleToGeocentricSurface(centre));
     struct Ring2 {
         std::vector<glm::dvec2> points;
         const Ring3* positions;
@@ -394,12 +489,20 @@ void clipOctant(const Ellipsoid& ellipsoid, const Region& region, const glm::dve
         if (!points) {
             fail(pieceName, "a vertex of the piece cannot be projected onto the octant's tangent plane");
         }
-        const double area = signedArea(*points);
-        if (area > 0.0) {
-            outers.push_back({*points, &ring, area});
-        } else if (area < 0.0) {
-            holes.push_back({*points, &ring, area});
+        // Loops with no area (a ring running along the cut and back) are dropped whole: they hold
+        // nothing, and their vertices lie on the boundary of the piece on the other side.
+        glm::dvec2 lo(INFINITY);
+        glm::dvec2 hi(-INFINITY);
+        for (const glm::dvec2& q : *points) {
+            lo = glm::min(lo, q);
+            hi = glm::max(hi, q);
         }
+        const glm::dvec2 extent = hi - lo;
+        const double area = signedArea(*points);
+        if (std::abs(area) <= 1e-12 * glm::dot(extent, extent)) {
+            continue;
+        }
+        (area > 0.0 ? outers : holes).push_back({*points, &ring, area});
     }
     std::vector<std::vector<std::size_t>> holesOf(outers.size());
     for (std::size_t h = 0; h < holes.size(); ++h) {
@@ -434,10 +537,52 @@ void clipOctant(const Ellipsoid& ellipsoid, const Region& region, const glm::dve
             }
         }
         const PolygonTriangles triangles = earClip(rings2, pieceName);
-        for (const std::uint32_t index : triangles.indices) {
-            indices.push_back(welded.add(*positions[index]));
+        for (std::size_t t = 0; t < triangles.indices.size(); t += 3) {
+            const std::uint32_t a = welded.add(*positions[triangles.indices[t]]);
+            const std::uint32_t b = welded.add(*positions[triangles.indices[t + 1]]);
+            const std::uint32_t c = welded.add(*positions[triangles.indices[t + 2]]);
+            if (a != b && b != c && c != a) { // welding can close up a sliver along a cut
+                indices.insert(indices.end(), {a, b, c});
+            }
         }
     }
+}
+
+/// Three orthonormal plane normals: the axes turned by the first of 16 fixed rotations, or the one
+/// whose planes keep farthest from the region's vertices if none keeps 1e-6 rad away.
+std::array<glm::dvec3, 3> cuttingFrame(const Region& region)
+{
+    std::array<glm::dvec3, 3> best{glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
+    double bestClearance = -1.0;
+    for (int k = 0; k < 16; ++k) {
+        // Rodrigues' rotation about an axis and by an angle that follow no pattern of the data.
+        const glm::dvec3 axis = glm::normalize(glm::dvec3(std::sin(1.0 + 2.3 * k), std::cos(0.7 + 1.9 * k), 0.5 + std::sin(0.3 * k)));
+        const double angle = 0.4 + 0.37 * k;
+        std::array<glm::dvec3, 3> frame;
+        for (int i = 0; i < 3; ++i) {
+            glm::dvec3 e(0.0);
+            e[i] = 1.0;
+            frame[static_cast<std::size_t>(i)] = std::cos(angle) * e + std::sin(angle) * glm::cross(axis, e) +
+                                                 (1.0 - std::cos(angle)) * glm::dot(axis, e) * axis;
+        }
+        double clearance = 1.0;
+        for (const Ring3& ring : region.rings) {
+            for (const glm::dvec3& p : ring) {
+                const glm::dvec3 u = glm::normalize(p);
+                for (const glm::dvec3& n : frame) {
+                    clearance = std::min(clearance, std::abs(glm::dot(n, u)));
+                }
+            }
+        }
+        if (clearance > bestClearance) {
+            bestClearance = clearance;
+            best = frame;
+        }
+        if (clearance >= 1e-6) {
+            break;
+        }
+    }
+    return best;
 }
 
 Mesh triangulateBySplitting(const Ellipsoid& ellipsoid, const CleanPolygon& clean, double granularityRadians,
@@ -464,31 +609,31 @@ Mesh triangulateBySplitting(const Ellipsoid& ellipsoid, const CleanPolygon& clea
         region.rings.push_back(std::move(ring));
     }
 
+    // The cutting planes: three orthogonal ones, turned so that no vertex lies on or near any of
+    // them (data often has vertices on the meridians 0, 90, 180 and on the equator, and a vertex
+    // on a cut makes degenerate, zero-width pieces). Of a fixed series of frames, the one whose
+    // planes keep farthest from every vertex.
+    const std::array<glm::dvec3, 3> frame = cuttingFrame(region);
     std::vector<std::pair<glm::dvec3, Region>> pieces{{glm::dvec3(0.0), std::move(region)}};
     for (int axis = 0; axis < 3; ++axis) {
-        glm::dvec3 normal(0.0);
-        normal[axis] = 1.0;
+        const glm::dvec3& normal = frame[static_cast<std::size_t>(axis)];
         std::vector<std::pair<glm::dvec3, Region>> next;
-        for (auto& [signs, piece] : pieces) {
+        for (auto& [centre, piece] : pieces) {
             auto [plus, minus] = splitRegion(ellipsoid, piece, normal, name);
-            glm::dvec3 plusSigns = signs;
-            glm::dvec3 minusSigns = signs;
-            plusSigns[axis] = 1.0;
-            minusSigns[axis] = -1.0;
             if (!plus.empty()) {
-                next.emplace_back(plusSigns, std::move(plus));
+                next.emplace_back(centre + normal, std::move(plus));
             }
             if (!minus.empty()) {
-                next.emplace_back(minusSigns, std::move(minus));
+                next.emplace_back(centre - normal, std::move(minus));
             }
         }
         pieces = std::move(next);
     }
 
-    WeldedPositions welded;
+    WeldedPositions welded(1e-12 * ellipsoid.maximumRadius());
     std::vector<std::uint32_t> indices;
-    for (const auto& [signs, piece] : pieces) {
-        clipOctant(ellipsoid, piece, signs, name, welded, indices);
+    for (const auto& [centre, piece] : pieces) {
+        clipOctant(ellipsoid, piece, glm::normalize(centre), name, welded, indices);
     }
     return subdivideOnEllipsoid(ellipsoid, welded.positions, indices, granularityRadians);
 }

@@ -74,6 +74,9 @@ std::vector<std::size_t> cleanCircularList(std::size_t count, const Geometry& ge
             work.push_back(stay);
             continue;
         }
+        if (geometry.keep(b)) {
+            continue;
+        }
         if (geometry.duplicate(a, c) || geometry.collinear(a, b, c)) {
             remove(b);
             work.push_back(a);
@@ -95,6 +98,7 @@ struct PlanarGeometry {
     std::span<const glm::dvec2> ring;
     double tolerance; // absolute, in the ring's units
 
+    static bool keep(std::size_t) noexcept { return false; }
     bool duplicate(std::size_t a, std::size_t b) const noexcept
     {
         const glm::dvec2 d = ring[b] - ring[a];
@@ -114,7 +118,9 @@ struct PlanarGeometry {
 struct EllipsoidGeometry {
     std::vector<glm::dvec3> directions;
     double tolerance; // sine of the angle
+    std::span<const bool> pinned;
 
+    bool keep(std::size_t i) const noexcept { return i < pinned.size() && pinned[i]; }
     bool duplicate(std::size_t a, std::size_t b) const noexcept
     {
         const glm::dvec3& u = directions[a];
@@ -159,9 +165,11 @@ std::vector<std::size_t> cleanRing(std::span<const glm::dvec2> ring, double rela
     return cleanCircularList(ring.size(), PlanarGeometry{ring, tolerance});
 }
 
-std::vector<std::size_t> cleanRing(std::span<const glm::dvec3> ring, double toleranceRadians)
+std::vector<std::size_t> cleanRing(std::span<const glm::dvec3> ring, double toleranceRadians,
+                                   std::span<const bool> keep)
 {
     EllipsoidGeometry geometry;
+    geometry.pinned = keep;
     geometry.directions.reserve(ring.size());
     for (const glm::dvec3& p : ring) {
         geometry.directions.push_back(Ellipsoid::geocentricSurfaceNormal(p));

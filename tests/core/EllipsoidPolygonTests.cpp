@@ -369,6 +369,19 @@ TEST_CASE("Polygons too large for one tangent plane are split into octants and w
         REQUIRE_FALSE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(0, -50))));
         REQUIRE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(180, -50))));
     }
+    SECTION("a polygon with vertices and edges on the cutting planes")
+    {
+        // Vertices on the meridians 0, 90 and 180 and on the equator, edges along the equator:
+        // on the planes x = 0, y = 0 and z = 0 themselves. The hole touches the equator too.
+        const std::vector<glm::dvec2> outer = {{-135, -45}, {-90, -45}, {-45, -45}, {0, -45}, {45, -45}, {90, -45},
+                                               {135, -45}, {135, 0},   {90, 0},    {90, 45}, {45, 45}, {0, 45},
+                                               {0, 0},     {-45, 0},   {-90, 0},   {-135, 0}, {-135, -45}};
+        const std::vector<glm::dvec2> hole = {{-90, 0}, {-90, -30}, {0, -30}, {0, -15}, {-90, 0}};
+        const Mesh mesh = requireTriangulates({outer, hole}, "on the planes", 3.0);
+        REQUIRE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(45, 20))));
+        REQUIRE_FALSE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(-45, 20))));
+        REQUIRE_FALSE(covers(mesh, kEarth.toCartesian(Geodetic2D::fromDegrees(-45, -20))));
+    }
     SECTION("a ring that bounds two halves of equal area is ambiguous")
     {
         REQUIRE_THROWS_WITH(triangulatePolygon(kEarth, toCartesian(kEarth, {parallel(0.0, 30.0)}), 0.1, "equator"),
@@ -427,4 +440,33 @@ TEST_CASE("Polygons on the ellipsoid report bad input with the polygon's name", 
     const auto line = toCartesian(kEarth, {{{10, 0}, {10, 1}, {10, 2}, {10, 0}}}); // along a meridian
     REQUIRE(earClipOnEllipsoid(kEarth, line, "Line").indices.empty());
     REQUIRE(triangulatePolygon(kEarth, line, 0.1, "Line").indices.empty());
+}
+
+TEST_CASE("Random star-shaped polygons up to 85 degrees across triangulate anywhere on the globe", "[polygon][split]")
+{
+    // Centred anywhere (poles and antimeridian included), radii up to 85 degrees: the larger ones
+    // do not fit one tangent plane and go through the octant split, with cuts falling anywhere.
+    const auto seed = GENERATE(take(2, random(0u, 1000000u)));
+    INFO("seed " << seed);
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const GeographicLib::Geodesic& geodesic = GeographicLib::Geodesic::WGS84();
+    for (int trial = 0; trial < 12; ++trial) {
+        const double latitude = toDegrees(std::asin(2.0 * unit(random) - 1.0));
+        const double longitude = 360.0 * unit(random) - 180.0;
+        const double radius = 85.0 * (0.2 + 0.8 * unit(random));
+        const int count = 8 + static_cast<int>(40 * unit(random));
+        std::vector<glm::dvec2> ring;
+        for (int i = 0; i < count; ++i) {
+            double lat2, lon2;
+            const double distance = radius * (0.3 + 0.7 * unit(random)) * 111319.5;
+            geodesic.Direct(latitude, longitude, 360.0 * i / count, distance, lat2, lon2);
+            ring.emplace_back(lon2, lat2);
+        }
+        std::reverse(ring.begin(), ring.end()); // azimuths run clockwise
+        ring.push_back(ring.front());
+        requireTriangulates({ring}, "star " + std::to_string(trial) + " at " + std::to_string(longitude) + ", " +
+                                        std::to_string(latitude) + ", radius " + std::to_string(radius),
+                            5.0);
+    }
 }

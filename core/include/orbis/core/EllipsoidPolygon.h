@@ -44,10 +44,11 @@ PolygonTriangles earClipOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const 
 ///
 /// Any polygon smaller than a hemisphere works, whatever it contains or crosses: rings crossing
 /// the antimeridian are nothing special in Cartesian coordinates, and a polygon around a pole
-/// projects around it. A polygon too large for one tangent plane is split by the planes x = 0,
-/// y = 0 and z = 0 into pieces within one octant each (each piece projected around its octant's
-/// centre, at most 55 degrees away), clipped piece by piece, and welded along the cuts, which are
-/// computed once for both sides so that the pieces share their vertices exactly.
+/// projects around it. A polygon too large for one tangent plane is split by three orthogonal
+/// planes through the centre (turned so that no vertex lies on them) into pieces within one octant
+/// each (each piece projected around its octant's centre, at most 55 degrees away), clipped piece
+/// by piece, and welded along the cuts, which are computed once for both sides so that the pieces
+/// share their vertices.
 ///
 /// Throws orbis::Error naming `name` as earClipOnEllipsoid does (for any polygon size), and when
 /// the outer ring divides the ellipsoid into two halves of equal area (which is meant is unknown).

@@ -37,9 +37,12 @@ std::vector<std::size_t> cleanRing(std::span<const glm::dvec2> ring, double rela
 /// a vertex is near-collinear when it lies within toleranceRadians of the plane through the centre
 /// and its neighbours (the plane whose cut is the edge the tessellators draw), and goes if the ring
 /// turns back there (a spike) or if the short way between its neighbours passes it (so a ring
-/// around a great circle keeps at least three vertices).
+/// around a great circle keeps at least three vertices). Vertices flagged in keep (one flag per
+/// vertex, or none) are never dropped as collinear, only merged with a duplicate neighbour: the
+/// places where another ring touches this one, which must stay vertices of both.
 std::vector<std::size_t> cleanRing(std::span<const glm::dvec3> ring,
-                                   double toleranceRadians = kEllipsoidCollinearToleranceRadians);
+                                   double toleranceRadians = kEllipsoidCollinearToleranceRadians,
+                                   std::span<const bool> keep = {});
 
 /// Signed area by the shoelace formula (relative to the first vertex, for precision): positive
 /// when counter-clockwise, 0 for fewer than 3 vertices. The ring may or may not repeat its first vertex.
