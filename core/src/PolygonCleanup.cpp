@@ -202,6 +202,18 @@ std::optional<Winding> winding(std::span<const glm::dvec2> ring) noexcept
     return area > 0.0 ? Winding::CounterClockwise : Winding::Clockwise;
 }
 
+bool setWinding(std::span<glm::dvec2> ring, Winding wanted) noexcept
+{
+    const std::optional<Winding> current = winding(std::span<const glm::dvec2>(ring));
+    if (!current) {
+        return false;
+    }
+    if (*current != wanted) {
+        std::reverse(ring.begin(), ring.end());
+    }
+    return true;
+}
+
 namespace {
 
 // The sum of the signed solid angles of the triangles (d, vi, vi+1) over every edge of the ring,
@@ -276,6 +288,18 @@ std::optional<Winding> winding(std::span<const glm::dvec3> ring) noexcept
         return std::nullopt;
     }
     return left < kTwoPi ? Winding::CounterClockwise : Winding::Clockwise;
+}
+
+bool setWinding(std::span<glm::dvec3> ring, Winding wanted) noexcept
+{
+    const std::optional<Winding> current = winding(std::span<const glm::dvec3>(ring));
+    if (!current) {
+        return false;
+    }
+    if (*current != wanted) {
+        std::reverse(ring.begin(), ring.end());
+    }
+    return true;
 }
 
 } // namespace orbis

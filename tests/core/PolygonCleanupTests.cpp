@@ -78,6 +78,19 @@ TEST_CASE("signedArea and winding tell counter-clockwise from clockwise", "[poly
     REQUIRE(signedArea(cw) == -6.0);
     REQUIRE_FALSE(winding(std::vector<glm::dvec2>{{0, 0}, {1, 1}, {2, 2}}));
     REQUIRE_FALSE(winding(std::vector<glm::dvec2>{{0, 0}, {1, 1}}));
+
+    // Fixing: an outer ring counter-clockwise, a hole clockwise.
+    std::vector<glm::dvec2> outer = cw;
+    REQUIRE(setWinding(outer, Winding::CounterClockwise));
+    REQUIRE(winding(outer) == Winding::CounterClockwise);
+    REQUIRE(outer.front() == cw.back());
+    std::vector<glm::dvec2> hole = ccw;
+    REQUIRE(setWinding(hole, Winding::Clockwise));
+    REQUIRE(winding(hole) == Winding::Clockwise);
+    REQUIRE(setWinding(hole, Winding::Clockwise));
+    REQUIRE(winding(hole) == Winding::Clockwise); // already so: unchanged
+    std::vector<glm::dvec2> flat = {{0, 0}, {1, 1}, {2, 2}};
+    REQUIRE_FALSE(setWinding(flat, Winding::Clockwise));
 }
 
 TEST_CASE("cleanRing on the ellipsoid merges the two sides of the antimeridian and the pole's spike", "[polygon][cleanup]")
@@ -148,6 +161,11 @@ TEST_CASE("leftSolidAngle and winding on the ellipsoid pick the smaller region",
     }
     REQUIRE_THAT(leftSolidAngle(onEarth(equator)), WithinAbs(kTwoPi, 1e-12));
     REQUIRE_FALSE(winding(onEarth(equator)));
+    std::vector<glm::dvec3> fixable = reversed;
+    REQUIRE(setWinding(fixable, Winding::CounterClockwise));
+    REQUIRE(winding(fixable) == Winding::CounterClockwise);
+    std::vector<glm::dvec3> ambiguous = onEarth(equator);
+    REQUIRE_FALSE(setWinding(ambiguous, Winding::CounterClockwise));
     REQUIRE(leftSolidAngle(std::vector<glm::dvec3>{}) == 0.0);
 
     // A small right triangle on the unit sphere (legs of 1.7e-7 rad, as 1 m on the Earth): its area

@@ -51,6 +51,10 @@ double signedArea(std::span<const glm::dvec2> ring) noexcept;
 /// The winding of a planar ring by its signed area; nullopt when the area is 0.
 std::optional<Winding> winding(std::span<const glm::dvec2> ring) noexcept;
 
+/// Reverses ring in place if needed so that it has the given winding (as winding() judges it);
+/// false, and the ring unchanged, when it has none (no area).
+bool setWinding(std::span<glm::dvec2> ring, Winding wanted) noexcept;
+
 /// Area, in steradians of the unit sphere of directions from the centre, of the region to the left
 /// of the ring walked in order and seen from outside, its edges being cut by planes through the
 /// centre. In [0, 4 pi); 0 for fewer than 3 vertices. Accurate to about 1e-15 x the number of edges;
@@ -61,5 +65,9 @@ double leftSolidAngle(std::span<const glm::dvec3> ring) noexcept;
 /// (by leftSolidAngle): counter-clockwise when that region is on its left seen from outside.
 /// nullopt when the two regions are equal within 1e-9 sr, or the ring has no area.
 std::optional<Winding> winding(std::span<const glm::dvec3> ring) noexcept;
+
+/// Reverses ring in place if needed so that it winds as wanted around the smaller region it bounds
+/// (as winding() on the ellipsoid judges it); false, and the ring unchanged, when that is ambiguous.
+bool setWinding(std::span<glm::dvec3> ring, Winding wanted) noexcept;
 
 } // namespace orbis
