@@ -49,8 +49,8 @@ inline constexpr double kSpikeRepairRelativeArea = 1e-4;
 /// vertices between them, the one whose triangle with its neighbours is smaller, if that triangle
 /// holds at most repairRelativeArea of the outer ring's area (0 turns the repair off).
 ///
-/// An outer ring with fewer than 3 distinct vertices or no area gives no triangles (and vertexCount
-/// the distinct vertices); holes like it are dropped. Throws orbis::Error, with a message naming
+/// An outer ring with fewer than 3 distinct vertices, or all of them on one line, gives no
+/// triangles (and vertexCount the distinct vertices); holes with no area are dropped. Throws orbis::Error, with a message naming
 /// `name` and the rings and vertices concerned, when a vertex is not finite, edges cross, a hole
 /// lies outside the outer ring or inside another hole, or no triangulation is found.
 PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name = "polygon",

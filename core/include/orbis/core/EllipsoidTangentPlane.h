@@ -28,6 +28,7 @@ public:
     /// The plane tangent at the foot of point on the geodetic surface (the north pole for the centre).
     EllipsoidTangentPlane(const Ellipsoid& ellipsoid, const glm::dvec3& point) noexcept;
 
+    /// The ellipsoid the plane is tangent to.
     const Ellipsoid& ellipsoid() const noexcept { return _ellipsoid; }
     /// The point of tangency, on the surface.
     const glm::dvec3& origin() const noexcept { return _origin; }
