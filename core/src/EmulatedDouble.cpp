@@ -122,4 +122,32 @@ glm::vec3 relativeToEye(const EmulatedDVec3& position, const EmulatedDVec3& eye)
     return d.high + d.low;
 }
 
+EmulatedDouble splitAt65536(double value) noexcept
+{
+    constexpr double largest = std::numeric_limits<float>::max();
+    if (!(std::abs(value) <= largest)) {
+        return std::isnan(value) ? EmulatedDouble{static_cast<float>(value), 0.0f}
+                                 : EmulatedDouble{static_cast<float>(std::copysign(largest, value)), 0.0f};
+    }
+    // Truncation keeps the split symmetric about zero; value - high is exact in double.
+    const double high = std::trunc(value / 65536.0) * 65536.0;
+    return {static_cast<float>(high), static_cast<float>(value - high)};
+}
+
+EmulatedDVec3 splitAt65536(const glm::dvec3& value) noexcept
+{
+    EmulatedDVec3 result;
+    for (int i = 0; i < 3; ++i) {
+        const EmulatedDouble component = splitAt65536(value[i]);
+        result.high[i] = component.high;
+        result.low[i] = component.low;
+    }
+    return result;
+}
+
+glm::vec3 relativeToEyeSplitAt65536(const EmulatedDVec3& position, const EmulatedDVec3& eye) noexcept
+{
+    return (position.high - eye.high) + (position.low - eye.low);
+}
+
 } // namespace orbis

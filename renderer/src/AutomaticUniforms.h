@@ -22,14 +22,19 @@ enum class AutomaticUniform : int {
     CameraEye,
     CameraEyeHigh, ///< float(eye)
     CameraEyeLow,  ///< float(eye - double(float(eye)))
+    CameraEyeHigh65536, ///< eye truncated to multiples of 65536 m (the book's first GPU RTE encoding)
+    CameraEyeLow65536,  ///< float(eye - that)
     Viewport,      ///< x, y, width, height
     InverseViewportDimensions,
     ViewportTransformationMatrix, ///< normalised device coordinates to window coordinates
     NearDistance,
     FarDistance,
+    LogarithmicDepth,  ///< (1 / near, 1 / log2(far / near)): window depth log2(w / near) / log2(far / near)
+    OwnedDepthRange,   ///< SceneState::ownedNearDistance, ownedFarDistance
     SunDirection,    ///< world, unit
     SunDirectionEye, ///< eye coordinates, unit
     Time,
+    OpaqueOne, ///< 1.0, which the GLSL compiler cannot fold (keeps float expressions as written)
     Count
 };
 
@@ -51,14 +56,19 @@ inline constexpr AutomaticUniformInfo kAutomaticUniforms[] = {
     {"og_cameraEye", UniformType::FloatVec3},
     {"og_cameraEyeHigh", UniformType::FloatVec3},
     {"og_cameraEyeLow", UniformType::FloatVec3},
+    {"og_cameraEyeHigh65536", UniformType::FloatVec3},
+    {"og_cameraEyeLow65536", UniformType::FloatVec3},
     {"og_viewport", UniformType::FloatVec4},
     {"og_inverseViewportDimensions", UniformType::FloatVec2},
     {"og_viewportTransformationMatrix", UniformType::FloatMat4},
     {"og_nearDistance", UniformType::Float},
     {"og_farDistance", UniformType::Float},
+    {"og_logarithmicDepth", UniformType::FloatVec2},
+    {"og_ownedDepthRange", UniformType::FloatVec2},
     {"og_sunDirection", UniformType::FloatVec3},
     {"og_sunDirectionEye", UniformType::FloatVec3},
     {"og_time", UniformType::Float},
+    {"og_opaqueOne", UniformType::Float},
 };
 static_assert(std::size(kAutomaticUniforms) == static_cast<std::size_t>(AutomaticUniform::Count));
 

@@ -14,6 +14,8 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include <cfloat>
+#include <cmath>
 #include <cstring>
 
 namespace orbis {
@@ -111,6 +113,20 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
                          statistics);
             break;
         }
+        case AutomaticUniform::CameraEyeHigh65536:
+        case AutomaticUniform::CameraEyeLow65536: {
+            glm::vec3 high;
+            glm::vec3 low;
+            for (int i = 0; i < 3; ++i) {
+                const double truncated = std::trunc(scene.cameraEye[i] / 65536.0) * 65536.0;
+                high[i] = static_cast<float>(truncated);
+                low[i] = static_cast<float>(scene.cameraEye[i] - truncated);
+            }
+            putAutomatic(program, slot,
+                         static_cast<AutomaticUniform>(id) == AutomaticUniform::CameraEyeHigh65536 ? high : low,
+                         statistics);
+            break;
+        }
         case AutomaticUniform::Viewport:
             putAutomatic(program, slot,
                          glm::vec4(float(viewport.x), float(viewport.y), float(viewport.width), float(viewport.height)),
@@ -134,6 +150,18 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
         }
         case AutomaticUniform::NearDistance: putAutomatic(program, slot, float(scene.nearDistance), statistics); break;
         case AutomaticUniform::FarDistance: putAutomatic(program, slot, float(scene.farDistance), statistics); break;
+        case AutomaticUniform::LogarithmicDepth: {
+            const double ratio = scene.farDistance / scene.nearDistance;
+            const double scale = ratio > 1.0 && std::isfinite(ratio) ? 1.0 / std::log2(ratio) : 1.0;
+            putAutomatic(program, slot, glm::vec2(float(1.0 / scene.nearDistance), float(scale)), statistics);
+            break;
+        }
+        case AutomaticUniform::OwnedDepthRange: {
+            auto finite = [](double d) { return static_cast<float>(std::min(d, static_cast<double>(FLT_MAX))); };
+            putAutomatic(program, slot, glm::vec2(finite(scene.ownedNearDistance), finite(scene.ownedFarDistance)),
+                         statistics);
+            break;
+        }
         case AutomaticUniform::SunDirection: {
             const double length = glm::length(scene.sunDirection);
             const glm::dvec3 sun = length > 0.0 ? scene.sunDirection / length : glm::dvec3(0.0, 0.0, 1.0);
@@ -148,6 +176,7 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
             break;
         }
         case AutomaticUniform::Time: putAutomatic(program, slot, float(scene.timeSeconds), statistics); break;
+        case AutomaticUniform::OpaqueOne: putAutomatic(program, slot, 1.0f, statistics); break;
         case AutomaticUniform::Count: break;
         }
     }
@@ -308,7 +337,23 @@ void Context::draw(const DrawCommand& command)
     draw(command, identity);
 }
 
-void Context::draw(const DrawCommand& command, const SceneState& scene)
+namespace {
+
+/// Each comparison as seen with near and far swapped: Less becomes Greater, Equal stays.
+CompareFunction mirrored(CompareFunction function) noexcept
+{
+    switch (function) {
+    case CompareFunction::Less: return CompareFunction::Greater;
+    case CompareFunction::LessOrEqual: return CompareFunction::GreaterOrEqual;
+    case CompareFunction::Greater: return CompareFunction::Less;
+    case CompareFunction::GreaterOrEqual: return CompareFunction::LessOrEqual;
+    default: return function;
+    }
+}
+
+} // namespace
+
+std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& scene)
 {
     detail::ContextState& state = *_state;
     ShaderProgram* program = command.shaderProgram;
@@ -347,12 +392,30 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
                     std::to_string(command.first) + ", " + std::to_string(command.first + count) +
                     ") but the vertex array has " + std::to_string(available));
     }
+    const bool complementary = scene.depthConvention == DepthConvention::Complementary;
+    if (complementary && !device().info().clipControl) {
+        throw Error(commandLabel(command) +
+                    ": complementary depth needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control) for a 0..1 "
+                    "clip-space depth range, and this driver (" + device().info().renderer + ", OpenGL " +
+                    device().info().version + ") has neither");
+    }
 
     Framebuffer* target = bindTarget(command.framebuffer, commandLabel(command));
     const Rectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
                                                                                      : targetRectangle(target);
     state.applyViewport(viewport);
-    state.applyRenderState(command.renderState);
+    if (complementary) {
+        RenderState renderState = command.renderState;
+        renderState.depthTest.function = mirrored(renderState.depthTest.function);
+        renderState.polygonOffset.factor = -renderState.polygonOffset.factor;
+        renderState.polygonOffset.units = -renderState.polygonOffset.units;
+        state.applyRenderState(renderState);
+    } else {
+        state.applyRenderState(command.renderState);
+    }
+    if (device().info().clipControl) {
+        state.applyClipDepthZeroToOne(complementary);
+    }
     state.bindProgram(ShaderProgramAccess::serial(*program), ShaderProgramAccess::handle(*program));
     state.bindVertexArray(array->_serial, array->_name);
 
@@ -403,10 +466,13 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
         }
     }
     state.statistics.uniformUploads += ShaderProgramAccess::flush(*program, state.gl);
+    return count;
+}
 
-    if (count == 0) {
-        return;
-    }
+void Context::issueDraw(const DrawCommand& command, std::size_t count)
+{
+    detail::ContextState& state = *_state;
+    const VertexArray* array = command.vertexArray;
     const GLenum mode = detail::toGl(command.primitiveType);
     if (array->indexed()) {
         const std::size_t offset = command.first * indexSize(array->indexType());
@@ -418,6 +484,69 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
     ++state.statistics.drawCalls;
     state.statistics.primitives += detail::primitiveCount(command.primitiveType, count);
     state.statistics.vertices += count;
+}
+
+void Context::draw(const DrawCommand& command, const SceneState& scene)
+{
+    const std::size_t count = prepareDraw(command, scene);
+    if (count != 0) {
+        issueDraw(command, count);
+    }
+}
+
+std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, const SceneState& scene)
+{
+    if (command.shaderProgram && command.shaderProgram->valid() && command.shaderProgram->capturedComponents() == 0) {
+        throw Error(commandLabel(command) + ": shader program '" + command.shaderProgram->name() +
+                    "' captures nothing (build it with ShaderProgramDescription::transformFeedbackVaryings)");
+    }
+    GLenum captureMode = GL_POINTS;
+    std::size_t verticesPerPrimitive = 1;
+    switch (command.primitiveType) {
+    case PrimitiveType::Points: break;
+    case PrimitiveType::Lines:
+    case PrimitiveType::LineStrip:
+        captureMode = GL_LINES;
+        verticesPerPrimitive = 2;
+        break;
+    case PrimitiveType::Triangles:
+    case PrimitiveType::TriangleStrip:
+        captureMode = GL_TRIANGLES;
+        verticesPerPrimitive = 3;
+        break;
+    }
+    const std::size_t count = prepareDraw(command, scene);
+    const std::size_t records = detail::primitiveCount(command.primitiveType, count) * verticesPerPrimitive;
+    const std::size_t floatsPerRecord = static_cast<std::size_t>(command.shaderProgram->capturedComponents());
+    std::vector<float> captured(records * floatsPerRecord);
+    if (captured.empty()) {
+        return captured;
+    }
+
+    const detail::GlApi& gl = _state->gl;
+    GLuint buffer = 0;
+    gl.glGenBuffers(1, &buffer);
+    struct BufferGuard {
+        const detail::GlApi& gl;
+        GLuint name;
+        ~BufferGuard()
+        {
+            gl.glBindBufferBase.unchecked(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+            gl.glDeleteBuffers.unchecked(1, &name);
+            gl.glDisable.unchecked(GL_RASTERIZER_DISCARD);
+        }
+    } guard{gl, buffer};
+    gl.glBindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, buffer);
+    gl.glBufferData(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLsizeiptr>(captured.size() * sizeof(float)), nullptr,
+                    GL_STREAM_READ);
+    gl.glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
+    gl.glEnable(GL_RASTERIZER_DISCARD);
+    gl.glBeginTransformFeedback(captureMode);
+    issueDraw(command, count);
+    gl.glEndTransformFeedback();
+    gl.glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, static_cast<GLsizeiptr>(captured.size() * sizeof(float)),
+                          captured.data());
+    return captured;
 }
 
 Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)

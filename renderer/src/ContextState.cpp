@@ -372,6 +372,16 @@ void ContextState::applyViewport(const Rectangle& viewport)
     ++statistics.stateChangesMade;
 }
 
+void ContextState::applyClipDepthZeroToOne(bool zeroToOne)
+{
+    if (_clipDepthZeroToOne == zeroToOne) {
+        return; // not counted as avoided: it is not part of a command's RenderState
+    }
+    gl.glClipControl(GL_LOWER_LEFT, zeroToOne ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    _clipDepthZeroToOne = zeroToOne;
+    ++statistics.stateChangesMade;
+}
+
 void ContextState::bindProgram(std::uint64_t serial, GLuint name)
 {
     if (_program == serial) {

@@ -44,6 +44,8 @@ public:
     /// The parts of the state a clear obeys: scissor, colour, depth and stencil write masks.
     void applyClearState(const ClearState& clear);
     void applyViewport(const Rectangle& viewport);
+    /// glClipControl's depth mode: 0..1 when true, GL's -1..1 otherwise (needs glClipControl).
+    void applyClipDepthZeroToOne(bool zeroToOne);
 
     void bindProgram(std::uint64_t serial, GLuint name);
     void bindVertexArray(std::uint64_t serial, GLuint name);
@@ -72,6 +74,7 @@ private:
     bool _initialized = false;
     RenderState _state;     ///< what GL has
     Rectangle _viewport{-1, -1, -1, -1};
+    bool _clipDepthZeroToOne = false;
     std::uint64_t _program = 0;
     std::uint64_t _vertexArray = 0;
     std::uint64_t _framebuffer = 0;

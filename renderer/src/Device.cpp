@@ -151,6 +151,13 @@ Device::Device(const DeviceOptions& options)
         info.khrDebug = (extensions.count("GL_KHR_debug") || major * 10 + minor >= 43) &&
                         static_cast<bool>(gl->glDebugMessageCallback);
         info.glChecks = checks;
+        info.glMajorVersion = major;
+        info.glMinorVersion = minor;
+        info.extensions.assign(extensions.begin(), extensions.end());
+        info.clipControl = (extensions.count("GL_ARB_clip_control") || major * 10 + minor >= 45) &&
+                           static_cast<bool>(gl->glClipControl);
+        // The shaders are GLSL 3.30, so `precise` needs the extension's directive even on GL 4.
+        info.gpuShader5 = extensions.count("GL_ARB_gpu_shader5") != 0;
 
         auto state = std::make_unique<detail::ContextState>(*this, *gl, std::move(backendContext), info.maxTextureUnits);
         state->debugOutput = checks && info.khrDebug;
@@ -196,6 +203,11 @@ Device::~Device()
     _impl->context.reset();
     _impl->gl.reset();
     _impl->backend.reset();
+}
+
+bool DeviceInfo::hasExtension(std::string_view name) const noexcept
+{
+    return std::binary_search(extensions.begin(), extensions.end(), name);
 }
 
 const DeviceInfo& Device::info() const noexcept

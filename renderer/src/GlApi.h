@@ -120,13 +120,20 @@ namespace orbis::detail {
     X(PFNGLDELETESYNCPROC, glDeleteSync)                                                           \
     X(PFNGLCLIENTWAITSYNCPROC, glClientWaitSync)                                                   \
     X(PFNGLWAITSYNCPROC, glWaitSync)                                                               \
-    X(PFNGLGETSYNCIVPROC, glGetSynciv)
+    X(PFNGLGETSYNCIVPROC, glGetSynciv)                                                             \
+    X(PFNGLTRANSFORMFEEDBACKVARYINGSPROC, glTransformFeedbackVaryings)                             \
+    X(PFNGLGETTRANSFORMFEEDBACKVARYINGPROC, glGetTransformFeedbackVarying)                         \
+    X(PFNGLBEGINTRANSFORMFEEDBACKPROC, glBeginTransformFeedback)                                   \
+    X(PFNGLENDTRANSFORMFEEDBACKPROC, glEndTransformFeedback)                                       \
+    X(PFNGLBINDBUFFERBASEPROC, glBindBufferBase)
 
-/// KHR_debug (core in 4.3): used when present, for messages and object labels.
+/// KHR_debug (core in 4.3): used when present, for messages and object labels. ARB_clip_control
+/// (core in 4.5): complementary depth with a 0..1 clip-space depth range.
 #define ORBIS_GL_OPTIONAL_FUNCTIONS(X)                                                             \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback)                                       \
     X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl)                                         \
-    X(PFNGLOBJECTLABELPROC, glObjectLabel)
+    X(PFNGLOBJECTLABELPROC, glObjectLabel)                                                         \
+    X(PFNGLCLIPCONTROLPROC, glClipControl)
 // clang-format on
 
 class GlApi;

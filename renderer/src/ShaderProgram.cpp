@@ -20,7 +20,8 @@ namespace {
 using detail::ShaderProgramAccess;
 
 /// The built-in GLSL library, prepended (after #version and the defines) on request.
-constexpr const char* kBuiltinLibrary[] = {"renderer/builtin/constants.glsl", "renderer/builtin/functions.glsl"};
+constexpr const char* kBuiltinLibrary[] = {"renderer/builtin/constants.glsl", "renderer/builtin/functions.glsl",
+                                           "renderer/builtin/vertex_transform.glsl", "renderer/builtin/depth.glsl"};
 
 const char* stageName(GLenum stage)
 {
@@ -142,7 +143,14 @@ GLuint compile(const detail::GlApi& gl, GLenum stage, const ShaderSource& source
     // The defines get block 9: block 0 is the stage's file.
     constexpr std::size_t kDefinesBlock = 9;
     names.push_back("<" + programName + " defines>");
-    std::string preamble = "#version 330 core\n#line " + std::to_string(kDefinesBlock * kLineBlock + 1) + " 0\n";
+    std::string preamble = "#version 330 core\n";
+    for (const std::string& extension : description.extensions) {
+        preamble += "#extension " + extension + " : require\n";
+    }
+    preamble += "#line " + std::to_string(kDefinesBlock * kLineBlock + 1) + " 0\n";
+    preamble += stage == GL_VERTEX_SHADER     ? "#define OG_VERTEX_SHADER 1\n"
+                : stage == GL_GEOMETRY_SHADER ? "#define OG_GEOMETRY_SHADER 1\n"
+                                              : "#define OG_FRAGMENT_SHADER 1\n";
     for (const ShaderDefine& define : description.defines) {
         preamble += "#define " + define.name + " " + define.value + "\n";
     }
@@ -268,6 +276,14 @@ std::string ShaderProgramDescription::cacheKey() const
         add(define.value);
     }
     key += builtinLibrary ? "|lib" : "|nolib";
+    for (const std::string& extension : extensions) {
+        add("#extension");
+        add(extension);
+    }
+    for (const std::string& varying : transformFeedbackVaryings) {
+        add("#capture");
+        add(varying);
+    }
     return key;
 }
 
@@ -307,6 +323,14 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
             gl.glBindAttribLocation(handle, static_cast<GLuint>(location), std::string(standard).c_str());
         }
     }
+    if (!description.transformFeedbackVaryings.empty()) {
+        std::vector<const GLchar*> varyings;
+        for (const std::string& varying : description.transformFeedbackVaryings) {
+            varyings.push_back(varying.c_str());
+        }
+        gl.glTransformFeedbackVaryings(handle, static_cast<GLsizei>(varyings.size()), varyings.data(),
+                                       GL_INTERLEAVED_ATTRIBS);
+    }
     gl.glLinkProgram(handle);
     gl.glDetachShader(handle, vertex.name);
     if (geometry.name) {
@@ -323,6 +347,27 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
         files += ", " + description.fragment.name;
         throw Error("shader program '" + programName + "' (" + files + ") does not link:\n" +
                     programLog(gl, handle));
+    }
+
+    // Reflection: what transform feedback captures, in floats per vertex.
+    for (std::size_t i = 0; i < description.transformFeedbackVaryings.size(); ++i) {
+        GLchar varyingName[256];
+        GLsizei length = 0;
+        GLsizei size = 0;
+        GLenum type = 0;
+        gl.glGetTransformFeedbackVarying(handle, static_cast<GLuint>(i), sizeof varyingName, &length, &size, &type,
+                                         varyingName);
+        int components = 0;
+        switch (type) {
+        case GL_FLOAT: components = 1; break;
+        case GL_FLOAT_VEC2: components = 2; break;
+        case GL_FLOAT_VEC3: components = 3; break;
+        case GL_FLOAT_VEC4: components = 4; break;
+        default:
+            throw Error("shader program '" + programName + "': captured output " +
+                        description.transformFeedbackVaryings[i] + " is not a float, vec2, vec3 or vec4");
+        }
+        program._capturedComponents += components * size;
     }
 
     // Reflection: vertex attributes.
@@ -443,6 +488,7 @@ ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
     , _samplerSlots(std::move(other._samplerSlots))
     , _unsetCount(std::exchange(other._unsetCount, 0))
     , _attributeMask(std::exchange(other._attributeMask, 0u))
+    , _capturedComponents(std::exchange(other._capturedComponents, 0))
 {
 }
 
@@ -462,6 +508,7 @@ ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept
         std::swap(_samplerSlots, moved._samplerSlots);
         std::swap(_unsetCount, moved._unsetCount);
         std::swap(_attributeMask, moved._attributeMask);
+        std::swap(_capturedComponents, moved._capturedComponents);
     }
     return *this;
 }

@@ -11,16 +11,50 @@ vec4 og_transformToWindowCoordinates(mat4 modelViewProjection, mat4 viewportTran
     return vec4(window.xyz, clip.w);
 }
 
+// og_precise and og_keep: how a two-sum survives the compiler. A compiler may reassociate float
+// arithmetic it is not told to keep, and (a - b) - a is -b to an algebraist: Mesa's does, which
+// turns the two-sum's rounding error into 0 (measured in docs/precision.md). Three ways:
+//   OG_PRECISE (with the extension GL_ARB_gpu_shader5 required: DeviceInfo::gpuShader5): GLSL's
+//     `precise` on every step;
+//   otherwise each intermediate is multiplied by og_opaqueOne, an automatic uniform that is 1.0 at
+//     run time but unknown to the compiler, so nothing folds (the product by 1 is exact, and fused
+//     into a multiply-add it still is);
+//   OG_UNPROTECTED_TWO_SUM: neither, for measuring what the compiler does to the plain text.
+#if defined(OG_PRECISE)
+#define og_precise precise
+#define og_keep(x) (x)
+#elif defined(OG_UNPROTECTED_TWO_SUM)
+#define og_precise
+#define og_keep(x) (x)
+#else
+#define og_precise
+uniform float og_opaqueOne;
+#define og_keep(x) ((x) * og_opaqueOne)
+#endif
+
 // (aHigh + aLow) - (bHigh + bLow) with about twice float precision, for positions sent as two
 // floats (VertexArrayOptions: "positionHigh", "positionLow") and the eye as og_cameraEyeHigh and
-// og_cameraEyeLow: GPU relative-to-eye rendering. The difference of the high parts is computed as
-// a two-sum, whose rounding error is added back with the low parts.
+// og_cameraEyeLow: GPU relative-to-eye rendering after DSFUN90 (book section 5.4.2). The difference
+// of the high parts is computed as a two-sum, whose rounding error is added back with the low parts.
+// orbis::relativeToEye (core/EmulatedDouble.h) computes the same on the CPU, operation for operation,
+// so the two agree bit for bit when the compiler keeps the order (tests/renderer).
 vec3 og_emulatedDoubleSubtract(vec3 aHigh, vec3 aLow, vec3 bHigh, vec3 bLow)
 {
-    vec3 sum = aHigh - bHigh;
-    vec3 virtualB = sum - aHigh;
-    vec3 roundingError = (aHigh - (sum - virtualB)) - (bHigh + virtualB);
-    return sum + (roundingError + (aLow - bLow));
+    og_precise vec3 sum = og_keep(aHigh - bHigh);
+    og_precise vec3 virtualB = og_keep(sum - aHigh);
+    og_precise vec3 roundingError = og_keep(aHigh - og_keep(sum - virtualB)) - og_keep(bHigh + virtualB);
+    og_precise vec3 result = sum + og_keep(og_keep(roundingError + aLow) - bLow);
+    return result;
+}
+
+// The book's first GPU relative-to-eye difference (section 5.4, after Ohlarik): positions and eye
+// split at multiples of 65536 m (orbis::splitAt65536; the eye as og_cameraEyeHigh65536 and
+// og_cameraEyeLow65536). The highs' difference is exact; the lows carry 2^-8 m, so the result is
+// good to millimetres whatever the distance. orbis::relativeToEyeSplitAt65536 on the CPU.
+vec3 og_subtractSplitAt65536(vec3 aHigh, vec3 aLow, vec3 bHigh, vec3 bLow)
+{
+    og_precise vec3 result = (aHigh - bHigh) + (aLow - bLow);
+    return result;
 }
 
 // Diffuse, specular and ambient light for unit vectors; the weights and the shininess exponent
@@ -33,3 +67,4 @@ float og_lightIntensity(vec3 normal, vec3 toLight, vec3 toEye, vec4 diffuseSpecu
     return diffuseSpecularAmbientShininess.x * diffuse + diffuseSpecularAmbientShininess.y * specular +
            diffuseSpecularAmbientShininess.z;
 }
+

@@ -62,7 +62,22 @@ EmulatedDVec3 operator-(const EmulatedDVec3& a, const EmulatedDVec3& b) noexcept
 /// What the relative-to-eye vertex shader computes: position - eye in double-single, then
 /// high + low rounded to one float per component. Its error is relative to the distance from
 /// the eye (2^-24 of it, plus the subtraction's), not to the distance from the Earth's centre
-/// as with float(position) - float(eye).
+/// as with float(position) - float(eye). The GPU's og_emulatedDoubleSubtract (DSFUN90's
+/// two-sum, book section 5.4.2).
 glm::vec3 relativeToEye(const EmulatedDVec3& position, const EmulatedDVec3& eye) noexcept;
+
+/// The book's first GPU relative-to-eye encoding (section 5.4, after Ohlarik's "Precisions,
+/// Precisions"): high = the value truncated towards zero to a multiple of 65536 (2^16 m), low =
+/// the remainder rounded to float (|low| <= 65536). Differences of two highs are exact floats up to
+/// 2^40 m; low keeps 2^-8 m (3.9 mm) near 65536, so high + low is within 2^-9 m (2 mm) of the
+/// double. Values beyond 2^40 in magnitude lose that: high is then rounded too.
+EmulatedDouble splitAt65536(double value) noexcept;
+/// Each component as splitAt65536.
+EmulatedDVec3 splitAt65536(const glm::dvec3& value) noexcept;
+/// What the book's first GPU relative-to-eye shader computes from two splitAt65536 encodings:
+/// (highs' difference) + (lows' difference) in float, og_subtractSplitAt65536 on the GPU. The
+/// highs' difference is exact, so the error is the lows' rounding (up to 2 mm each, whatever the
+/// distance) plus the final rounding, 2^-24 of the distance.
+glm::vec3 relativeToEyeSplitAt65536(const EmulatedDVec3& position, const EmulatedDVec3& eye) noexcept;
 
 } // namespace orbis

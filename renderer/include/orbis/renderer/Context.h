@@ -10,6 +10,7 @@
 #include "orbis/renderer/VertexArray.h"
 
 #include <memory>
+#include <vector>
 
 namespace orbis {
 
@@ -89,6 +90,13 @@ public:
     void draw(const DrawCommand& command, const SceneState& sceneState);
     /// The same with a default SceneState (identity matrices).
     void draw(const DrawCommand& command);
+    /// Runs the command's vertex (and geometry) stage with rasterisation off and returns the
+    /// outputs its program captures (ShaderProgramDescription::transformFeedbackVaryings), as
+    /// floats interleaved in that order, program->capturedComponents() per vertex, one record per
+    /// vertex of each primitive drawn: points one, lines two, triangles three (strips as separate
+    /// primitives). Reads back what the GPU computed, e.g. gl_Position for precision
+    /// measurements. Throws orbis::Error as draw does, and for a program that captures nothing.
+    std::vector<float> captureVertexOutputs(const DrawCommand& command, const SceneState& sceneState);
 
     /// A colour attachment of a framebuffer (the current one when null) as an RGBA image, top row
     /// first. Float formats are clamped to 0..1.
@@ -109,6 +117,9 @@ private:
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const std::string& where);
     Rectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+    /// Checks the command, binds and sets everything it needs; returns the element count to draw.
+    std::size_t prepareDraw(const DrawCommand& command, const SceneState& sceneState);
+    void issueDraw(const DrawCommand& command, std::size_t count);
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;

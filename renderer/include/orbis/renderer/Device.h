@@ -14,6 +14,8 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace orbis {
 
@@ -59,6 +61,18 @@ struct DeviceInfo {
     float maxAnisotropy = 1.0f;     ///< 1 when anisotropic filtering is missing
     bool khrDebug = false;          ///< KHR_debug present
     bool glChecks = false;          ///< glGetError after every call
+    int glMajorVersion = 3;         ///< of the context created (often above the 3.3 asked for)
+    int glMinorVersion = 3;
+    /// glClipControl (GL 4.5 or ARB_clip_control): a 0..1 clip-space depth range, which
+    /// complementary depth in a float buffer needs (SceneState::depthConvention).
+    bool clipControl = false;
+    /// The GLSL `precise` qualifier (GLSL 4.00 or ARB_gpu_shader5), which keeps the compiler from
+    /// reassociating or fusing float arithmetic (ShaderProgramDescription::extensions).
+    bool gpuShader5 = false;
+    std::vector<std::string> extensions; ///< GL_EXTENSIONS, sorted
+
+    /// Whether the driver lists the extension ("GL_ARB_clip_control").
+    bool hasExtension(std::string_view name) const noexcept;
 };
 
 /// The GPU: it creates the resources (buffers, programs, textures, samplers, fences) that every

@@ -42,7 +42,14 @@ struct ShaderProgramDescription {
     std::optional<ShaderSource> geometry;
     ShaderSource fragment;
     std::vector<ShaderDefine> defines;
-    /// Prepend the built-in GLSL library (shaders/renderer/builtin: og_pi, og_... functions).
+    /// GLSL extensions each stage requires ("#extension NAME : require" after #version), e.g.
+    /// "GL_ARB_gpu_shader5" for `precise` (DeviceInfo::gpuShader5 says whether it is there).
+    std::vector<std::string> extensions;
+    /// Vertex (or geometry) shader outputs that Context::captureVertexOutputs reads back,
+    /// interleaved in this order; built-ins such as "gl_Position" included. Float types only.
+    std::vector<std::string> transformFeedbackVaryings;
+    /// Prepend the built-in GLSL library (shaders/renderer/builtin: og_pi, og_... functions). Each
+    /// stage also gets OG_VERTEX_SHADER, OG_GEOMETRY_SHADER or OG_FRAGMENT_SHADER defined.
     bool builtinLibrary = true;
 
     /// Sources, defines and options, joined; the shader cache's key.
@@ -101,6 +108,9 @@ public:
     bool hasUniform(std::string_view name) const noexcept;
     /// Bit i set when the program reads attribute location i.
     std::uint32_t attributeMask() const noexcept { return _attributeMask; }
+    /// Floats per vertex that Context::captureVertexOutputs returns: 0 for a program built without
+    /// transformFeedbackVaryings.
+    int capturedComponents() const noexcept { return _capturedComponents; }
 
     /// The index of an active uniform for the fast setter; throws orbis::Error naming the program,
     /// the uniform and the active ones when it is not active.
@@ -136,6 +146,7 @@ private:
     std::vector<int> _samplerSlots;     ///< slots of sampler uniforms
     int _unsetCount = 0;                ///< non-automatic slots without a value
     std::uint32_t _attributeMask = 0;
+    int _capturedComponents = 0;
 };
 
 } // namespace orbis

@@ -1,0 +1,86 @@
+// Depth strategies (the scene layer's DepthStrategy sets the defines; book chapter 6):
+//   OG_DEPTH_LOGARITHMIC         window depth log2(w / near) / log2(far / near), written per fragment
+//                                from the eye depth w interpolated perspective-correctly: exact at
+//                                every pixel, but the depth test runs after the fragment shader
+//   OG_DEPTH_LOGARITHMIC_VERTEX  the same depth written per vertex into gl_Position.z: free, but
+//                                interpolated linearly across each triangle (too near on large ones)
+//   OG_DEPTH_COMPLEMENTARY       clip depth 0..1 reversed (SceneState::depthConvention); only
+//                                og_windowDepth needs to know
+//   OG_DEPTH_OWNED_RANGE         for blended draws where frustums overlap: fragments whose eye depth
+//                                lies outside og_ownedDepthRange are discarded, so none is blended
+//                                twice
+// A shader takes part by calling
+//   gl_Position = og_depthVertex(gl_Position);   last in its vertex shader
+//   og_depthFragment();                          first in its fragment shader
+// and a fragment shader that computes its own depth (a ray caster) writes og_windowDepth(clip) for
+// the clip-space position of its surface. With none of the defines these change nothing.
+//
+// The near plane: log2 of w <= 0 (a vertex behind the eye) is undefined, and a NaN or infinite z
+// gets the whole triangle dropped. The vertex variant gives such vertices z = 0, which the clipper
+// sees as outside the near plane (z + w < 0) like any vertex nearer than `near`, so a long triangle
+// crossing the eye plane is clipped, not lost; where it is cut is interpolated from the logarithm, so
+// only approximately at w = near. The per-fragment variant keeps the projection's own z for
+// clipping: it clips exactly at near and far.
+
+#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_LOGARITHMIC_VERTEX)
+uniform vec2 og_logarithmicDepth; // 1 / near, 1 / log2(far / near)
+
+// Window depth 0..1 (unclamped) of eye depth w.
+float og_logarithmicWindowDepth(float w)
+{
+    return log2(w * og_logarithmicDepth.x) * og_logarithmicDepth.y;
+}
+#endif
+
+#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_OWNED_RANGE)
+#if defined(OG_VERTEX_SHADER)
+out float og_depthW;
+#elif defined(OG_FRAGMENT_SHADER)
+in float og_depthW;
+#endif
+#endif
+
+#if defined(OG_DEPTH_OWNED_RANGE)
+uniform vec2 og_ownedDepthRange;
+#endif
+
+#if defined(OG_VERTEX_SHADER)
+vec4 og_depthVertex(vec4 clip)
+{
+#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_OWNED_RANGE)
+    og_depthW = clip.w;
+#endif
+#if defined(OG_DEPTH_LOGARITHMIC_VERTEX)
+    float ndc = clip.w > 0.0 ? 2.0 * og_logarithmicWindowDepth(clip.w) - 1.0 : 0.0;
+    clip.z = clip.w > 0.0 ? ndc * clip.w : 0.0;
+#endif
+    return clip;
+}
+#endif
+
+#if defined(OG_FRAGMENT_SHADER)
+void og_depthFragment()
+{
+#if defined(OG_DEPTH_OWNED_RANGE)
+    if (og_depthW < og_ownedDepthRange.x || og_depthW >= og_ownedDepthRange.y) {
+        discard;
+    }
+#endif
+#if defined(OG_DEPTH_LOGARITHMIC)
+    gl_FragDepth = clamp(og_logarithmicWindowDepth(og_depthW), 0.0, 1.0);
+#endif
+}
+
+// The window depth of a clip-space position under the program's depth strategy; outside 0..1 when
+// the position is outside the frustum's depth range.
+float og_windowDepth(vec4 clip)
+{
+#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_LOGARITHMIC_VERTEX)
+    return clip.w > 0.0 ? og_logarithmicWindowDepth(clip.w) : -1.0;
+#elif defined(OG_DEPTH_COMPLEMENTARY)
+    return gl_DepthRange.near + gl_DepthRange.diff * (clip.z / clip.w);
+#else
+    return 0.5 * (gl_DepthRange.diff * (clip.z / clip.w) + gl_DepthRange.near + gl_DepthRange.far);
+#endif
+}
+#endif
