@@ -24,6 +24,8 @@ std::string FrameStatistics::toText() const
         << "commands: " << commandsSubmitted << " submitted, " << commandsCulledByFrustum << " culled by the frustum, "
         << commandsCulledByHorizon << " by the horizon, " << commandsExecuted << " draw calls, "
         << commandsExecutedMoreThanOnce << " commands drawn in more than one frustum\n"
+        << "depth: " << depthStrategyName(depthStrategy) << (depthStrategyAutomatic ? " (chosen by auto)" : "")
+        << "\n"
         << "frustums: " << frustums.size() << (frustumsReused ? " (reused)" : "") << "\n";
     for (std::size_t f = 0; f < frustums.size(); ++f) {
         out << "  " << f << ": " << number(frustums[f].nearDistance) << " m .. " << number(frustums[f].farDistance)
@@ -50,6 +52,8 @@ std::string FrameStatistics::toJson() const
         << "  \"commandsCulledByHorizon\": " << commandsCulledByHorizon << ",\n"
         << "  \"commandsExecuted\": " << commandsExecuted << ",\n"
         << "  \"commandsExecutedMoreThanOnce\": " << commandsExecutedMoreThanOnce << ",\n"
+        << "  \"depthStrategy\": \"" << depthStrategyName(depthStrategy) << "\",\n"
+        << "  \"depthStrategyAutomatic\": " << (depthStrategyAutomatic ? "true" : "false") << ",\n"
         << "  \"frustumsReused\": " << (frustumsReused ? "true" : "false") << ",\n"
         << "  \"frustums\": [";
     for (std::size_t f = 0; f < frustums.size(); ++f) {

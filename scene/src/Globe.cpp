@@ -57,8 +57,12 @@ double Globe::gridSpacing(double heightMeters, double metersPerPixelAtHeight, do
     return toRadians(30.0);
 }
 
-void Globe::createResources(FrameState& frameState)
+ShaderProgram& Globe::program(FrameState& frameState)
 {
+    std::shared_ptr<ShaderProgram>& program = _programs[static_cast<std::size_t>(frameState.depthStrategy)];
+    if (program) {
+        return *program;
+    }
     const bool rayCast = _options.method == GlobeMethod::RayCast;
     ShaderProgramDescription description;
     description.name = rayCast ? "globe (ray cast)" : "globe (tessellated)";
@@ -79,11 +83,24 @@ void Globe::createResources(FrameState& frameState)
     if (_options.grid) {
         description.defines.push_back({"GRID"});
     }
-    _program = frameState.device.shaderCache().get(description);
+    for (ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
+        description.defines.push_back(std::move(define));
+    }
+    if (frameState.device.info().gpuShader5) {
+        // Keeps og_emulatedDoubleSubtract's two-sum (built-in functions.glsl).
+        description.defines.push_back({"OG_PRECISE"});
+        description.extensions.push_back("GL_ARB_gpu_shader5");
+    }
+    program = frameState.device.shaderCache().get(description);
+    return *program;
+}
 
+void Globe::createResources(FrameState& frameState)
+{
+    const bool rayCast = _options.method == GlobeMethod::RayCast;
     const Mesh mesh = rayCast ? BoxTessellator::compute(_ellipsoid, VertexAttributes::Position, Deviation::Skip).mesh
                               : tessellate(_ellipsoid, _options.tessellation, _options.tessellationLevel).mesh;
-    _vertexArray = frameState.context.createVertexArray(mesh, *_program);
+    _vertexArray = frameState.context.createVertexArray(mesh, program(frameState));
 
     if (!_options.dayTexture.empty()) {
         _dayTexture = frameState.device.createTexture2D(readGlobeImage(_options.dayTexture), true);
@@ -100,21 +117,22 @@ void Globe::createResources(FrameState& frameState)
 
 void Globe::update(FrameState& frameState, CommandList& commands)
 {
-    if (!_program) {
+    if (!_vertexArray) {
         createResources(frameState);
     }
+    ShaderProgram& shaderProgram = program(frameState);
     const bool rayCast = _options.method == GlobeMethod::RayCast;
     DrawCommand command;
     command.debugName = "globe";
     command.vertexArray = &*_vertexArray;
-    command.shaderProgram = _program.get();
+    command.shaderProgram = &shaderProgram;
     command.boundingSphere = boundingSphere();
     // The box is drawn from inside out so that the globe still shows with the eye inside it.
     command.renderState.facetCulling.face = rayCast ? CullFace::Front : CullFace::Back;
 
     // Each variant uses some of these; the GLSL compiler removes the others.
     auto set = [&](std::string_view name, const UniformValue& value) {
-        if (_program->hasUniform(name)) {
+        if (shaderProgram.hasUniform(name)) {
             command.uniforms.set(name, value);
         }
     };

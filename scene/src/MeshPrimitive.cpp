@@ -3,45 +3,59 @@
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
-#include <glm/ext/matrix_transform.hpp>
-
 #include <cassert>
 
 namespace orbis {
 
-MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass)
-    : _mesh(std::move(mesh))
-    , _boundingSphere(BoundingSphere::fromPoints(_mesh.positions))
+MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass, VertexTransform transform)
+    : _boundingSphere(BoundingSphere::fromPoints(mesh.positions))
     , _color(color)
     , _pass(pass)
-    , _lit(!_mesh.normals.empty())
+    , _lit(!mesh.normals.empty())
+    , _primitiveType(mesh.primitiveType)
+    , _transform(transform)
+    , _lastTransform(transform == VertexTransform::Automatic ? VertexTransform::RelativeToCenter : transform)
 {
-    assert(!_mesh.positions.empty() && _mesh.primitiveType == PrimitiveType::Triangles);
+    assert(!mesh.positions.empty() &&
+           (mesh.primitiveType == PrimitiveType::Triangles || mesh.primitiveType == PrimitiveType::Points));
+    _arrays = std::make_unique<VertexTransformArrays>(std::move(mesh), _boundingSphere.centre, transform);
 }
 
 MeshPrimitive::~MeshPrimitive() = default;
 
+ShaderProgramDescription MeshPrimitive::programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
+                                                           bool lit, const DeviceInfo& device)
+{
+    ShaderProgramDescription description;
+    description.name = std::string("mesh (") + vertexTransformName(transform) + ", " + depthStrategyName(depth) + ")";
+    description.vertex = ShaderSource::embedded("scene/mesh/mesh.vert.glsl");
+    description.fragment = ShaderSource::embedded("scene/mesh/mesh.frag.glsl");
+    if (lit) {
+        description.defines.push_back({"LIGHTING"});
+    }
+    addVertexTransformDefines(transform, device, description);
+    for (ShaderDefine& define : depthStrategyDefines(depth, pass)) {
+        description.defines.push_back(std::move(define));
+    }
+    return description;
+}
+
 void MeshPrimitive::update(FrameState& frameState, CommandList& commands)
 {
-    if (!_program) {
-        ShaderProgramDescription description;
-        description.name = "mesh";
-        description.vertex = ShaderSource::embedded("scene/mesh/mesh.vert.glsl");
-        description.fragment = ShaderSource::embedded("scene/mesh/mesh.frag.glsl");
-        if (_lit) {
-            description.defines.push_back({"LIGHTING"});
-        }
-        _program = frameState.device.shaderCache().get(description);
-        VertexArrayOptions options;
-        options.center = _boundingSphere.centre;
-        _vertexArray = frameState.context.createVertexArray(_mesh, *_program, options);
-        _mesh = Mesh(); // on the GPU now
+    const VertexTransform transform = resolveVertexTransform(_transform, _boundingSphere, frameState);
+    _lastTransform = transform;
+    std::shared_ptr<ShaderProgram>& program =
+        _programs[static_cast<std::size_t>(transform)][static_cast<std::size_t>(frameState.depthStrategy)];
+    if (!program) {
+        program = frameState.device.shaderCache().get(
+            programDescription(transform, frameState.depthStrategy, _pass, _lit, frameState.device.info()));
     }
     DrawCommand command;
     command.debugName = "mesh";
-    command.vertexArray = &*_vertexArray;
-    command.shaderProgram = _program.get();
-    command.modelMatrix = glm::translate(glm::dmat4(1.0), _boundingSphere.centre);
+    command.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
+    command.primitiveType = _primitiveType;
+    command.shaderProgram = program.get();
+    command.modelMatrix = _arrays->modelMatrix(transform);
     command.uniforms.set("u_color", _color);
     command.pass = _pass;
     command.boundingSphere = _boundingSphere;

@@ -1,5 +1,8 @@
 #include "orbis/scene/Scene.h"
 
+#include "DepthPlan.h"
+
+#include <orbis/core/Error.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
@@ -8,6 +11,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <typeinfo>
 
 namespace orbis {
 
@@ -17,6 +22,13 @@ double millisecondsSince(std::chrono::steady_clock::time_point start)
 {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
+
+/// Puts the context's framebuffer back however the frame ends.
+struct FramebufferRestorer {
+    Context& context;
+    Framebuffer* framebuffer;
+    ~FramebufferRestorer() { context.setFramebuffer(framebuffer); }
+};
 
 } // namespace
 
@@ -52,6 +64,56 @@ void Scene::setSunDirection(const glm::dvec3& direction) noexcept
     }
 }
 
+DepthStrategy Scene::chooseDepthStrategy(Context& context, Framebuffer* target, double nearDistance,
+                                         double farDistance, bool logarithmicAvailable) const
+{
+    const DeviceInfo& device = context.device().info();
+    const DepthStrategy requested = _options.depthStrategy;
+    if (requested == DepthStrategy::Auto) {
+        detail::AutoInputs inputs;
+        inputs.nearDistance = nearDistance;
+        inputs.farDistance = farDistance;
+        inputs.complementaryAvailable = device.clipControl && target != nullptr;
+        inputs.logarithmicAvailable = logarithmicAvailable;
+        return detail::resolveAutomaticDepth(inputs, _options.multiFrustum);
+    }
+    if (requested == DepthStrategy::Complementary) {
+        if (!device.clipControl) {
+            throw Error("Scene: complementary depth needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control) for a "
+                        "0..1 clip-space depth range, and this driver (" + device.renderer + ", OpenGL " +
+                        device.version + ") has neither; use DepthStrategy::Auto, Logarithmic or MultiFrustum");
+        }
+        if (!target) {
+            throw Error("Scene: complementary depth needs a Depth32F depth buffer, which a default (window) "
+                        "framebuffer cannot be given; render into a Framebuffer");
+        }
+    }
+    return requested;
+}
+
+Framebuffer* Scene::floatDepthTarget(Context& context, Framebuffer& target)
+{
+    if (target.depthAttachment() && target.depthAttachment()->format() == TextureFormat::Depth32F) {
+        return &target;
+    }
+    bool current = _floatDepthTarget && _floatDepthContext == &context && _floatDepth &&
+                   _floatDepth->width() == target.width() && _floatDepth->height() == target.height();
+    for (int i = 0; current && i < Framebuffer::kMaxColorAttachments; ++i) {
+        current = _floatDepthTarget->colorAttachment(i) == target.colorAttachment(i);
+    }
+    if (!current) {
+        _floatDepthTarget = std::make_shared<Framebuffer>(context.createFramebuffer());
+        for (int i = 0; i < Framebuffer::kMaxColorAttachments; ++i) {
+            _floatDepthTarget->setColorAttachment(i, target.colorAttachment(i));
+        }
+        _floatDepth = std::make_shared<Texture2D>(
+            context.device().createTexture2D({target.width(), target.height(), TextureFormat::Depth32F}));
+        _floatDepthTarget->setDepthAttachment(_floatDepth);
+        _floatDepthContext = &context;
+    }
+    return _floatDepthTarget.get();
+}
+
 FrameStatistics Scene::render(Context& context)
 {
     FrameStatistics statistics;
@@ -61,38 +123,56 @@ FrameStatistics Scene::render(Context& context)
     const int height = target ? target->height() : 0;
     const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
 
-    if (_binner.multiFrustum().options() != _options.multiFrustum) {
-        _binner.multiFrustum().setOptions(_options.multiFrustum);
-    }
     const MultiFrustumOptions& limits = _options.multiFrustum;
     const glm::dmat4 view = _camera.viewMatrix();
     const glm::dmat4 wholeProjection = _camera.projectionMatrix(aspect, limits.nearLimit, limits.farLimit);
+    const glm::dvec3 eye = _camera.eye();
+    const glm::dvec3 viewDirection = _camera.direction();
+    const Frustum cullingVolume = Frustum::fromViewProjection(wholeProjection * view);
 
     Device& device = context.device();
     const std::uint64_t compilesBefore = device.shaderCache().compiles();
     context.resetStatistics();
 
-    FrameState frameState{context,
-                          device,
-                          _camera,
-                          _ellipsoid,
-                          width,
-                          height,
-                          _sunDirection,
-                          _timeSeconds,
-                          _frameNumber,
-                          Frustum::fromViewProjection(wholeProjection * view),
-                          EllipsoidalOccluder(_ellipsoid, _camera.eye())};
-
-    // Update: primitives culled whole are never asked for commands, so they allocate nothing.
+    // Cull primitives whole: those culled are never asked for commands, so they allocate nothing.
+    // The survivors' extent along the view direction is what Auto weighs, before anything updates.
     auto phase = std::chrono::steady_clock::now();
-    _commands.clear();
+    _survivors.clear();
+    double nearest = std::numeric_limits<double>::infinity();
+    double farthest = 0.0;
+    bool logarithmicAvailable = true;
     for (const std::shared_ptr<Primitive>& primitive : _primitives) {
         const std::optional<BoundingSphere> sphere = primitive->boundingSphere();
-        if (sphere && frameState.cullingVolume.intersect(*sphere) == Intersect::Outside) {
+        if (sphere && cullingVolume.intersect(*sphere) == Intersect::Outside) {
             ++statistics.primitivesCulled;
             continue;
         }
+        _survivors.push_back(primitive.get());
+        const double centre = sphere ? glm::dot(sphere->centre - eye, viewDirection) : 0.0;
+        nearest = std::min(nearest, sphere ? centre - sphere->radius : limits.nearLimit);
+        farthest = std::max(farthest, sphere ? centre + sphere->radius : limits.farLimit);
+        logarithmicAvailable = logarithmicAvailable && primitive->supportsLogarithmicDepth();
+    }
+    const double frameNear = std::clamp(nearest, limits.nearLimit, limits.farLimit);
+    const double frameFar = std::clamp(farthest, frameNear, limits.farLimit);
+    const DepthStrategy strategy = chooseDepthStrategy(context, target, frameNear, frameFar, logarithmicAvailable);
+    const detail::DepthPlan plan = detail::DepthPlan::of(strategy, limits);
+    if (plan.strategy == DepthStrategy::Logarithmic || plan.strategy == DepthStrategy::LogarithmicVertex) {
+        for (const Primitive* primitive : _survivors) {
+            if (!primitive->supportsLogarithmicDepth()) {
+                throw Error(std::string("Scene: logarithmic depth needs every primitive to write it, and a ") +
+                            typeid(*primitive).name() + " does not (Primitive::supportsLogarithmicDepth)");
+            }
+        }
+    }
+    statistics.depthStrategy = plan.strategy;
+    statistics.depthStrategyAutomatic = _options.depthStrategy == DepthStrategy::Auto;
+
+    FrameState frameState{context,   device,         _camera,       _ellipsoid,
+                          width,     height,         _sunDirection, _timeSeconds,
+                          _frameNumber, cullingVolume, EllipsoidalOccluder(_ellipsoid, eye), plan.strategy};
+    _commands.clear();
+    for (Primitive* primitive : _survivors) {
         primitive->update(frameState, _commands);
         ++statistics.primitivesUpdated;
     }
@@ -100,14 +180,24 @@ FrameStatistics Scene::render(Context& context)
 
     // Cull, then bin what survives into frustums by its extent along the view direction.
     phase = std::chrono::steady_clock::now();
-    const glm::dvec3 eye = _camera.eye();
-    _binner.cullAndBin(_commands, frameState.cullingVolume, frameState.occluder, eye, _camera.direction(), statistics);
+    if (_binner.multiFrustum().options() != plan.binning) {
+        _binner.multiFrustum().setOptions(plan.binning);
+    }
+    _binner.cullAndBin(_commands, cullingVolume, frameState.occluder, eye, viewDirection, statistics);
+    if (plan.fixedRange && !statistics.frustums.empty()) {
+        statistics.frustums.front() = {limits.nearLimit, limits.farLimit};
+    }
     statistics.cullMilliseconds = millisecondsSince(phase);
 
     // Draw: back to front, a depth clear per frustum, opaque before translucent.
     phase = std::chrono::steady_clock::now();
+    const FramebufferRestorer restorer{context, target};
+    if (plan.needsFloatDepth) {
+        context.setFramebuffer(floatDepthTarget(context, *target));
+    }
     ClearState clear;
     clear.color = _options.background;
+    clear.depth = plan.clearDepth;
     context.clear(clear);
 
     SceneState sceneState;
@@ -116,13 +206,15 @@ FrameStatistics Scene::render(Context& context)
     sceneState.viewport = {0, 0, width, height};
     sceneState.sunDirection = _sunDirection;
     sceneState.timeSeconds = _timeSeconds;
+    sceneState.depthConvention = plan.convention;
 
-    const auto& frustums = _binner.multiFrustum().frustums();
+    const std::vector<FrustumRange>& frustums = statistics.frustums;
     const auto& bins = _binner.multiFrustum().bins();
     const auto& visible = _binner.visible();
     statistics.drawCallsPerFrustum.assign(frustums.size(), 0);
     ClearState depthOnly;
     depthOnly.buffers = ClearBuffers::Depth;
+    depthOnly.depth = plan.clearDepth;
     bool depthDirty = false;
     for (std::size_t f = frustums.size(); f-- > 0;) {
         if (bins[f].empty()) {
@@ -133,8 +225,12 @@ FrameStatistics Scene::render(Context& context)
         }
         sceneState.nearDistance = frustums[f].nearDistance;
         sceneState.farDistance = frustums[f].farDistance;
-        sceneState.projectionMatrix =
-            _camera.projectionMatrix(aspect, frustums[f].nearDistance, frustums[f].farDistance);
+        sceneState.projectionMatrix = plan.projection(_camera, aspect, frustums[f]);
+        // Where frustums overlap the nearer one owns the overlap (blended draws keep only their own).
+        sceneState.ownedNearDistance = plan.ownedRanges && f > 0 ? frustums[f - 1].farDistance : 0.0;
+        sceneState.ownedFarDistance = plan.ownedRanges && f + 1 < frustums.size()
+                                          ? frustums[f].farDistance
+                                          : std::numeric_limits<double>::infinity();
         for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
             std::size_t drawn = 0;
             for (const std::uint32_t binned : bins[f]) {
@@ -152,10 +248,13 @@ FrameStatistics Scene::render(Context& context)
     }
     const auto& overlay = _binner.overlay();
     if (!overlay.empty()) {
-        // Screen-space commands: the whole depth range, after every frustum.
+        // Screen-space commands: the whole depth range, GL's depth convention, after every frustum.
         sceneState.nearDistance = limits.nearLimit;
         sceneState.farDistance = limits.farLimit;
         sceneState.projectionMatrix = wholeProjection;
+        sceneState.depthConvention = DepthConvention::Standard;
+        sceneState.ownedNearDistance = 0.0;
+        sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
         for (const std::uint32_t index : overlay) {
             context.draw(_commands[index], sceneState);
         }

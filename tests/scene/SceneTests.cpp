@@ -66,6 +66,7 @@ TEST_CASE("A globe seen from orbit runs one frustum, no translucent pass, and co
 TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says; removing it restores one", "[scene][effects][multifrustum]")
 {
     Scene scene(kEarth);
+    scene.options().depthStrategy = DepthStrategy::MultiFrustum; // Auto would pick one complementary frustum
     scene.add(plainGlobe());
     const glm::dvec3 satellitePosition = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7));
     const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7 + 1000.0));
@@ -174,6 +175,7 @@ TEST_CASE("Commands below the horizon are culled by their occlusion point and co
 TEST_CASE("A command straddling two frustums is drawn in each and counted once as redundant", "[scene][multifrustum]")
 {
     Scene scene(kEarth);
+    scene.options().depthStrategy = DepthStrategy::MultiFrustum;
     scene.camera().lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
     // Bounding spheres of cubes reach sqrt(3) half-sizes: the nearest starts at 15 - 5 sqrt(3) m,
     // so the frustums meet 1000 times farther out; the third cube sits on that boundary.

@@ -1,6 +1,6 @@
 // Globe shading (book chapter 4). With RAY_CAST the fragment belongs to the bounding box drawn
 // with front-face culling: a ray from the eye finds the ellipsoid, or the fragment is discarded,
-// and the depth of the hit is written. Variants: DAY_TEXTURE, NIGHT_TEXTURE, LIGHTING, GRID.
+// and the depth of the hit is written, as the frame's depth strategy maps it (og_windowDepth). Variants: DAY_TEXTURE, NIGHT_TEXTURE, LIGHTING, GRID.
 
 in vec3 v_positionRelativeToEye;
 out vec4 fragmentColor;
@@ -112,7 +112,7 @@ void main()
     vec3 hitRelativeToEye = max(t, 0.0) * direction;
     vec3 normal = normalize((u_cameraScaled + max(t, 0.0) * direction * u_oneOverRadii) * u_oneOverRadii);
     vec4 clip = og_projectionMatrix * (og_modelViewMatrixRelativeToEye * vec4(hitRelativeToEye, 1.0));
-    float depth = 0.5 * (gl_DepthRange.diff * (clip.z / clip.w) + gl_DepthRange.near + gl_DepthRange.far);
+    float depth = og_windowDepth(clip); // under the frame's depth strategy (built-in depth.glsl)
     vec3 color = shade(normal); // before discarding, so neighbours' derivatives stay defined
     // A miss, or a hit outside this frustum's depth range (multi-frustum draws the globe once per
     // frustum it spans), writes nothing.
@@ -122,6 +122,7 @@ void main()
     gl_FragDepth = depth;
     fragmentColor = vec4(color, 1.0);
 #else
+    og_depthFragment();
     vec3 normal = normalize((og_cameraEye + v_positionRelativeToEye) * u_oneOverRadiiSquared);
     fragmentColor = vec4(shade(normal), 1.0);
 #endif

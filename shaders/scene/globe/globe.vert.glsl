@@ -18,6 +18,12 @@ void main()
 #ifdef RAY_CAST
     // The fragment shader writes the depth of the hit, so the box's own depth does not matter:
     // keeping it mid-range stops the near and far planes from clipping the box away.
+#ifdef OG_DEPTH_COMPLEMENTARY
+    gl_Position.z = 0.5 * gl_Position.w; // clip depth 0..1
+#else
     gl_Position.z = 0.0;
+#endif
+#else
+    gl_Position = og_depthVertex(gl_Position);
 #endif
 }

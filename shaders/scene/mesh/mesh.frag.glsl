@@ -10,6 +10,7 @@ uniform vec3 og_sunDirectionEye;
 
 void main()
 {
+    og_depthFragment();
 #ifdef LIGHTING
     float diffuse = max(dot(normalize(v_normal), og_sunDirectionEye), 0.0);
     fragmentColor = vec4(u_color.rgb * (0.3 + 0.7 * diffuse), u_color.a);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/scene/Camera.h"
+#include "orbis/scene/DepthStrategy.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/EllipsoidalOccluder.h>
@@ -28,6 +29,8 @@ struct FrameState {
     std::uint64_t frameNumber;
     Frustum cullingVolume;   ///< the whole view: side planes and the near and far limits
     EllipsoidalOccluder occluder;
+    /// How depth is resolved this frame (never Auto): programs take depthStrategyDefines() of it.
+    DepthStrategy depthStrategy = DepthStrategy::MultiFrustum;
 
     /// Size in metres of one pixel at a distance from the eye (vertical field of view).
     double metersPerPixel(double distance) const noexcept;
@@ -47,6 +50,13 @@ public:
     virtual std::optional<BoundingSphere> boundingSphere() const { return std::nullopt; }
 
     virtual void update(FrameState& frameState, CommandList& commands) = 0;
+
+    /// Whether the primitive's shaders write logarithmic depth when frameState.depthStrategy asks
+    /// (they call og_depthVertex and og_depthFragment of the built-in depth.glsl). Complementary
+    /// depth needs nothing of a primitive (the projection and the Context carry it), logarithmic
+    /// depth does: the scene will not pick it automatically for a frame with a primitive that
+    /// answers false, and throws when it is asked for.
+    virtual bool supportsLogarithmicDepth() const { return false; }
 };
 
 } // namespace orbis

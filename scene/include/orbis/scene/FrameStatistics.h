@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/MultiFrustum.h"
 
 #include <orbis/renderer/RenderStatistics.h>
@@ -21,7 +22,9 @@ struct FrameStatistics {
     std::size_t commandsCulledByHorizon = 0;
     std::size_t commandsExecuted = 0;          ///< draw calls, counting repeats across frustums
     std::size_t commandsExecutedMoreThanOnce = 0;
-    std::vector<FrustumRange> frustums;        ///< near to far
+    DepthStrategy depthStrategy = DepthStrategy::MultiFrustum; ///< what ran (never Auto)
+    bool depthStrategyAutomatic = false;       ///< chosen by DepthStrategy::Auto
+    std::vector<FrustumRange> frustums;        ///< near to far; one for the single-frustum strategies
     std::vector<std::size_t> drawCallsPerFrustum; ///< parallel to frustums
     bool frustumsReused = false;
     std::size_t opaquePasses = 0;              ///< passes that drew at least one command

@@ -10,6 +10,7 @@
 
 #include <glm/vec4.hpp>
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -56,6 +57,8 @@ public:
 
     std::optional<BoundingSphere> boundingSphere() const override;
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Both methods write every DepthStrategy's depth (the ray caster computes it per fragment).
+    bool supportsLogarithmicDepth() const override { return true; }
 
     /// The graticule spacing (radians) for an eye at a height above the surface: the finest of
     /// 30, 15, 10, 5, 2, 1, 0.5, 0.25, 0.1 degrees whose lines stay at least 60 pixels apart.
@@ -67,10 +70,12 @@ public:
 
 private:
     void createResources(FrameState& frameState);
+    /// The program variant for the frame's depth strategy, compiled on first use.
+    ShaderProgram& program(FrameState& frameState);
 
     Ellipsoid _ellipsoid;
     GlobeOptions _options;
-    std::shared_ptr<ShaderProgram> _program;
+    std::array<std::shared_ptr<ShaderProgram>, 6> _programs; ///< by DepthStrategy
     std::optional<VertexArray> _vertexArray;
     std::optional<Texture2D> _dayTexture;
     std::optional<Texture2D> _nightTexture;

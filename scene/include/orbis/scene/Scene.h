@@ -2,6 +2,7 @@
 
 #include "orbis/scene/Camera.h"
 #include "orbis/scene/CommandBinner.h"
+#include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/FrameState.h"
 #include "orbis/scene/FrameStatistics.h"
 #include "orbis/scene/MultiFrustum.h"
@@ -11,21 +12,34 @@
 #include <glm/vec4.hpp>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace orbis {
 
 class Context;
+class Framebuffer;
+class Texture2D;
 
 struct SceneOptions {
+    /// The near and far limits of every strategy; the ratio and overlap of MultiFrustum.
     MultiFrustumOptions multiFrustum;
+    /// How depth is resolved (docs/precision.md compares them); Auto picks per frame.
+    DepthStrategy depthStrategy = DepthStrategy::Auto;
     glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
 };
 
-/// Primitives, a camera and a sun; render() runs one frame: update the primitives that survive
-/// whole-primitive culling, cull their commands against the view frustum and the ellipsoid's
-/// horizon, bin the survivors into dynamic multi-frustums, and draw the frustums back to front
-/// (depth cleared for each, opaque then translucent), then the overlay pass.
+/// Primitives, a camera and a sun; render() runs one frame: cull primitives whole, choose the depth
+/// strategy (DepthStrategy::Auto weighs the survivors' bounding spheres), update the survivors, cull
+/// their commands against the view frustum and the ellipsoid's horizon, bin them into frustums (one,
+/// or the dynamic multi-frustums), draw the frustums back to front (depth cleared for each, opaque
+/// then translucent), then the overlay pass.
+///
+/// Complementary depth needs a Depth32F depth buffer: when the target's depth attachment is not one,
+/// the scene draws into the target's colour textures with a float depth texture of its own (made
+/// once per size, no copy), and the target's own depth attachment is left as it was. A context
+/// without glClipControl, or a default (window) framebuffer, cannot have it: Auto then passes over
+/// it, and asking for it throws orbis::Error saying why.
 ///
 /// ```
 /// Scene scene;
@@ -53,10 +67,18 @@ public:
     void setTime(double seconds) noexcept { _timeSeconds = seconds; }
 
     /// Draws one frame into the context's current framebuffer (which must exist: headless
-    /// contexts have no default one). Throws orbis::Error from the renderer for bad commands.
+    /// contexts have no default one). Throws orbis::Error from the renderer for bad commands, and
+    /// for a depth strategy the context, target or primitives cannot have (named in the message).
     FrameStatistics render(Context& context);
 
 private:
+    /// The frame's strategy: the one asked for, checked, or Auto's choice.
+    DepthStrategy chooseDepthStrategy(Context& context, Framebuffer* target, double nearDistance,
+                                      double farDistance, bool logarithmicAvailable) const;
+    /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
+    /// is already Depth32F.
+    Framebuffer* floatDepthTarget(Context& context, Framebuffer& target);
+
     Ellipsoid _ellipsoid;
     SceneOptions _options;
     Camera _camera;
@@ -66,6 +88,10 @@ private:
     std::uint64_t _frameNumber = 0;
     CommandBinner _binner;
     CommandList _commands; ///< reused across frames
+    std::vector<Primitive*> _survivors; ///< reused across frames
+    std::shared_ptr<Framebuffer> _floatDepthTarget;
+    std::shared_ptr<Texture2D> _floatDepth;
+    const Context* _floatDepthContext = nullptr;
 };
 
 } // namespace orbis

@@ -1,0 +1,63 @@
+#include "orbis/scene/DepthStrategy.h"
+
+#include <cmath>
+#include <limits>
+
+namespace orbis {
+
+const char* depthStrategyName(DepthStrategy strategy) noexcept
+{
+    switch (strategy) {
+    case DepthStrategy::Auto: return "auto";
+    case DepthStrategy::MultiFrustum: return "multi-frustum";
+    case DepthStrategy::Logarithmic: return "logarithmic";
+    case DepthStrategy::LogarithmicVertex: return "logarithmic (vertex)";
+    case DepthStrategy::Complementary: return "complementary";
+    case DepthStrategy::Single: return "single";
+    }
+    return "?";
+}
+
+std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
+{
+    switch (strategy) {
+    case DepthStrategy::Logarithmic: return {{"OG_DEPTH_LOGARITHMIC"}};
+    case DepthStrategy::LogarithmicVertex: return {{"OG_DEPTH_LOGARITHMIC_VERTEX"}};
+    case DepthStrategy::Complementary: return {{"OG_DEPTH_COMPLEMENTARY"}};
+    case DepthStrategy::MultiFrustum:
+        if (pass == Pass::Translucent) {
+            return {{"OG_DEPTH_OWNED_RANGE"}};
+        }
+        return {};
+    case DepthStrategy::Auto:
+    case DepthStrategy::Single: break;
+    }
+    return {};
+}
+
+double analyticMinimumSeparation(DepthStrategy strategy, double distance, double nearDistance, double farDistance,
+                                 double farToNearRatio) noexcept
+{
+    constexpr double steps = 16777216.0; // 2^24
+    constexpr double infinity = std::numeric_limits<double>::infinity();
+    auto baker = [&](double n) {
+        const double denominator = steps * n - distance;
+        return denominator > 0.0 ? distance * distance / denominator : infinity;
+    };
+    switch (strategy) {
+    case DepthStrategy::Single: return baker(nearDistance);
+    case DepthStrategy::Auto:
+    case DepthStrategy::MultiFrustum: {
+        // The frustum holding `distance`: near * ratio^k <= distance.
+        const double k = std::floor(std::log(std::max(distance / nearDistance, 1.0)) / std::log(farToNearRatio));
+        return baker(nearDistance * std::pow(farToNearRatio, k));
+    }
+    case DepthStrategy::Logarithmic:
+    case DepthStrategy::LogarithmicVertex:
+        return distance / steps * (std::log(farDistance / nearDistance) + std::log(std::max(distance / nearDistance, 1.0)));
+    case DepthStrategy::Complementary: return 2.0 * distance / steps;
+    }
+    return infinity;
+}
+
+} // namespace orbis
