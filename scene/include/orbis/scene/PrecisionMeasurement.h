@@ -1,0 +1,97 @@
+#pragma once
+
+// The precision measurements of docs/precision.md, as functions: the bench's tables, the tests'
+// claims and the chapter 5 and 6 examples call the same code.
+
+#include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/FrameStatistics.h"
+#include "orbis/scene/VertexTransform.h"
+
+#include <orbis/core/Ellipsoid.h>
+
+#include <cstdint>
+
+namespace orbis {
+
+class Context;
+
+// ---- Vertex transform jitter (book chapter 5) ------------------------------------------------
+
+struct JitterOptions {
+    int width = 1920;  ///< the window the error is counted in pixels of
+    int height = 1080;
+    double fieldOfViewYRadians = 0.7853981633974483; ///< 45 degrees
+    int gridSize = 9;  ///< gridSize^2 points spread over the middle of the view
+    /// The measured points belong to an object whose bounding sphere is this large, centred this
+    /// far to one side of them (a 200 km terrain tile or polyline seen from near one end): the
+    /// case where relative-to-centre degrades.
+    double objectRadiusMeters = 100e3;
+};
+
+/// Error of the GPU's window positions against a double-precision reference.
+struct JitterResult {
+    double maxPixels = 0.0;
+    double maxMeters = 0.0; ///< the same error as a distance across the view at the point's depth
+};
+
+/// Points around `target` seen by a camera `eyeDistance` away along the ellipsoid's normal at
+/// target (looking at it): the vertex shader MeshPrimitive uses for `transform`, its gl_Position
+/// read back with transform feedback, projected to the window in double, against the window
+/// position P V p computed in double from the double positions. Automatic is resolved as a
+/// MeshPrimitive would resolve it for the frame.
+JitterResult measureVertexJitter(Context& context, VertexTransform transform, const glm::dvec3& target,
+                                 double eyeDistance, const JitterOptions& options = {});
+
+/// A point on the WGS84 surface, 700 km above it and at geostationary height (35,786 km), above
+/// (10 E, 45 N): the jitter measurement's targets.
+glm::dvec3 jitterTarget(double heightMeters);
+
+// ---- Z-fighting (book chapter 6, course chapter 2) --------------------------------------------
+
+struct ZFightingOptions {
+    int size = 64;               ///< square image, pixels
+    double nearObjectDistance = 1.0; ///< a small cube this far in front of the eye (0: none)
+};
+
+struct ZFightingResult {
+    double wrongFraction = 0.0; ///< of the pixels where the near square is in front
+    int pixels = 0;
+    FrameStatistics statistics;
+};
+
+/// Two squares facing the eye, the near one `distance` away and the far one `separation` behind
+/// it, at Earth scale (the eye 10 m over the North Pole looking up), rendered by a Scene under
+/// `strategy` at options.size square. The far square is submitted first, so a depth tie leaves it
+/// showing and counts as wrong. A small cube options.nearObjectDistance from the eye, in a corner,
+/// makes the frame span from there to the squares, as a view with an aircraft in front of distant
+/// terrain does. Distances, separations and sizes are rounded to floats the vertex stage
+/// represents exactly (offsets from the eye), so that only depth is measured: separations below the
+/// float spacing at `distance` (1 m at 10,000 km) cannot be asked for.
+ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, double distance, double separation,
+                                 const ZFightingOptions& options = {});
+
+/// The smallest separation (to within a factor 10^(1/8)) at which measureZFighting finds no
+/// pixel wrongly ordered, searched between the float spacing at `distance` and `distance`;
+/// infinity when even `distance` fails.
+double measureMinimumSeparation(Context& context, DepthStrategy strategy, double distance,
+                                const ZFightingOptions& options = {}, int bisections = 10);
+
+// ---- The two-sum on the GPU ---------------------------------------------------------------------
+
+/// How og_emulatedDoubleSubtract is compiled: with `precise`, with og_opaqueOne, or neither.
+enum class TwoSumProtection : std::uint8_t { Precise, OpaqueOne, Unprotected };
+
+struct TwoSumSurvival {
+    std::size_t samples = 0;
+    std::size_t errorTermMatters = 0;   ///< samples where the two-sum differs from (aHigh - bHigh) + (aLow - bLow)
+    std::size_t matchesTwoSum = 0;      ///< GPU result bit for bit equal to the CPU's relativeToEye
+    std::size_t matchesCollapsed = 0;   ///< ... equal to the collapsed (reassociated) form
+};
+
+/// Runs og_emulatedDoubleSubtract on the GPU for random positions at Earth radius and GEO with eyes
+/// 1 m to 10,000 km away, reads the results back with transform feedback and compares them bit for
+/// bit with the CPU mirror. Throws orbis::Error for Precise on a device without GL_ARB_gpu_shader5.
+TwoSumSurvival measureTwoSumSurvival(Context& context, TwoSumProtection protection, std::size_t samples = 4096,
+                                     std::uint64_t seed = 5);
+
+} // namespace orbis
