@@ -53,8 +53,7 @@ double analyticMinimumSeparation(DepthStrategy strategy, double distance, double
         return baker(nearDistance * std::pow(farToNearRatio, k));
     }
     case DepthStrategy::Logarithmic:
-    case DepthStrategy::LogarithmicVertex:
-        return distance / steps * (std::log(farDistance / nearDistance) + std::log(std::max(distance / nearDistance, 1.0)));
+    case DepthStrategy::LogarithmicVertex: return distance / steps * std::log(std::max(farDistance / nearDistance, 2.0));
     case DepthStrategy::Complementary: return 2.0 * distance / steps;
     }
     return infinity;

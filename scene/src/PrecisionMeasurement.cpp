@@ -32,12 +32,16 @@ double floatAbove(double x) noexcept
 }
 
 /// A square facing an eye that looks along +z with +y up (screen right is world -x),
-/// counter-clockwise on screen.
-Mesh facingSquare(const glm::dvec3& eye, double distance, double half)
+/// counter-clockwise on screen, tilted so that its distance grows by `tilt` per `half` upwards.
+/// Offsets from the eye are rounded to float, as the vertex stage sees them.
+Mesh facingSquare(const glm::dvec3& eye, double distance, double half, double tilt)
 {
+    auto at = [&](double x, double y) {
+        const double z = static_cast<float>(distance + tilt * y / half);
+        return eye + glm::dvec3(x, y, z);
+    };
     Mesh mesh;
-    mesh.positions = {eye + glm::dvec3(half, -half, distance), eye + glm::dvec3(-half, -half, distance),
-                      eye + glm::dvec3(-half, half, distance), eye + glm::dvec3(half, half, distance)};
+    mesh.positions = {at(half, -half), at(-half, -half), at(-half, half), at(half, half)};
     mesh.indices = {0, 1, 2, 0, 2, 3};
     return mesh;
 }
@@ -146,6 +150,9 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
     const double fieldOfView = 0.7853981633974483;
     const double halfView = nearDistance * std::tan(0.5 * fieldOfView);
     const double half = std::exp2(std::ceil(std::log2(0.5 * halfView))); // a power of two: 0.5 to 1 of the view
+    // Tilted by about 1 % of the distance across the square, so that the counted pixels sample
+    // depths across many of the buffer's steps rather than one.
+    const double tilt = options.tilted ? std::exp2(std::round(std::log2(distance / 128.0))) : 0.0;
 
     SceneOptions sceneOptions;
     sceneOptions.depthStrategy = strategy;
@@ -154,9 +161,9 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
     scene.camera().lookAt(eye, eye + glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0, 1.0, 0.0));
     scene.options().background = {0.0f, 0.0f, 0.0f, 1.0f};
     constexpr VertexTransform exact = VertexTransform::RelativeToEyeDsfun90;
-    scene.add(std::make_shared<MeshPrimitive>(facingSquare(eye, farDistance, 2.0 * half), glm::vec4(1, 0, 0, 1),
+    scene.add(std::make_shared<MeshPrimitive>(facingSquare(eye, farDistance, half, tilt), glm::vec4(1, 0, 0, 1),
                                               Pass::Opaque, exact));
-    scene.add(std::make_shared<MeshPrimitive>(facingSquare(eye, nearDistance, half), glm::vec4(0, 1, 0, 1),
+    scene.add(std::make_shared<MeshPrimitive>(facingSquare(eye, nearDistance, half, tilt), glm::vec4(0, 1, 0, 1),
                                               Pass::Opaque, exact));
     if (options.nearObjectDistance > 0.0) {
         // Up and to the right on screen (screen right is world -x), clear of the counted pixels.
@@ -195,25 +202,20 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
 }
 
 double measureMinimumSeparation(Context& context, DepthStrategy strategy, double distance,
-                                const ZFightingOptions& options, int bisections)
+                                const ZFightingOptions& options, int stepsPerDecade)
 {
-    auto resolves = [&](double separation) {
-        return measureZFighting(context, strategy, distance, separation, options).wrongFraction == 0.0;
-    };
+    // From the distance down: wrongly ordered pixels come and go with where the depth steps fall,
+    // so the answer is the smallest separation above which every one tried is resolved.
     const double spacing = floatAbove(distance) - static_cast<double>(static_cast<float>(distance));
-    if (!resolves(distance)) {
-        return std::numeric_limits<double>::infinity();
+    const double ratio = std::pow(10.0, 1.0 / std::max(stepsPerDecade, 1));
+    double resolved = std::numeric_limits<double>::infinity();
+    for (double separation = distance; separation >= spacing; separation /= ratio) {
+        if (measureZFighting(context, strategy, distance, separation, options).wrongFraction > 0.0) {
+            return resolved;
+        }
+        resolved = separation;
     }
-    if (resolves(spacing)) {
-        return spacing;
-    }
-    double lo = std::log(spacing);
-    double hi = std::log(distance);
-    for (int i = 0; i < bisections; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (resolves(std::exp(mid)) ? hi : lo) = mid;
-    }
-    return std::exp(hi);
+    return measureZFighting(context, strategy, distance, spacing, options).wrongFraction > 0.0 ? resolved : spacing;
 }
 
 TwoSumSurvival measureTwoSumSurvival(Context& context, TwoSumProtection protection, std::size_t samples,

@@ -1,9 +1,10 @@
 // Depth strategies (the scene layer's DepthStrategy sets the defines; book chapter 6):
 //   OG_DEPTH_LOGARITHMIC         window depth log2(w / near) / log2(far / near), written per fragment
-//                                from the eye depth w interpolated perspective-correctly: exact at
-//                                every pixel, but the depth test runs after the fragment shader
+//                                from the eye depth w = 1 / gl_FragCoord.w: right at every pixel,
+//                                but the depth test runs after the fragment shader
 //   OG_DEPTH_LOGARITHMIC_VERTEX  the same depth written per vertex into gl_Position.z: free, but
-//                                interpolated linearly across each triangle (too near on large ones)
+//                                interpolated linearly across each triangle, so too far between the
+//                                vertices of large ones (the logarithm is concave)
 //   OG_DEPTH_COMPLEMENTARY       clip depth 0..1 reversed (SceneState::depthConvention); only
 //                                og_windowDepth needs to know
 //   OG_DEPTH_OWNED_RANGE         for blended draws where frustums overlap: fragments whose eye depth
@@ -25,19 +26,17 @@
 #if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_LOGARITHMIC_VERTEX)
 uniform vec2 og_logarithmicDepth; // 1 / near, 1 / log2(far / near)
 
-// Window depth 0..1 (unclamped) of eye depth w.
+// Window depth 0..1 (unclamped) of eye depth w > 0. log2(w / near) is taken apart into its
+// exponent and the log2 of a mantissa in [1, 2), scaled separately and added once they are in 0..1:
+// a log2 near 23 held in one float keeps only 2^-19 of it, coarser than the 2^-24 steps of a 24-bit
+// depth buffer.
 float og_logarithmicWindowDepth(float w)
 {
-    return log2(w * og_logarithmicDepth.x) * og_logarithmicDepth.y;
+    float x = w * og_logarithmicDepth.x;
+    float exponent = floor(log2(x));
+    float mantissa = x * exp2(-exponent); // exact: a power of two
+    return exponent * og_logarithmicDepth.y + log2(mantissa) * og_logarithmicDepth.y;
 }
-#endif
-
-#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_OWNED_RANGE)
-#if defined(OG_VERTEX_SHADER)
-out float og_depthW;
-#elif defined(OG_FRAGMENT_SHADER)
-in float og_depthW;
-#endif
 #endif
 
 #if defined(OG_DEPTH_OWNED_RANGE)
@@ -47,9 +46,6 @@ uniform vec2 og_ownedDepthRange;
 #if defined(OG_VERTEX_SHADER)
 vec4 og_depthVertex(vec4 clip)
 {
-#if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_OWNED_RANGE)
-    og_depthW = clip.w;
-#endif
 #if defined(OG_DEPTH_LOGARITHMIC_VERTEX)
     float ndc = clip.w > 0.0 ? 2.0 * og_logarithmicWindowDepth(clip.w) - 1.0 : 0.0;
     clip.z = clip.w > 0.0 ? ndc * clip.w : 0.0;
@@ -61,13 +57,17 @@ vec4 og_depthVertex(vec4 clip)
 #if defined(OG_FRAGMENT_SHADER)
 void og_depthFragment()
 {
+    // The eye depth from gl_FragCoord.w, the rasterizer's own 1 / w interpolated linearly in screen
+    // space: better than a varying w, whose perspective-correct interpolation at 10,000 km is off
+    // by metres.
 #if defined(OG_DEPTH_OWNED_RANGE)
-    if (og_depthW < og_ownedDepthRange.x || og_depthW >= og_ownedDepthRange.y) {
+    float w = 1.0 / gl_FragCoord.w;
+    if (w < og_ownedDepthRange.x || w >= og_ownedDepthRange.y) {
         discard;
     }
 #endif
 #if defined(OG_DEPTH_LOGARITHMIC)
-    gl_FragDepth = clamp(og_logarithmicWindowDepth(og_depthW), 0.0, 1.0);
+    gl_FragDepth = clamp(og_logarithmicWindowDepth(1.0 / gl_FragCoord.w), 0.0, 1.0);
 #endif
 }
 

@@ -51,6 +51,9 @@ glm::dvec3 jitterTarget(double heightMeters);
 struct ZFightingOptions {
     int size = 64;               ///< square image, pixels
     double nearObjectDistance = 1.0; ///< a small cube this far in front of the eye (0: none)
+    /// Tilt the squares by about 1 % of the distance across the view (see measureZFighting);
+    /// false: both face the eye squarely, every pixel at one depth (the lucky case).
+    bool tilted = true;
 };
 
 struct ZFightingResult {
@@ -59,22 +62,26 @@ struct ZFightingResult {
     FrameStatistics statistics;
 };
 
-/// Two squares facing the eye, the near one `distance` away and the far one `separation` behind
-/// it, at Earth scale (the eye 10 m over the North Pole looking up), rendered by a Scene under
-/// `strategy` at options.size square. The far square is submitted first, so a depth tie leaves it
-/// showing and counts as wrong. A small cube options.nearObjectDistance from the eye, in a corner,
-/// makes the frame span from there to the squares, as a view with an aircraft in front of distant
-/// terrain does. Distances, separations and sizes are rounded to floats the vertex stage
-/// represents exactly (offsets from the eye), so that only depth is measured: separations below the
-/// float spacing at `distance` (1 m at 10,000 km) cannot be asked for.
+/// Two parallel squares of one size nearly facing the eye, the near one `distance` away at its
+/// middle and the far one `separation` behind it, at Earth scale (the eye 10 m over the North Pole
+/// looking up), rendered by a Scene under `strategy` at options.size square. They are tilted so
+/// that their distance changes by about 1 % across the view: the counted pixels sample many depth
+/// steps, not one, and a rounding that happens to separate two constant depths does not pass for
+/// precision. The far square is submitted first, so a depth tie leaves it showing and counts as wrong. A
+/// small cube options.nearObjectDistance from the eye, in a corner, makes the frame span from there
+/// to the squares, as a view with an aircraft in front of distant terrain does. Offsets from the
+/// eye are rounded to float as the vertex stage sees them (DSFUN90 relative to eye, exact to that
+/// rounding), so that only depth is measured; separations below the float spacing at `distance`
+/// (1 m at 10,000 km) are raised to it.
 ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, double distance, double separation,
                                  const ZFightingOptions& options = {});
 
-/// The smallest separation (to within a factor 10^(1/8)) at which measureZFighting finds no
-/// pixel wrongly ordered, searched between the float spacing at `distance` and `distance`;
-/// infinity when even `distance` fails.
+/// The smallest separation at which measureZFighting finds no pixel wrongly ordered, nor at any
+/// larger one tried: separations from `distance` down by factors of 10^(1/stepsPerDecade) to the
+/// float spacing at `distance` (returned when even that is resolved); infinity when `distance`
+/// itself is not. Wrong pixels come and go as the depth steps fall, hence the scan from above.
 double measureMinimumSeparation(Context& context, DepthStrategy strategy, double distance,
-                                const ZFightingOptions& options = {}, int bisections = 10);
+                                const ZFightingOptions& options = {}, int stepsPerDecade = 4);
 
 // ---- The two-sum on the GPU ---------------------------------------------------------------------
 
