@@ -202,7 +202,8 @@ std::vector<Table> vertexTables(Context& context, const Options& options, std::v
             std::vector<std::string> row{vertexTransformName(transform), shell.name};
             for (const double d : distances) {
                 const JitterResult r = measureVertexJitter(context, transform, jitterTarget(shell.height), d);
-                row.push_back(formatNumber(r.maxPixels, 2) + " px, " + formatLength(r.maxMeters));
+                row.push_back(std::isfinite(r.maxPixels) ? formatNumber(r.maxPixels, 2) + " px, " + formatLength(r.maxMeters)
+                                                         : std::string("behind the eye"));
                 if (shell.height == 0.0) {
                     series.points.emplace_back(d, r.maxPixels);
                     surface.back().push_back(r);

@@ -127,8 +127,10 @@ JitterResult measureVertexJitter(Context& context, VertexTransform transform, co
     for (std::size_t i = 0; i < measured; ++i) {
         const glm::dvec4 gpu(clip[4 * i], clip[4 * i + 1], clip[4 * i + 2], clip[4 * i + 3]);
         const glm::dvec4 reference = viewProjection * glm::dvec4(positions[i], 1.0);
-        const double pixels = glm::length(toWindow(gpu, options.width, options.height) -
-                                          toWindow(reference, options.width, options.height));
+        // A vertex the GPU put at or behind the eye has no window position: unbounded error.
+        const double pixels = gpu.w > 0.0 ? glm::length(toWindow(gpu, options.width, options.height) -
+                                                         toWindow(reference, options.width, options.height))
+                                          : std::numeric_limits<double>::infinity();
         const double depth = glm::dot(positions[i] - eye, camera.direction());
         const double metersPerPixel = 2.0 * depth * std::tan(0.5 * options.fieldOfViewYRadians) / options.height;
         result.maxPixels = std::max(result.maxPixels, pixels);

@@ -28,7 +28,8 @@ struct JitterOptions {
     double objectRadiusMeters = 100e3;
 };
 
-/// Error of the GPU's window positions against a double-precision reference.
+/// Error of the GPU's window positions against a double-precision reference; infinite when the
+/// GPU put a point at or behind the eye (relative to world at GEO, 1 m away).
 struct JitterResult {
     double maxPixels = 0.0;
     double maxMeters = 0.0; ///< the same error as a distance across the view at the point's depth
