@@ -109,6 +109,7 @@ struct FrameCost {
     std::size_t frustums = 0;
     std::uint64_t clears = 0;
     DepthStrategy strategy = DepthStrategy::MultiFrustum;
+    double floatsRewritten = 0.0; ///< per frame, by CPU relative to eye
 };
 
 FrameCost frameCost(Scene& scene, Context& context, int frames, const std::function<void(int)>& move = {})
@@ -140,6 +141,7 @@ FrameCost vertexTransformCost(Context& context, VertexTransform transform, int f
     const glm::dmat4 frame = eastNorthUpToFixedFrame(kEarth, origin);
     Scene scene(kEarth);
     scene.setSunDirection(kEarth.geodeticSurfaceNormal(origin));
+    std::vector<std::shared_ptr<MeshPrimitive>> tiles;
     constexpr int cells = 128;
     for (int tile = 0; tile < 16; ++tile) {
         const double east0 = -20e3 + 10e3 * (tile % 4);
@@ -159,14 +161,27 @@ FrameCost vertexTransformCost(Context& context, VertexTransform transform, int f
                 mesh.indices.insert(mesh.indices.end(), {a, a + 1, a + cells + 2, a, a + cells + 2, a + cells + 1});
             }
         }
-        scene.add(std::make_shared<MeshPrimitive>(std::move(mesh), glm::vec4(0.4f, 0.6f, 0.3f, 1.0f), Pass::Opaque, transform));
+        tiles.push_back(
+            std::make_shared<MeshPrimitive>(std::move(mesh), glm::vec4(0.4f, 0.6f, 0.3f, 1.0f), Pass::Opaque, transform));
+        scene.add(tiles.back());
     }
+    auto rewritten = [&] {
+        double floats = 0.0;
+        for (const auto& tile : tiles) {
+            floats += static_cast<double>(tile->floatsRewritten());
+        }
+        return floats;
+    };
     const glm::dvec3 eye = glm::dvec3(frame * glm::dvec4(0.0, -3000.0, 300.0, 1.0));
     const glm::dvec3 target = glm::dvec3(frame * glm::dvec4(0.0, 5000.0, 0.0, 1.0));
     scene.camera().lookAt(eye, target, glm::dvec3(frame[2]));
-    return frameCost(scene, context, frames, [&](int i) {
+    scene.render(context); // uploads
+    const double before = rewritten();
+    FrameCost cost = frameCost(scene, context, frames, [&](int i) {
         scene.camera().lookAt(eye + static_cast<double>(i + 1) * glm::dvec3(frame[0]), target, glm::dvec3(frame[2]));
     });
+    cost.floatsRewritten = (rewritten() - before) / frames; // frameCost's first frame keeps the eye
+    return cost;
 }
 
 std::vector<Table> vertexTables(Context& context, const Options& options, std::vector<Series>& plot)
@@ -233,7 +248,8 @@ std::vector<Table> vertexTables(Context& context, const Options& options, std::v
     for (const double d : distances) {
         cost.columns.push_back("px at " + distanceName(d));
     }
-    cost.columns.insert(cost.columns.end(), {"CPU ms per frame", "draw (GPU) ms per frame", "draw calls"});
+    cost.columns.insert(cost.columns.end(),
+                        {"CPU ms per frame", "floats rewritten per frame", "draw (GPU) ms per frame", "draw calls"});
     Framebuffer framebuffer = context.createFramebuffer(640, 360);
     context.setFramebuffer(&framebuffer);
     for (std::size_t t = 0; t < std::size(kTransforms); ++t) {
@@ -242,7 +258,8 @@ std::vector<Table> vertexTables(Context& context, const Options& options, std::v
             row.push_back(formatNumber(r.maxPixels, 2));
         }
         const FrameCost c = vertexTransformCost(context, kTransforms[t], frames);
-        row.insert(row.end(), {formatNumber(c.cpuMs, 3), formatNumber(c.drawMs, 3), std::to_string(c.drawCalls)});
+        row.insert(row.end(), {formatNumber(c.cpuMs, 3), formatNumber(c.floatsRewritten, 3), formatNumber(c.drawMs, 3),
+                               std::to_string(c.drawCalls)});
         cost.rows.push_back(row);
     }
     context.setFramebuffer(nullptr);
@@ -287,18 +304,23 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
 {
     const std::vector<double> distances = options.quick ? std::vector<double>{10.0, 1e4, 1e7}
                                                         : std::vector<double>{1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 4e7};
+    // Something half a metre from the eye, and the near limit there too, so that surfaces 1 m away
+    // are inside every strategy's frustum.
     ZFightingOptions zOptions;
     zOptions.size = 64;
-    zOptions.nearObjectDistance = 1.0;
+    zOptions.nearObjectDistance = 0.5;
+    zOptions.nearLimit = 0.5;
 
     Table wrong;
     wrong.title = "Depth: wrongly ordered pixels, surfaces 1 m apart";
     wrong.description =
-        "Two squares facing the eye, the far one submitted first so that a tie counts as wrong, 1 m apart (4 m at "
-        "40,000 km, the float spacing there), with a small cube 1 m in front of the eye so that every strategy's frame "
-        "spans 1 m to the squares (PrecisionMeasurement.h: measureZFighting); 64x64, the middle 625 pixels counted. "
-        "Single: near 1 m, far 10 million km, fixed. Positions reach the vertex stage exactly, so only depth is "
-        "measured.";
+        "Two parallel squares nearly facing the eye (tilted so that their distance changes by about 1.4 % across "
+        "the view, sampling many depth steps), 1 m apart (4 m at 40,000 km, the float spacing there), with a small "
+        "cube 0.5 m in front of the eye so that every strategy's frame spans 0.5 m to the squares; four frames, the "
+        "far square larger and smaller than the near one and submitted before and after it, a pixel wrong when it "
+        "shows the far square in any (PrecisionMeasurement.h: measureZFighting); 64x64, the middle 529 pixels "
+        "counted. Single: near 0.5 m, far 10 million km, fixed. Offsets from the eye reach the vertex stage rounded "
+        "only to float, so depth is what is measured.";
     wrong.columns = {"strategy"};
     for (const double d : distances) {
         wrong.columns.push_back(distanceName(d));
@@ -317,10 +339,10 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
     separation.description =
         "The smallest separation from which up no counted pixel is wrong (separations tried from the distance down, "
         + std::string(options.quick ? "2" : "4") + " per decade), against "
-        "the analytic minimum of DepthStrategy.h: Baker's s = z^2 / (2^24 n - z) of the course notes for single "
-        "(n = 1 m) and multi-frustum (n the near plane of the frustum holding z), z ln(f/n) 2^-24 + z ln(z/n) 2^-24 "
-        "for logarithmic, z 2^-23 for complementary. '<=' marks the float spacing at that distance: nothing smaller "
-        "reaches the GPU.";
+        "the analytic one-step separation of DepthStrategy.h (analyticMinimumSeparation): Baker's "
+        "s = z^2 / (2^24 n - z) of the course notes for single (n = 0.5 m) and multi-frustum (n the near plane of the "
+        "frustum holding z), z ln(f/n) 2^-24 for logarithmic, z 2^-23 for complementary. '<=' marks the float "
+        "spacing at that distance: nothing smaller reaches the GPU.";
     separation.columns = wrong.columns;
     const char* colours[] = {"#d62728", "#1f77b4", "#bcbd22", "#2ca02c", "#9467bd"};
     int k = 0;
@@ -332,7 +354,8 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
             const double spacing = static_cast<double>(std::nextafter(static_cast<float>(d), 1e30f)) -
                                    static_cast<double>(static_cast<float>(d));
             const double m = measureMinimumSeparation(context, strategy, d, zOptions, options.quick ? 2 : 4);
-            const double a = analyticMinimumSeparation(strategy, d, 1.0, strategy == DepthStrategy::Single ? 1e10 : d);
+            const double a = analyticMinimumSeparation(strategy, d, zOptions.nearLimit,
+                                                       strategy == DepthStrategy::Single ? 1e10 : d);
             row.push_back((m <= spacing ? "<= " : "") + (std::isfinite(m) ? formatLength(m) : std::string("none")) +
                           " (" + (std::isfinite(a) ? formatLength(a) : std::string("none")) + ")");
             measured.points.emplace_back(d, m);

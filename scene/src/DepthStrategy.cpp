@@ -48,8 +48,9 @@ double analyticMinimumSeparation(DepthStrategy strategy, double distance, double
     case DepthStrategy::Single: return baker(nearDistance);
     case DepthStrategy::Auto:
     case DepthStrategy::MultiFrustum: {
-        // The frustum holding `distance`: near * ratio^k <= distance.
-        const double k = std::floor(std::log(std::max(distance / nearDistance, 1.0)) / std::log(farToNearRatio));
+        // The frustum holding `distance`: near ratio^k < distance <= near ratio^(k + 1).
+        const double k = std::max(
+            0.0, std::ceil(std::log(std::max(distance / nearDistance, 1.0)) / std::log(farToNearRatio) - 1e-12) - 1.0);
         return baker(nearDistance * std::pow(farToNearRatio, k));
     }
     case DepthStrategy::Logarithmic:

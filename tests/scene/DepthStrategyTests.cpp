@@ -133,28 +133,35 @@ TEST_CASE("A strategy the frame cannot have throws, naming what is missing", "[s
     }
 }
 
-TEST_CASE("Logarithmic and complementary depth order surfaces 1 m apart at 10,000 km; a single frustum with near 1 m does not", "[scene][depth]")
+TEST_CASE("Complementary depth orders surfaces 1 m apart at 10,000 km and logarithmic 2 m; a single frustum with near 1 m does not", "[scene][depth]")
 {
     const Device& device = sharedDevice();
     Context& context = sharedDevice().context();
     // Two squares squarely facing the eye and nothing else: the frame's near and far are the
-    // squares' own (7,000 to 13,000 km) for every strategy but Single, which keeps 1 m and 1e10 m.
+    // squares' own (4,700 to 15,000 km) for every strategy but Single, which keeps 1 m and 1e10 m.
+    // Each measurement draws the far square larger and smaller, before and after the near one:
+    // a tie anywhere counts as wrong.
     ZFightingOptions options;
     options.tilted = false;
     options.nearObjectDistance = 0.0;
     // Single: window depths 1 - 1e-7 apart by 1e-14, far below a 24-bit step: every pixel ties.
     CHECK(measureZFighting(context, DepthStrategy::Single, 1e7, 1.0, options).wrongFraction == 1.0);
-    CHECK(measureZFighting(context, DepthStrategy::Logarithmic, 1e7, 1.0, options).wrongFraction == 0.0);
-    CHECK(measureZFighting(context, DepthStrategy::LogarithmicVertex, 1e7, 1.0, options).wrongFraction == 0.0);
     if (device.info().clipControl) {
+        // near / w, one division from exact clip coordinates into a float depth buffer.
         CHECK(measureZFighting(context, DepthStrategy::Complementary, 1e7, 1.0, options).wrongFraction == 0.0);
     }
+    // Logarithmic depth takes log2(w / near) of a float w / near, whose spacing at 10,000 km is
+    // 1 m: 1 m apart the two may round alike (and do for one of the four frames here); 2 m apart
+    // they do not, and a step of the buffer (0.7 m here) separates them.
+    CHECK(measureZFighting(context, DepthStrategy::Logarithmic, 1e7, 2.0, options).wrongFraction == 0.0);
+    CHECK(measureZFighting(context, DepthStrategy::LogarithmicVertex, 1e7, 2.0, options).wrongFraction == 0.0);
+    CHECK(measureZFighting(context, DepthStrategy::Single, 1e7, 2.0, options).wrongFraction == 1.0);
 
     // With a cube 1 m from the eye the frame spans 1 m to 10,000 km. Complementary float depth
-    // still orders them (near / w: 1.7 float spacings apart); logarithmic depth cannot, its 24 bits
-    // spread over log(1e7): one step is z ln(1e7) 2^-24 = 9.6 m there, so they tie.
+    // still orders them; logarithmic depth spreads its 24 bits over log(1e7): one step is
+    // z ln(1e7) 2^-24 = 9.6 m there, so 2 m ties and 32 m does not.
     options.nearObjectDistance = 1.0;
-    CHECK(measureZFighting(context, DepthStrategy::Logarithmic, 1e7, 1.0, options).wrongFraction == 1.0);
+    CHECK(measureZFighting(context, DepthStrategy::Logarithmic, 1e7, 2.0, options).wrongFraction == 1.0);
     CHECK(measureZFighting(context, DepthStrategy::Logarithmic, 1e7, 32.0, options).wrongFraction == 0.0);
     if (device.info().clipControl) {
         CHECK(measureZFighting(context, DepthStrategy::Complementary, 1e7, 1.0, options).wrongFraction == 0.0);
@@ -167,8 +174,9 @@ TEST_CASE("Each strategy's measured minimum separation is within a few depth ste
     Context& context = device.context();
     // Something 1 m from the eye, surfaces tilted so that every pixel has its own depth. The
     // measured separation is the smallest from which up no pixel is wrong (2 tries per decade:
-    // up to a factor 3.2 above the truth); rasterisation and float rounding add about one to three
-    // steps to the analytic one-step separation (Akeley and Su 2006). Hence: within 1/2 to 12 times.
+    // up to a factor 3.2 above the truth); rasterisation and float rounding add one to three steps
+    // to the analytic one-step separation (Akeley and Su 2006), and llvmpipe was seen to order
+    // sloped surfaces a third of a step apart. Hence: within 1/4 to 12 times.
     for (const DepthStrategy strategy : {DepthStrategy::Single, DepthStrategy::MultiFrustum, DepthStrategy::Logarithmic,
                                          DepthStrategy::Complementary}) {
         if (strategy == DepthStrategy::Complementary && !device.info().clipControl) {
@@ -183,7 +191,7 @@ TEST_CASE("Each strategy's measured minimum separation is within a few depth ste
             INFO(depthStrategyName(strategy) << " at " << distance << " m: measured " << measured << ", analytic "
                                              << analytic);
             CHECK(measured <= 12.0 * std::max(analytic, spacing));
-            CHECK(measured >= 0.5 * analytic);
+            CHECK(measured >= 0.25 * analytic);
         }
     }
 }

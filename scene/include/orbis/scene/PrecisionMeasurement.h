@@ -52,6 +52,7 @@ glm::dvec3 jitterTarget(double heightMeters);
 struct ZFightingOptions {
     int size = 64;               ///< square image, pixels
     double nearObjectDistance = 1.0; ///< a small cube this far in front of the eye (0: none)
+    double nearLimit = 1.0;          ///< MultiFrustumOptions::nearLimit: Single's fixed near plane
     /// Tilt the squares by about 1 % of the distance across the view (see measureZFighting);
     /// false: both face the eye squarely, every pixel at one depth (the lucky case).
     bool tilted = true;
@@ -60,11 +61,13 @@ struct ZFightingOptions {
 struct ZFightingResult {
     double wrongFraction = 0.0; ///< of the pixels where the near square is in front
     int pixels = 0;
-    FrameStatistics statistics;
+    FrameStatistics statistics; ///< of the first of the four frames
 };
 
-/// Two parallel squares of one size nearly facing the eye, the near one `distance` away at its
-/// middle and the far one `separation` behind it, at Earth scale (the eye 10 m over the North Pole
+/// Two parallel squares nearly facing the eye, the near one `distance` away at its middle and the
+/// far one `separation` behind it (drawn once half as large again and once smaller: a pixel is
+/// wrong when it is wrong in either, since triangles of different sizes round their depths
+/// differently, which may favour either order), at Earth scale (the eye 10 m over the North Pole
 /// looking up), rendered by a Scene under `strategy` at options.size square. They are tilted so
 /// that their distance changes by about 1 % across the view: the counted pixels sample many depth
 /// steps, not one, and a rounding that happens to separate two constant depths does not pass for
