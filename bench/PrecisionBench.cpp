@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -38,6 +39,14 @@ std::string distanceName(double meters)
     return meters >= 1e3 ? formatNumber(meters / 1e3, 3) + " km" : formatNumber(meters, 3) + " m";
 }
 
+/// "1 m", "10 km", "10000 km": a power of ten as an axis label.
+std::string tickName(double meters)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, meters >= 1e3 ? "%.0f km" : "%.0f m", meters >= 1e3 ? meters / 1e3 : meters);
+    return text;
+}
+
 // ---- The plot -------------------------------------------------------------------------------
 
 struct Series {
@@ -55,7 +64,7 @@ void plotPanel(std::ostringstream& svg, double x0, double y0, double w, double h
     const double left = x0 + 70;
     const double top = y0 + 40;
     const double width = w - 90;
-    const double height = h - 150;
+    const double height = h - 190;
     auto px = [&](double x) { return left + width * (std::log10(x) - std::log10(xMin)) / (std::log10(xMax) - std::log10(xMin)); };
     auto py = [&](double y) {
         const double clamped = std::clamp(y, yMin, yMax);
@@ -69,7 +78,7 @@ void plotPanel(std::ostringstream& svg, double x0, double y0, double w, double h
         const double x = px(std::pow(10.0, e));
         svg << "<line x1='" << x << "' y1='" << top << "' x2='" << x << "' y2='" << top + height
             << "' stroke='#ddd'/>\n<text x='" << x << "' y='" << top + height + 16
-            << "' text-anchor='middle' font-size='11'>" << distanceName(std::pow(10.0, e)) << "</text>\n";
+            << "' text-anchor='middle' font-size='11'>" << tickName(std::pow(10.0, e)) << "</text>\n";
     }
     for (int e = static_cast<int>(std::ceil(std::log10(yMin))); e <= static_cast<int>(std::floor(std::log10(yMax))); ++e) {
         const double y = py(std::pow(10.0, e));
@@ -415,12 +424,13 @@ std::vector<Table> run(const Options& options)
     }
     if (!options.quick) {
         std::ostringstream svg;
-        svg << "<svg xmlns='http://www.w3.org/2000/svg' width='1200' height='560' font-family='sans-serif'>\n"
-            << "<rect width='1200' height='560' fill='white'/>\n";
-        plotPanel(svg, 0, 0, 600, 560, "Vertex transforms: window error", "eye distance (target on the surface)",
-                  "worst error, pixels at 1920x1080", vertexPlot, 1.0, 1e7, 1e-6, 1e3);
-        plotPanel(svg, 600, 0, 600, 560, "Depth: smallest separation resolved", "distance (something 1 m from the eye)",
-                  "separation, metres", depthPlot, 1.0, 4e7, 1e-8, 1e8);
+        svg << "<svg xmlns='http://www.w3.org/2000/svg' width='1200' height='600' font-family='sans-serif'>\n"
+            << "<rect width='1200' height='600' fill='white'/>\n";
+        vertexPlot.push_back({"1 pixel", "#999999", true, {{1.0, 1.0}, {1e7, 1.0}}});
+        plotPanel(svg, 0, 0, 600, 600, "Vertex transforms: window error", "eye distance (target on the surface)",
+                  "worst error, pixels at 1920x1080", vertexPlot, 1.0, 1e7, 1e-6, 1e4);
+        plotPanel(svg, 600, 0, 600, 600, "Depth: smallest separation resolved",
+                  "distance (something 0.5 m from the eye)", "separation, metres", depthPlot, 1.0, 4e7, 1e-8, 1e8);
         svg << "</svg>\n";
         const std::string path = std::string(ORBIS_SOURCE_DIR) + "/docs/precision.svg";
         std::ofstream(path) << svg.str();

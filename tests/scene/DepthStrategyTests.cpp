@@ -324,3 +324,22 @@ TEST_CASE("Logarithmic depth per vertex puts a large triangle too far between it
     CHECK(pixelNear(vertex.image, pixel.x, pixel.y, {255, 0, 0, 255}));
     CHECK(pixelNear(fragment.image, pixel.x, pixel.y, {0, 255, 0, 255}));
 }
+
+TEST_CASE("Under logarithmic depth a triangle reaching behind the eye is clipped, not dropped", "[scene][depth]")
+{
+    // Ground from 50 m behind the eye to 20 km ahead, in two triangles: log2 of the vertices
+    // behind the eye is undefined; they must not take their triangles with them.
+    for (const DepthStrategy strategy : {DepthStrategy::LogarithmicVertex, DepthStrategy::Logarithmic}) {
+        Scene scene(kEarth);
+        scene.options().depthStrategy = strategy;
+        scene.camera().lookAt({0, 0, 0}, {0, -0.2, -1}, {0, 1, 0});
+        scene.add(std::make_shared<MeshPrimitive>(ground(-20.0, -50.0, 20e3, 20e3), glm::vec4(0, 1, 0, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(cube({0.3, 0.3, -1.0}, 0.02), glm::vec4(1, 1, 1, 1)));
+        const RenderedFrame frame = renderFrame(scene, 64, 64);
+        INFO(depthStrategyName(strategy) << ": " << describePixel(frame.image, 32, 60) << " at the bottom, "
+                                         << describePixel(frame.image, 5, 40) << " at the left");
+        CHECK(frame.statistics.depthStrategy == strategy);
+        CHECK(pixelNear(frame.image, 32, 60, {0, 255, 0, 255}));
+        CHECK(pixelNear(frame.image, 5, 40, {0, 255, 0, 255}));
+    }
+}

@@ -17,11 +17,14 @@
 // the clip-space position of its surface. With none of the defines these change nothing.
 //
 // The near plane: log2 of w <= 0 (a vertex behind the eye) is undefined, and a NaN or infinite z
-// gets the whole triangle dropped. The vertex variant gives such vertices z = 0, which the clipper
-// sees as outside the near plane (z + w < 0) like any vertex nearer than `near`, so a long triangle
-// crossing the eye plane is clipped, not lost; where it is cut is interpolated from the logarithm, so
-// only approximately at w = near. The per-fragment variant keeps the projection's own z for
-// clipping: it clips exactly at near and far.
+// gets the whole triangle dropped. The clipper cuts an edge where z + w, interpolated linearly,
+// reaches 0; with a logarithmic z that is not where w = near, and with z = 0 behind the eye it
+// would be behind the eye too (w < 0: the triangle vanishes). The vertex variant therefore gives a
+// vertex behind the eye z = 2 w: then z + w = 3 w, and since z + w <= 2 w in front (depth <= 1),
+// the cut falls between the vertex in front and the eye plane: a triangle reaching behind the eye
+// is clipped, not lost, though cut short of the near plane (by this arithmetic about 30 m out for
+// ground from 50 m behind the eye to 20 km ahead). The per-fragment variant keeps the projection's own z for clipping: it clips
+// exactly at near and far.
 
 #if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_LOGARITHMIC_VERTEX)
 uniform vec2 og_logarithmicDepth; // 1 / near, 1 / log2(far / near)
@@ -48,7 +51,7 @@ vec4 og_depthVertex(vec4 clip)
 {
 #if defined(OG_DEPTH_LOGARITHMIC_VERTEX)
     float ndc = clip.w > 0.0 ? 2.0 * og_logarithmicWindowDepth(clip.w) - 1.0 : 0.0;
-    clip.z = clip.w > 0.0 ? ndc * clip.w : 0.0;
+    clip.z = clip.w > 0.0 ? ndc * clip.w : 2.0 * clip.w;
 #endif
     return clip;
 }
