@@ -377,11 +377,14 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
         }
     }
     separation.notes =
-        "A single frustum with near 1 m loses everything past a few kilometres (Baker's formula: resolving stops at "
-        "z = 2^24 n). Multi-frustum keeps far/near at 1000 per frustum, so its resolution saw-tooths between 2^-24 z "
-        "and 1000 2^-24 z. Logarithmic depth spreads 24 bits evenly over log distance: about 1e-6 z whatever the "
-        "distance, limited also by log2 in float. Complementary float depth gives about 2^-23 z, the float spacing of "
-        "the position itself: best of all, and the only one to order 1 m at 10,000 km with something 1 m from the eye.";
+        "A single frustum with its near plane 0.5 m out loses 1 m from about 10 km and resolves nothing finer than "
+        "thousands of kilometres at 10,000 km (Baker's formula: resolving stops at z = 2^24 n). Multi-frustum keeps "
+        "far/near at 1000 per frustum, so its resolution saw-tooths between 2^-24 z and 1000 2^-24 z. Logarithmic "
+        "depth spreads 24 bits evenly over log distance: about z ln(far/near) 2^-24, 1e-6 z here. The per-vertex "
+        "logarithm is 30 to 200 times worse: its depth is linear across each triangle. Complementary float depth "
+        "gives about 2^-23 z, the float spacing of the position itself, at every distance: the best of all. "
+        "Measured separations run up to three times the analytic one-step separation (rasterisation and float "
+        "rounding add to it); a few are below it, which llvmpipe's depth test allows on sloped surfaces.";
 
     const int frames = options.quick ? 1 : 8;
     Table cost;
