@@ -248,11 +248,12 @@ FrameStatistics Scene::render(Context& context)
     }
     const auto& overlay = _binner.overlay();
     if (!overlay.empty()) {
-        // Screen-space commands: the whole depth range, GL's depth convention, after every frustum.
+        // Screen-space commands, after every frustum: the whole depth range, in the frame's depth
+        // convention (a complementary frame's depth buffer is cleared to 0, which a Less test
+        // against GL's convention would never pass).
         sceneState.nearDistance = limits.nearLimit;
         sceneState.farDistance = limits.farLimit;
-        sceneState.projectionMatrix = wholeProjection;
-        sceneState.depthConvention = DepthConvention::Standard;
+        sceneState.projectionMatrix = plan.projection(_camera, aspect, {limits.nearLimit, limits.farLimit});
         sceneState.ownedNearDistance = 0.0;
         sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
         for (const std::uint32_t index : overlay) {
