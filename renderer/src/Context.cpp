@@ -325,30 +325,32 @@ void Context::draw(const DrawCommand& command)
     draw(command, identity);
 }
 
+namespace {
+
+/// Asks the CPU to fetch the command that follows `command` in memory. Commands are a few hundred
+/// bytes of plain data, usually kept one after another in a vector: fetching the next while the
+/// driver works on this one hides most of the memory latency of reading it. A prefetch never
+/// faults, so an address past the end of an allocation is harmless.
+inline void prefetchFollowing(const DrawCommand& command, std::size_t distance) noexcept
+{
+    const std::uintptr_t next = reinterpret_cast<std::uintptr_t>(&command) + distance * sizeof(DrawCommand);
+    for (std::size_t offset = 0; offset < sizeof(DrawCommand); offset += 64) {
+        __builtin_prefetch(reinterpret_cast<const void*>(next + offset));
+    }
+}
+
+} // namespace
+
 void Context::draw(std::span<const DrawCommand> commands, const SceneState& scene)
 {
-    // Commands are a few hundred bytes of plain data each: fetching the next ones while the driver
-    // works on this one hides most of the memory latency of reading them.
-    constexpr std::size_t kAhead = 2;
-    auto prefetch = [&](std::size_t i) {
-        const char* bytes = reinterpret_cast<const char*>(&commands[i]);
-        for (std::size_t offset = 0; offset < sizeof(DrawCommand); offset += 64) {
-            __builtin_prefetch(bytes + offset);
-        }
-    };
-    for (std::size_t i = 0; i < std::min(kAhead, commands.size()); ++i) {
-        prefetch(i);
-    }
-    for (std::size_t i = 0; i < commands.size(); ++i) {
-        if (i + kAhead < commands.size()) {
-            prefetch(i + kAhead);
-        }
-        draw(commands[i], scene);
+    for (const DrawCommand& command : commands) {
+        draw(command, scene); // each fetches the one two ahead
     }
 }
 
 void Context::draw(const DrawCommand& command, const SceneState& scene)
 {
+    prefetchFollowing(command, 2);
     detail::ContextState& state = *_state;
     if (!state.isCurrent()) {
         throw Error(commandLabel(command) + ": the context is not current on this thread");
