@@ -247,8 +247,8 @@ std::vector<Table> run(const Options& options)
         "depth-stencil framebuffer on " + device.info().renderer + " (" + device.info().backendDescription +
         "). Mixed: two programs, two vertex arrays, blending, depth function and culling switching on periods "
         "of 2 to 16 draws, two uniforms (vec2, vec4) new every draw. Raw GL calls the loader's entry points "
-        "directly and tracks state and uniform values by hand; Orbis executes prebuilt DrawCommands (400 bytes each, "
-        "uniforms inline), one Context::draw call per command or one call for the whole list; it also computes "
+        "directly and tracks state and uniform values by hand; Orbis executes prebuilt DrawCommands (" +
+        std::to_string(sizeof(DrawCommand)) + " bytes each, uniforms inline), one Context::draw call per command or one call for the whole list; it also computes "
         "og_modelViewProjectionMatrix in double and finds it unchanged. Both end with glFinish; "
         "" + std::to_string(pairs) + " pairs of runs, the two paths back to back in each (order swapped every "
         "pair). Wall: elapsed time; CPU: the process's CPU time, the rasteriser's threads included, which other "
