@@ -25,10 +25,19 @@ Image gradient(int width, int height)
     return image;
 }
 
+/// A scratch directory for golden files and the failure images, removed afterwards.
 struct TemporaryDirectory {
     std::filesystem::path path = std::filesystem::temp_directory_path() / "orbis-golden-test";
-    TemporaryDirectory() { std::filesystem::remove_all(path); }
-    ~TemporaryDirectory() { std::filesystem::remove_all(path); }
+    TemporaryDirectory()
+    {
+        std::filesystem::remove_all(path);
+        setenv("ORBIS_GOLDEN_OUTPUT_DIR", (path / "output").c_str(), 1);
+    }
+    ~TemporaryDirectory()
+    {
+        unsetenv("ORBIS_GOLDEN_OUTPUT_DIR");
+        std::filesystem::remove_all(path);
+    }
 };
 
 } // namespace
@@ -82,6 +91,7 @@ TEST_CASE("The golden comparison allows the stated tolerance and no more", "[ren
     const test::GoldenResult sizes = test::compareWithGolden(gradient(9, 10), "tolerance", {}, directory.path);
     CHECK_FALSE(sizes.passed);
     CHECK_THAT(sizes.message, Contains("9 x 10") && Contains("10 x 10") && Contains("actual image"));
+    CHECK(std::filesystem::exists(directory.path / "output" / "tolerance.actual.png"));
 
     const test::ImageDifference difference = test::compareImages(changed, golden, 2);
     CHECK(difference.sameSize);
