@@ -1,5 +1,6 @@
 // A user's program built against the installed orbis package.
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/scene/SceneFile.h>
 
 #include <cstdio>
 
@@ -8,5 +9,8 @@ int main()
     const orbis::Ellipsoid earth = orbis::Ellipsoid::wgs84();
     const orbis::Geodetic3D centre = earth.toGeodetic3D({0.0, 0.0, 0.0});
     std::printf("centre height %.0f\n", centre.height);
+    // orbis::scene, with its privately linked dependencies found by the package.
+    const orbis::SceneDescription scene = orbis::parseSceneText(R"({"version": 1, "width": 320})", "consumer", ".");
+    std::printf("scene width %d\n", scene.width);
     return 0;
 }
