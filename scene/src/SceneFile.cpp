@@ -158,6 +158,10 @@ std::optional<std::string_view> closestWord(std::string_view word, Keys candidat
     std::optional<std::string_view> best;
     std::size_t bestDistance = 3;
     for (const std::string_view candidate : candidates) {
+        // The distance is at least the difference in length.
+        if (candidate.size() > word.size() + 2 || word.size() > candidate.size() + 2) {
+            continue;
+        }
         const std::size_t distance = editDistance(lowerWord, lowercase(candidate));
         if (distance < bestDistance && distance < std::min(word.size(), candidate.size())) {
             best = candidate;
@@ -176,11 +180,16 @@ std::string suggestion(std::string_view word, Keys candidates)
     return "; expected " + std::string(candidates.size() == 1 ? "" : "one of ") + quoteList(candidates);
 }
 
+/// The first columns, quoted, for a message.
 std::string joinColumns(const std::vector<std::string>& columns)
 {
+    constexpr std::size_t kMaxListed = 20;
     std::string list;
-    for (std::size_t i = 0; i < columns.size(); ++i) {
+    for (std::size_t i = 0; i < columns.size() && i < kMaxListed; ++i) {
         list += (i == 0 ? "" : ", ") + quote(columns[i]);
+    }
+    if (columns.size() > kMaxListed) {
+        list += " and " + std::to_string(columns.size() - kMaxListed) + " more";
     }
     return list;
 }

@@ -34,6 +34,8 @@ void checkDescription(const orbis::SceneDescription& scene)
     require(isFiniteAngle(scene.camera.position.latitude) && std::isfinite(scene.camera.position.height));
     require(std::abs(glm::length(scene.sun.directionEarthFixed) - 1.0) < 1e-12);
     require(isFiniteAngle(scene.sun.subsolarPoint.longitude) && isFiniteAngle(scene.sun.subsolarPoint.latitude));
+    const orbis::Camera camera = orbis::makeCamera(scene.camera, orbis::Ellipsoid::wgs84());
+    require(orbis::isFinite(camera.direction()) && orbis::isFinite(camera.up()) && orbis::isFinite(camera.right()));
     for (const orbis::LayerDescription& layer : scene.layers) {
         if (const auto* polyline = std::get_if<orbis::PolylineLayer>(&layer)) {
             require(polyline->positions.size() >= 2 && polyline->widthPixels > 0.0);

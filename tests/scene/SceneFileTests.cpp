@@ -368,6 +368,14 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[sce
             "test.json:1:70: /layers/0/positions/1: expected [lon, lat] or [lon, lat, height], got an array of 4 elements");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"offset": [1]}})")) ==
             "test.json:1:89: /layers/0/billboard/offset: expected [x, y] in pixels, got an array of 1 element");
+    CHECK(errorOf(R"({"version": 1, "depth": 3})") ==
+          R"(test.json:1:25: /depth: expected one of "auto", "multifrustum", "logarithmic", "complementary", "single", got 3)");
+    CHECK(errorOf(withLayer(R"({"type": ["points"]})")) ==
+          R"(test.json:1:36: /layers/0/type: expected one of "geojson", "points", "polyline", "model", got an array of 1 element)");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": ""}})")) ==
+          "test.json:1:84: /layers/0/label/field: expected a column or property name, got an empty string");
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a\u0000b.json"})")) ==
+          "test.json:1:57: /layers/0/source: a path cannot contain a NUL character");
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": ""})")) ==
             "test.json:1:57: /layers/0/source: expected a path, got an empty string");
     CHECK(errorOf("[1, 2]") == "test.json:1:1: expected a JSON object at the top of the file, got an array of 2 elements");
@@ -464,6 +472,7 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
     writeText(base / "cities.csv", "name,x,y\nA,1,2\n");
     writeText(base / "places.csv", "\xEF\xBB\xBF\"name\", \"lat\",lon\r\nA,1,2\r\n");
     writeText(base / "blank.csv", "");
+    writeText(base / "wide.csv", std::string(70'000, 'x') + "\n");
 
     const std::string missing = errorOf(withLayer(R"({"type": "geojson", "source": "countries.geojson"})"), true, base);
     REQUIRE(missing == "test.json:1:57: /layers/0/source: file \"countries.geojson\" not found (looked for \"" +
@@ -480,6 +489,10 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
             R"(test.json:1:55: /layers/0/source: expected a .gltf or .glb file, got "plane.obj")");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "cities.csv"})"), true, base) ==
             R"(test.json:1:56: /layers/0/source: "cities.csv" has no longitude column (one of "lon", "lng", "long", "longitude"); its columns are "name", "x", "y")");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "wide.csv"})"), true, base) ==
+          R"(test.json:1:56: /layers/0/source: "wide.csv" has a first line longer than 64 KiB; expected a header row)");
+    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "/dev/null"}})", true, base) ==
+          R"(test.json:1:37: /globe/texture: "/dev/null" is not a regular file)");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "blank.csv"})"), true, base) ==
             R"(test.json:1:56: /layers/0/source: "blank.csv" has no header row)");
     // A byte-order mark, quotes, blanks and CRLF around column names are fine; a misspelt field is not.
