@@ -336,8 +336,8 @@ constexpr Range kLongitudeRange{-180.0, 180.0};
 constexpr Range kLatitudeRange{-90.0, 90.0};
 constexpr Range kPositivePixels{0.0, kMaxPixels, true, false};
 constexpr Range kNonNegativePixels{0.0, kMaxPixels};
-/// From below the deepest mine to beyond Saturn: anything else is a typing error (and would
-/// overflow when squared).
+/// From 1,000 km underground to a billion kilometres out: anything else is a typing error (and
+/// would lose all precision, or overflow when squared).
 constexpr Range kHeightRange{-1.0e6, 1.0e12};
 constexpr Range kPixelOffsetRange{-16384.0, 16384.0};
 
