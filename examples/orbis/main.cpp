@@ -1,10 +1,21 @@
-// The orbis command. For now it demonstrates the core library: a few geodetic conversions on WGS84.
+// The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
+// from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
+// 2 the command line is wrong.
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/scene/SceneFile.h>
 
 #include <cstdio>
-#include <cstring>
+#include <exception>
+#include <span>
+#include <string_view>
 
 namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;
+constexpr int kExitUsage = 2;
+
+using Arguments = std::span<char* const>;
 
 void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbis::Geodetic3D& g)
 {
@@ -16,18 +27,11 @@ void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbi
                 orbis::toDegrees(back.longitude), orbis::toDegrees(back.latitude), back.height);
 }
 
-int usage()
+/// orbis demo: a few geodetic conversions on WGS84.
+int runDemo(Arguments arguments)
 {
-    std::fprintf(stderr, "usage: orbis demo\n");
-    return 2;
-}
-
-} // namespace
-
-int main(int argc, char** argv)
-{
-    if (argc > 2 || (argc == 2 && std::strcmp(argv[1], "demo") != 0)) {
-        return usage();
+    if (!arguments.empty()) {
+        return kExitUsage;
     }
     const orbis::Ellipsoid earth = orbis::Ellipsoid::wgs84();
     printConversion(earth, "Greenwich, sea level", orbis::Geodetic3D::fromDegrees(0.0, 51.4778, 0.0));
@@ -39,5 +43,73 @@ int main(int argc, char** argv)
     std::printf("%-22s x 0 y 0 z 0 -> lon %.1f lat %.1f h %.3f m (the closest surface point is a pole)\n",
                 "Earth's centre", orbis::toDegrees(centre.longitude), orbis::toDegrees(centre.latitude),
                 centre.height);
-    return 0;
+    return kExitOk;
+}
+
+/// orbis validate SCENE.json...: reads each file as `orbis render` would, renders nothing.
+int runValidate(Arguments arguments)
+{
+    if (arguments.empty()) {
+        return kExitUsage;
+    }
+    int exitCode = kExitOk;
+    for (const char* path : arguments) {
+        try {
+            const orbis::SceneDescription scene = orbis::parseSceneFile(path);
+            std::printf("%s: ok (%zu %s)\n", path, scene.layers.size(), scene.layers.size() == 1 ? "layer" : "layers");
+        } catch (const orbis::Error& error) {
+            std::fprintf(stderr, "%s\n", error.what());
+            exitCode = kExitFailed;
+        }
+    }
+    return exitCode;
+}
+
+struct Subcommand {
+    std::string_view name;
+    std::string_view arguments; ///< for the usage line
+    std::string_view summary;
+    int (*run)(Arguments);
+};
+
+constexpr Subcommand kSubcommands[] = {
+    {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
+    {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+};
+
+int usage(std::FILE* stream, int exitCode)
+{
+    std::fprintf(stream, "usage:\n");
+    for (const Subcommand& subcommand : kSubcommands) {
+        std::fprintf(stream, "  orbis %-8.*s %-14.*s %.*s\n", static_cast<int>(subcommand.name.size()),
+                     subcommand.name.data(), static_cast<int>(subcommand.arguments.size()),
+                     subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
+                     subcommand.summary.data());
+    }
+    std::fprintf(stream, "exit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
+    return exitCode;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const Arguments all(argv, static_cast<std::size_t>(argc));
+    const std::string_view name = all.size() > 1 ? std::string_view(all[1]) : std::string_view("demo");
+    if (name == "help" || name == "--help" || name == "-h") {
+        return usage(stdout, kExitOk);
+    }
+    for (const Subcommand& subcommand : kSubcommands) {
+        if (subcommand.name == name) {
+            try {
+                const int exitCode = subcommand.run(all.size() > 2 ? all.subspan(2) : Arguments());
+                return exitCode == kExitUsage ? usage(stderr, kExitUsage) : exitCode;
+            } catch (const std::exception& error) {
+                std::fprintf(stderr, "orbis %.*s: %s\n", static_cast<int>(name.size()), name.data(), error.what());
+                return kExitFailed;
+            }
+        }
+    }
+    std::fprintf(stderr, "orbis: unknown command \"%.*s\"\n", static_cast<int>(name.size()), name.data());
+    return usage(stderr, kExitUsage);
 }
