@@ -1,6 +1,8 @@
 #pragma once
 
 #include "orbis/scene/Camera.h"
+#include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/Globe.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/Geodetic.h>
@@ -62,20 +64,6 @@ struct SunDescription {
     glm::dvec3 directionEarthFixed{1.0, 0.0, 0.0};   ///< unit, from the Earth's centre to the Sun
 
     friend bool operator==(const SunDescription&, const SunDescription&) = default;
-};
-
-/// How depth precision is won per frame (ARCHITECTURE.md, "Precision rules").
-enum class DepthStrategy {
-    Automatic,     ///< "auto": the renderer picks per frame
-    MultiFrustum,  ///< "multifrustum"
-    Logarithmic,   ///< "logarithmic"
-    Complementary, ///< "complementary": reversed floating-point depth
-    Single,        ///< "single": one frustum, for comparisons
-};
-
-enum class GlobeMethod {
-    RayCast,     ///< "raycast": one box, the ellipsoid found per fragment
-    Tessellated, ///< "tessellated": a mesh
 };
 
 /// A day texture: one image file, or a TMS tile folder (a folder with tilemapresource.xml).
