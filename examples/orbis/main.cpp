@@ -2,11 +2,17 @@
 // from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
 // 2 the command line is wrong.
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/renderer/Device.h>
+#include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/SceneFile.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <fstream>
+#include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace {
@@ -65,6 +71,96 @@ int runValidate(Arguments arguments)
     return exitCode;
 }
 
+/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON]: one frame of a
+/// scene file (the built-in default Earth without one), headless. Nothing is written on failure.
+int runRender(Arguments arguments)
+{
+    std::optional<std::string> scenePath;
+    std::string output = "orbis.png";
+    std::optional<std::string> statisticsPath;
+    std::optional<int> width;
+    std::optional<int> height;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        const bool hasValue = i + 1 < arguments.size();
+        auto positive = [&](std::optional<int>& value) {
+            const int parsed = std::atoi(arguments[++i]);
+            if (parsed < 1 || parsed > 16384) {
+                return false;
+            }
+            value = parsed;
+            return true;
+        };
+        if (argument == "--out" && hasValue) {
+            output = arguments[++i];
+        } else if (argument == "--stats" && hasValue) {
+            statisticsPath = arguments[++i];
+        } else if (argument == "--width" && hasValue) {
+            if (!positive(width)) {
+                return kExitUsage;
+            }
+        } else if (argument == "--height" && hasValue) {
+            if (!positive(height)) {
+                return kExitUsage;
+            }
+        } else if (!argument.starts_with("--") && !scenePath) {
+            scenePath = std::string(argument);
+        } else {
+            return kExitUsage;
+        }
+    }
+
+    try {
+        const orbis::SceneDescription description =
+            scenePath ? orbis::parseSceneFile(*scenePath) : orbis::parseDefaultScene();
+        orbis::Device device;
+        orbis::Context& context = device.context();
+        orbis::Framebuffer framebuffer =
+            context.createFramebuffer(width.value_or(description.width), height.value_or(description.height));
+        context.setFramebuffer(&framebuffer);
+        orbis::Scene scene;
+        orbis::populateScene(description, scene);
+        const orbis::FrameStatistics statistics = scene.render(context);
+        orbis::writePng(context.readPixels(), output);
+        std::printf("%s: %dx%d, %s\n%s", output.c_str(), framebuffer.width(), framebuffer.height(),
+                    device.info().renderer.c_str(), statistics.toText().c_str());
+        if (statisticsPath) {
+            std::ofstream file(*statisticsPath);
+            file << statistics.toJson();
+            if (!file) {
+                std::fprintf(stderr, "orbis render: cannot write %s\n", statisticsPath->c_str());
+                return kExitFailed;
+            }
+        }
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis render: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
+/// orbis info: the OpenGL driver the headless device gets, and its limits.
+int runInfo(Arguments arguments)
+{
+    if (!arguments.empty()) {
+        return kExitUsage;
+    }
+    const orbis::Device device;
+    const orbis::DeviceInfo& info = device.info();
+    std::printf("backend:          %s\n", info.backendDescription.c_str());
+    std::printf("vendor:           %s\n", info.vendor.c_str());
+    std::printf("renderer:         %s\n", info.renderer.c_str());
+    std::printf("version:          %s\n", info.version.c_str());
+    std::printf("GLSL:             %s\n", info.shadingLanguageVersion.c_str());
+    std::printf("max texture size: %d\n", info.maxTextureSize);
+    std::printf("texture units:    %d\n", info.maxTextureUnits);
+    std::printf("colour targets:   %d\n", info.maxColorAttachments);
+    std::printf("vertex attributes: %d\n", info.maxVertexAttributes);
+    std::printf("max anisotropy:   %g\n", static_cast<double>(info.maxAnisotropy));
+    std::printf("KHR_debug:        %s\n", info.khrDebug ? "yes" : "no");
+    return kExitOk;
+}
+
 struct Subcommand {
     std::string_view name;
     std::string_view arguments; ///< for the usage line
@@ -74,14 +170,17 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
+    {"render", "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON]",
+     "render a scene file (the default Earth without one) to a PNG, headless", runRender},
     {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+    {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };
 
 int usage(std::FILE* stream, int exitCode)
 {
     std::fprintf(stream, "usage:\n");
     for (const Subcommand& subcommand : kSubcommands) {
-        std::fprintf(stream, "  orbis %-8.*s %-14.*s %.*s\n", static_cast<int>(subcommand.name.size()),
+        std::fprintf(stream, "  orbis %.*s %.*s\n      %.*s\n", static_cast<int>(subcommand.name.size()),
                      subcommand.name.data(), static_cast<int>(subcommand.arguments.size()),
                      subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
                      subcommand.summary.data());
