@@ -1,5 +1,7 @@
 #include "orbis/scene/SceneBuilder.h"
 
+#include "orbis/scene/Globe.h"
+
 #include <orbis/core/Error.h>
 
 namespace orbis {

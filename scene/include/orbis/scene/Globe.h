@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
+#include "orbis/scene/GlobeMethod.h"
 
 #include <orbis/core/Tessellation.h>
 
@@ -17,11 +18,6 @@
 namespace orbis {
 
 class ShaderProgram;
-
-enum class GlobeMethod {
-    RayCast,     ///< a bounding box whose fragments cast rays at the ellipsoid (book section 4.3)
-    Tessellated, ///< a cube-map tessellation, relative to the eye on the GPU
-};
 
 /// Which core tessellator a Tessellated globe uses, and what its level means.
 enum class GlobeTessellation {

@@ -2,7 +2,7 @@
 
 #include "orbis/scene/Camera.h"
 #include "orbis/scene/DepthStrategy.h"
-#include "orbis/scene/Globe.h"
+#include "orbis/scene/GlobeMethod.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/Geodetic.h>
