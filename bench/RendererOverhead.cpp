@@ -285,7 +285,9 @@ std::vector<Table> run(const Options& options)
     launch.title = "Time to the first triangle PNG";
     const std::filesystem::path triangle =
         std::filesystem::read_symlink("/proc/self/exe").parent_path() / "ch03_triangle";
-    const std::string png = (std::filesystem::temp_directory_path() / "orbis-bench-triangle.png").string();
+    const std::string png =
+        (std::filesystem::temp_directory_path() / ("orbis-bench-triangle-" + std::to_string(getpid()) + ".png"))
+            .string();
     launch.description = "Wall-clock time from posix_spawn of build/bin/ch03_triangle to its exit: process start, "
                          "device creation, shader compilation, one 256 x 256 draw, read-back, PNG written. " +
                          std::to_string(options.quick ? 3 : 9) + " launches per backend.";

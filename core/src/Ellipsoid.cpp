@@ -206,16 +206,14 @@ Ellipsoid::Foot Ellipsoid::footOfNormal(const glm::dvec3& p) const noexcept
 
 // Works in the meridian plane of p, in the first quadrant (rho, |z|). The foot's parametric
 // latitude beta solves a*rho*sin(b) - b*|z|*cos(b) - (a^2 - b^2)*sin(b)*cos(b) = 0, which Newton's
-// method solves from Bowring's starting value (exact for points on the surface) in one to three
-// steps, carrying (cos beta, sin beta) as a vector so no trigonometry is needed. Within a*e^2 of the
+// method solves from Bowring's starting value (exact on the surface) in two or three steps,
+// carrying (cos beta, sin beta) as a vector so no trigonometry is needed. Within a*e^2 of the
 // centre (43 km for WGS84) points can have several normals, and near there Newton's method may
 // stall: those points take the robust search, which finds the closest foot.
-Ellipsoid::Foot Ellipsoid::footOfNormalSpheroid(const glm::dvec3& p) const noexcept
+Ellipsoid::MeridianFoot Ellipsoid::footInMeridianPlane(double rho, double zAbs) const noexcept
 {
     const double a = _radii.x;
     const double b = _radii.z;
-    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
-    const double zAbs = std::abs(p.z);
     const double c2 = (a - b) * (a + b);
     const double aRho = a * rho;
     const double bZ = b * zAbs;
@@ -223,9 +221,9 @@ Ellipsoid::Foot Ellipsoid::footOfNormalSpheroid(const glm::dvec3& p) const noexc
     auto newton = [&](glm::dvec2& foot) {
         double cosBeta = bZ == 0.0 && aRho == 0.0 ? 0.0 : b * rho;
         double sinBeta = bZ == 0.0 && aRho == 0.0 ? 1.0 : a * zAbs;
-        double length = std::sqrt(cosBeta * cosBeta + sinBeta * sinBeta);
-        cosBeta /= length;
-        sinBeta /= length;
+        double inverseLength = 1.0 / std::sqrt(cosBeta * cosBeta + sinBeta * sinBeta);
+        cosBeta *= inverseLength;
+        sinBeta *= inverseLength;
         for (int i = 0; i < 8; ++i) {
             const double f = aRho * sinBeta - bZ * cosBeta - c2 * sinBeta * cosBeta;
             const double df = aRho * cosBeta + bZ * sinBeta - c2 * (cosBeta - sinBeta) * (cosBeta + sinBeta);
@@ -235,10 +233,10 @@ Ellipsoid::Foot Ellipsoid::footOfNormalSpheroid(const glm::dvec3& p) const noexc
             const double step = -f / df;
             const double c = cosBeta - step * sinBeta;
             const double s = sinBeta + step * cosBeta;
-            length = std::sqrt(c * c + s * s);
-            cosBeta = c / length;
-            sinBeta = s / length;
-            if (std::abs(step) < 1e-14) {
+            inverseLength = 1.0 / std::sqrt(c * c + s * s);
+            cosBeta = c * inverseLength;
+            sinBeta = s * inverseLength;
+            if (std::abs(step) < 1e-8) { // quadratic convergence: what remains is below 1e-16
                 foot = {a * cosBeta, b * sinBeta};
                 return cosBeta >= 0.0 && sinBeta >= 0.0;
             }
@@ -257,15 +255,21 @@ Ellipsoid::Foot Ellipsoid::footOfNormalSpheroid(const glm::dvec3& p) const noexc
     // Normal of the meridian ellipse at the foot: the gradient (x/a^2, z/b^2), scaled by a^2 b^2
     // to keep it well away from underflow.
     glm::dvec2 normal(foot.x * b * b, foot.y * a * a);
-    normal /= std::sqrt(normal.x * normal.x + normal.y * normal.y);
+    normal *= 1.0 / std::sqrt(normal.x * normal.x + normal.y * normal.y);
     const double height = (rho - foot.x) * normal.x + (zAbs - foot.y) * normal.y;
+    return {foot, normal, height};
+}
 
+Ellipsoid::Foot Ellipsoid::footOfNormalSpheroid(const glm::dvec3& p) const noexcept
+{
+    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    const MeridianFoot m = footInMeridianPlane(rho, std::abs(p.z));
     const double zSign = std::signbit(p.z) ? -1.0 : 1.0;
     const double cosLongitude = rho > 0.0 ? p.x / rho : 1.0;
     const double sinLongitude = rho > 0.0 ? p.y / rho : 0.0;
-    return {{foot.x * cosLongitude, foot.x * sinLongitude, zSign * foot.y},
-            {normal.x * cosLongitude, normal.x * sinLongitude, zSign * normal.y},
-            height};
+    return {{m.foot.x * cosLongitude, m.foot.x * sinLongitude, zSign * m.foot.y},
+            {m.normal.x * cosLongitude, m.normal.x * sinLongitude, zSign * m.normal.y},
+            m.height};
 }
 
 Ellipsoid::Foot Ellipsoid::footOfNormalTriaxial(const glm::dvec3& p) const noexcept
@@ -277,6 +281,14 @@ Ellipsoid::Foot Ellipsoid::footOfNormalTriaxial(const glm::dvec3& p) const noexc
 
 Geodetic3D Ellipsoid::toGeodetic3D(const glm::dvec3& p) const noexcept
 {
+    const double largest = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (isSpheroid() && largest <= kFarAway) {
+        // The common case, kept in the meridian plane: no 3D foot is needed.
+        const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+        const MeridianFoot m = footInMeridianPlane(rho, std::abs(p.z));
+        const double latitude = std::atan2(m.normal.y, m.normal.x);
+        return {rho > 0.0 ? std::atan2(p.y, p.x) : 0.0, std::signbit(p.z) ? -latitude : latitude, m.height};
+    }
     const Foot foot = footOfNormal(p);
     // From the normal, not from p: they differ on a triaxial ellipsoid.
     const double longitude =

@@ -10,6 +10,8 @@
 #include <random>
 
 using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
 
 namespace {
 
@@ -53,11 +55,11 @@ TEST_CASE("Ellipsoid WGS84 has the defining radii", "[core][ellipsoid]")
 {
     REQUIRE(kEarth.radii().x == 6378137.0);
     REQUIRE(kEarth.radii().y == 6378137.0);
-    REQUIRE(kEarth.radii().z == Approx(6356752.314245).margin(1e-6));
+    REQUIRE_THAT(kEarth.radii().z, WithinAbs(6356752.314245, 1e-6));
     REQUIRE(Ellipsoid::scaledWgs84().radii().x == 1.0);
-    REQUIRE(Ellipsoid::scaledWgs84().radii().z * 6378137.0 == Approx(kEarth.radii().z).margin(1e-6));
+    REQUIRE_THAT(Ellipsoid::scaledWgs84().radii().z * 6378137.0, WithinAbs(kEarth.radii().z, 1e-6));
     REQUIRE(Ellipsoid::unitSphere().radii() == glm::dvec3(1.0));
-    REQUIRE(kEarth.oneOverRadiiSquared().z == Approx(1.0 / (kEarth.radii().z * kEarth.radii().z)));
+    REQUIRE_THAT(kEarth.oneOverRadiiSquared().z, WithinRel(1.0 / (kEarth.radii().z * kEarth.radii().z), 1e-12));
 }
 
 TEST_CASE("Ellipsoid toCartesian matches GeographicLib Forward", "[core][ellipsoid]")
@@ -110,7 +112,7 @@ TEST_CASE("Ellipsoid converts the poles exactly and within 1e-12 rad without NaN
                 requireRoundTrip(p);
                 const Geodetic3D back = kEarth.toGeodetic3D(p);
                 REQUIRE(std::abs(back.latitude - g.latitude) * glm::length(p) <= bound(p));
-                REQUIRE(back.height == Approx(height).margin(bound(p)));
+                REQUIRE_THAT(back.height, WithinAbs(height, bound(p)));
             }
         }
     }
@@ -124,8 +126,8 @@ TEST_CASE("Ellipsoid keeps both sides of the antimeridian apart", "[core][ellips
 {
     const double a = kEarth.radii().x;
     REQUIRE(kEarth.toGeodetic2D({-a, 0.0, 0.0}).longitude == kPi);
-    REQUIRE(kEarth.toGeodetic2D({-a, 1e-9, 0.0}).longitude == Approx(kPi).margin(1e-15));
-    REQUIRE(kEarth.toGeodetic2D({-a, -1e-9, 0.0}).longitude == Approx(-kPi).margin(1e-15));
+    REQUIRE_THAT(kEarth.toGeodetic2D({-a, 1e-9, 0.0}).longitude, WithinAbs(kPi, 1e-15));
+    REQUIRE_THAT(kEarth.toGeodetic2D({-a, -1e-9, 0.0}).longitude, WithinAbs(-kPi, 1e-15));
     REQUIRE(kEarth.toGeodetic2D({-a, 1e-9, 0.0}).longitude > 0.0);
     REQUIRE(kEarth.toGeodetic2D({-a, -1e-9, 0.0}).longitude < 0.0);
     for (const double longitude : {kPi, -kPi, kPi - 1e-12, -kPi + 1e-12}) {
@@ -137,10 +139,10 @@ TEST_CASE("Ellipsoid gives the centre GeographicLib's answer: north pole, minus 
 {
     const Geodetic3D centre = kEarth.toGeodetic3D({0.0, 0.0, 0.0});
     const Geodetic3D expected = reference({0.0, 0.0, 0.0});
-    REQUIRE(centre.latitude == Approx(expected.latitude).margin(1e-15));
+    REQUIRE_THAT(centre.latitude, WithinAbs(expected.latitude, 1e-15));
     REQUIRE(centre.latitude == kHalfPi);
     REQUIRE(centre.longitude == 0.0);
-    REQUIRE(centre.height == Approx(expected.height).margin(1e-9));
+    REQUIRE_THAT(centre.height, WithinAbs(expected.height, 1e-9));
     REQUIRE(kEarth.scaleToGeodeticSurface({0.0, 0.0, 0.0}) == glm::dvec3(0.0, 0.0, kEarth.radii().z));
     REQUIRE(kEarth.scaleToGeocentricSurface({0.0, 0.0, 0.0}) == glm::dvec3(0.0, 0.0, kEarth.radii().z));
 }
@@ -161,8 +163,10 @@ TEST_CASE("Ellipsoid handles points within a metre of the centre and deep inside
         requireRoundTrip(p);
         const Geodetic3D ours = kEarth.toGeodetic3D(p);
         const Geodetic3D theirs = reference(p);
-        REQUIRE(ours.height == Approx(theirs.height).margin(1e-8));
-        REQUIRE(ours.latitude == Approx(theirs.latitude).margin(1e-14));
+        REQUIRE_THAT(ours.height, WithinAbs(theirs.height, 1e-8));
+        // Near the cusp of the evolute (rho -> a e^2 on the equatorial plane) the latitude is
+        // ill-conditioned: both methods move by ~1e-13 rad for a last-place change of rho.
+        REQUIRE_THAT(ours.latitude, WithinAbs(theirs.latitude, 1e-12));
     }
 }
 
@@ -182,7 +186,7 @@ TEST_CASE("Ellipsoid converts points on the axis and at 1e9 m", "[core][ellipsoi
     // Far beyond any use, the answer stays finite.
     const Geodetic3D far = kEarth.toGeodetic3D({1e200, 1e200, 1e200});
     REQUIRE(finite(far));
-    REQUIRE(far.latitude == Approx(std::atan(1.0 / std::sqrt(2.0))).margin(1e-12));
+    REQUIRE_THAT(far.latitude, WithinAbs(std::atan(1.0 / std::sqrt(2.0)), 1e-12));
 }
 
 TEST_CASE("Ellipsoid scaleToGeodeticSurface lands on the surface below the point", "[core][ellipsoid]")
@@ -193,13 +197,13 @@ TEST_CASE("Ellipsoid scaleToGeodeticSurface lands on the surface below the point
         const glm::dvec3 p = glm::dvec3(symmetric(random), symmetric(random), symmetric(random)) * 2e7;
         const glm::dvec3 s = kEarth.scaleToGeodeticSurface(p);
         const glm::dvec3 q = s * kEarth.oneOverRadii();
-        REQUIRE(glm::dot(q, q) == Approx(1.0).margin(4e-16));
+        REQUIRE_THAT(glm::dot(q, q), WithinAbs(1.0, 1e-15)); // a few roundings, each half an ulp of 1
         // p lies on the surface normal through s.
         const glm::dvec3 n = kEarth.geodeticSurfaceNormal(s);
         REQUIRE(glm::length(glm::cross(p - s, n)) <= 1e-8 + 1e-15 * glm::length(p));
         const glm::dvec3 c = kEarth.scaleToGeocentricSurface(p);
         const glm::dvec3 r = c * kEarth.oneOverRadii();
-        REQUIRE(glm::dot(r, r) == Approx(1.0).margin(4e-16));
+        REQUIRE_THAT(glm::dot(r, r), WithinAbs(1.0, 1e-15)); // five roundings, each half an ulp of 1
         REQUIRE(glm::length(glm::cross(glm::normalize(c), glm::normalize(p))) <= 1e-15);
     }
 }
@@ -211,7 +215,7 @@ TEST_CASE("Ellipsoid geodetic and geocentric normals agree at the equator and po
     const glm::dvec3 mid = kEarth.toCartesian(Geodetic2D::fromDegrees(30, 45));
     // The two normals differ by about 0.19 degrees at 45 degrees latitude on WGS84.
     const double angle = std::acos(glm::dot(kEarth.geodeticSurfaceNormal(mid), Ellipsoid::geocentricSurfaceNormal(mid)));
-    REQUIRE(toDegrees(angle) == Approx(0.192).margin(0.001));
+    REQUIRE_THAT(toDegrees(angle), WithinAbs(0.192, 0.001));
     REQUIRE(glm::length(kEarth.geodeticSurfaceNormal(mid) -
                         Ellipsoid::geodeticSurfaceNormal(Geodetic2D::fromDegrees(30, 45))) < 1e-15);
 }
@@ -220,17 +224,17 @@ TEST_CASE("Ellipsoid works for the unit sphere, scaled WGS84 and a triaxial elli
 {
     const Ellipsoid sphere = Ellipsoid::unitSphere();
     const Geodetic3D g = sphere.toGeodetic3D({0.0, 2.0, 0.0});
-    REQUIRE(g.longitude == Approx(kHalfPi));
-    REQUIRE(g.latitude == Approx(0.0).margin(1e-15));
-    REQUIRE(g.height == Approx(1.0));
+    REQUIRE_THAT(g.longitude, WithinRel(kHalfPi, 1e-12));
+    REQUIRE_THAT(g.latitude, WithinAbs(0.0, 1e-15));
+    REQUIRE_THAT(g.height, WithinRel(1.0, 1e-12));
     REQUIRE(sphere.toGeodetic3D({0.0, 0.0, 0.0}).height == -1.0);
 
     const Ellipsoid scaled = Ellipsoid::scaledWgs84();
     const Geodetic3D s = Geodetic3D::fromDegrees(-120, 33, 0.01);
     const glm::dvec3 ps = scaled.toCartesian(s);
     const Geodetic3D sb = scaled.toGeodetic3D(ps);
-    REQUIRE(sb.latitude == Approx(s.latitude).margin(1e-15));
-    REQUIRE(sb.height == Approx(0.01).margin(1e-15));
+    REQUIRE_THAT(sb.latitude, WithinAbs(s.latitude, 1e-15));
+    REQUIRE_THAT(sb.height, WithinAbs(0.01, 1e-15));
     REQUIRE(glm::length(kEarth.toCartesian(Geodetic3D::fromDegrees(-120, 33, 63781.37)) / 6378137.0 - ps) < 1e-15);
 
     const Ellipsoid triaxial(3.0, 2.0, 1.0);
@@ -257,7 +261,7 @@ TEST_CASE("computeCurve spaces points by the granularity on the plane of the end
     const glm::dvec3 planeNormal = glm::normalize(glm::cross(start, stop));
     for (std::size_t i = 0; i < curve.size(); ++i) {
         const glm::dvec3 q = curve[i] * kEarth.oneOverRadii();
-        REQUIRE(glm::dot(q, q) == Approx(1.0).margin(1e-15));
+        REQUIRE_THAT(glm::dot(q, q), WithinAbs(1.0, 1e-15));
         REQUIRE(std::abs(glm::dot(curve[i], planeNormal)) < 1e-6);
         if (i > 0) {
             const double step = std::acos(std::min(1.0, glm::dot(glm::normalize(curve[i - 1]), glm::normalize(curve[i]))));

@@ -4,6 +4,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 using namespace orbis;
 using Catch::Matchers::Contains;
@@ -25,9 +28,12 @@ Image gradient(int width, int height)
     return image;
 }
 
-/// A scratch directory for golden files and the failure images, removed afterwards.
+// One per test process and test: CTest runs tests in parallel, and other checkouts may too. It
+// holds the golden files and the failure images, and is removed afterwards.
 struct TemporaryDirectory {
-    std::filesystem::path path = std::filesystem::temp_directory_path() / "orbis-golden-test";
+    std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                 ("orbis-golden-test-" + std::to_string(getpid()) + "-" +
+                                  Catch::getResultCapture().getCurrentTestName().substr(0, 12));
     TemporaryDirectory()
     {
         std::filesystem::remove_all(path);

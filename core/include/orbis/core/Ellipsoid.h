@@ -2,6 +2,7 @@
 
 #include "orbis/core/Geodetic.h"
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <vector>
@@ -81,6 +82,13 @@ private:
         glm::dvec3 normal;
         double height;
     };
+    /// The foot of the normal in the meridian plane of a spheroid, first quadrant (rho, |z| >= 0).
+    struct MeridianFoot {
+        glm::dvec2 foot;
+        glm::dvec2 normal;
+        double height;
+    };
+    MeridianFoot footInMeridianPlane(double rho, double zAbs) const noexcept;
     Foot footOfNormal(const glm::dvec3& p) const noexcept;
     Foot footOfNormalSpheroid(const glm::dvec3& p) const noexcept;
     Foot footOfNormalTriaxial(const glm::dvec3& p) const noexcept;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/core/BoundingSphere.h"
 #include "orbis/core/Mesh.h"
 #include "orbis/renderer/RenderState.h"
 #include "orbis/renderer/UniformValue.h"
@@ -7,6 +8,7 @@
 #include <glm/mat4x4.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +21,10 @@ class ShaderProgram;
 class Texture2D;
 class VertexArray;
 
+/// When a command is drawn within a frame: opaque first, then translucent (blended, in the order
+/// submitted), then overlay (screen-space, after every frustum).
+enum class Pass : std::uint8_t { Opaque, Translucent, Overlay };
+
 /// A texture and the sampler that reads it, on one texture unit.
 struct TextureBinding {
     int unit = 0;
@@ -27,8 +33,7 @@ struct TextureBinding {
 };
 
 /// Everything needed to draw once, as plain data: building one touches no GL; Context::draw
-/// executes it. Pointers do not own: the resources must outlive the draw. Further fields (the
-/// world bounding sphere, the pass) are added by the scene layer as it needs them.
+/// executes it. Pointers do not own: the resources must outlive the draw.
 ///
 /// ```
 /// DrawCommand command;
@@ -50,6 +55,13 @@ struct DrawCommand {
     Framebuffer* framebuffer = nullptr; ///< null: the Context's current framebuffer
     glm::dmat4 modelMatrix{1.0};        ///< model to world, for the og_ matrices
     std::string debugName;              ///< named in error messages
+
+    // Read by the scene to cull and bin the command; Context::draw ignores them.
+    Pass pass = Pass::Opaque;
+    std::optional<BoundingSphere> boundingSphere; ///< world; none: never culled, spans every frustum
+    /// Horizon occlusion point in ellipsoid-scaled space (EllipsoidalOccluder); none: the command is
+    /// not horizon-culled.
+    std::optional<glm::dvec3> horizonOcclusionPoint;
 };
 
 } // namespace orbis

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace orbis {
+
+/// The triangles of a polygon, as indices into its vertices.
+struct PolygonTriangles {
+    /// Three indices per triangle, counter-clockwise (seen from above the plane, or from outside
+    /// the ellipsoid), into the polygon's rings concatenated in order (outer ring first).
+    std::vector<std::uint32_t> indices;
+    /// Vertices triangulated: those left after the clean-up (duplicates removed).
+    std::size_t vertexCount = 0;
+    /// Holes triangulated: those left after the clean-up (holes with no area are dropped).
+    std::size_t holeCount = 0;
+    /// Vertices removed to undo crossings next to spikes (see earClip); not in vertexCount.
+    std::size_t repairedVertices = 0;
+    /// The area those removals took away (the triangles each removed vertex made with its
+    /// neighbours), in the units of the plane squared: the triangles cover that much less than the
+    /// rings' signed area. For earClipOnEllipsoid, square metres of the tangent plane: about the
+    /// area on the ellipsoid, a little more away from the plane's origin (the projection enlarges).
+    double repairedArea = 0.0;
+
+    /// indices.size() / 3. Equals vertexCount + 2 holeCount - 2 unless the rings touch themselves
+    /// or each other, or contain zero-width spikes (each such place takes two triangles fewer).
+    std::size_t triangleCount() const noexcept { return indices.size() / 3; }
+};
+
+/// Default limit of earClip's repair of twisted spikes: the area removed, relative to the outer ring's.
+inline constexpr double kSpikeRepairRelativeArea = 1e-4;
+
+/// Triangulates a planar polygon by ear clipping (book section 8.2.1), O(n^2) in practice.
+///
+/// rings[0] is the outer boundary, the others are holes inside it; either winding is accepted
+/// (the outer ring is made counter-clockwise, holes clockwise). A ring may repeat its first vertex
+/// at the end, as GeoJSON does; consecutive duplicate vertices are removed. Collinear vertices are
+/// kept and triangulated, exactly: orientation tests are exact, so no input makes it loop or emit
+/// overlapping triangles. Holes are joined to the outer ring by bridges from their rightmost vertex
+/// to a visible vertex (Eberly's method), checked exactly. Rings may touch at vertices, or a vertex
+/// may touch an edge; they may not cross, with one exception: two edges with one edge between them
+/// that cross (a spike whose tip has twisted over, as when data simplified with straight edges in
+/// longitude and latitude is drawn with great-circle edges) are repaired by removing one of the two
+/// vertices between them, the one whose triangle with its neighbours is smaller, if that triangle
+/// holds at most repairRelativeArea of the outer ring's area (0 turns the repair off).
+///
+/// An outer ring with fewer than 3 distinct vertices, or all of them on one line, gives no
+/// triangles (and vertexCount the distinct vertices); holes with no area are dropped. Throws orbis::Error, with a message naming
+/// `name` and the rings and vertices concerned, when a vertex is not finite, edges cross, a hole
+/// lies outside the outer ring or inside another hole, or no triangulation is found.
+PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name = "polygon",
+                         double repairRelativeArea = kSpikeRepairRelativeArea);
+
+} // namespace orbis

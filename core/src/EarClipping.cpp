@@ -1,0 +1,916 @@
+#include "orbis/core/EarClipping.h"
+
+#include "RobustPredicates.h"
+
+#include "orbis/core/Error.h"
+#include "orbis/core/PolygonCleanup.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+
+namespace orbis {
+
+namespace {
+
+using detail::inClosedTriangle;
+using detail::onSegment;
+using detail::orient2d;
+using detail::segmentsIntersect;
+
+// Pass 0 of the clipping loop skips ears thinner than this (twice the area over the longest edge
+// squared, about the sine of the smallest angle): slivers are clipped only when nothing else is.
+constexpr double kSliverQuality = 1e-9;
+
+struct Node {
+    glm::dvec2 p;
+    std::uint32_t index = 0;  // output index: into the concatenated input rings
+    std::uint32_t ring = 0;   // for messages
+    std::uint32_t vertex = 0; // for messages: the vertex number in the input ring
+    int prev = -1;
+    int next = -1;
+    bool removed = false;
+};
+
+enum class Location { Inside, Outside, Boundary };
+
+std::string describeEdge(const Node& from, const Node& to)
+{
+    std::ostringstream out;
+    out << "the edge of ring " << from.ring << " from vertex " << from.vertex << " to vertex " << to.vertex;
+    return out.str();
+}
+
+class EarClipper {
+public:
+    EarClipper(std::string_view name, double repairRelativeArea) : _name(name), _repairRelativeArea(repairRelativeArea) {}
+
+    PolygonTriangles run(std::span<const std::vector<glm::dvec2>> rings)
+    {
+        PolygonTriangles result;
+        if (!prepareRings(rings, result)) {
+            return result;
+        }
+        while (!splitTouchingEdges()) {
+            ++result.repairedVertices;
+            --result.vertexCount;
+        }
+        result.repairedArea = _repairedArea;
+        checkHoles();
+        bridgeHoles();
+        clip(result.indices);
+        flipSlivers(result.indices);
+        return result;
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) const
+    {
+        throw Error("polygon '" + std::string(_name) + "': " + what);
+    }
+
+    // --- Rings -------------------------------------------------------------------------------
+
+    // False when the outer ring has no area: nothing to triangulate.
+    bool prepareRings(std::span<const std::vector<glm::dvec2>> rings, PolygonTriangles& result)
+    {
+        if (rings.empty()) {
+            fail("has no rings");
+        }
+        std::size_t offset = 0;
+        for (std::size_t r = 0; r < rings.size(); ++r) {
+            const std::vector<glm::dvec2>& ring = rings[r];
+            std::vector<Node> kept;
+            for (std::size_t i = 0; i < ring.size(); ++i) {
+                const glm::dvec2& p = ring[i];
+                if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+                    fail("vertex " + std::to_string(i) + " of ring " + std::to_string(r) + " is not finite");
+                }
+                if (offset + i > std::numeric_limits<std::uint32_t>::max()) {
+                    fail("has more vertices than 32-bit indices can address");
+                }
+                if (!kept.empty() && kept.back().p == p) {
+                    continue;
+                }
+                Node n;
+                n.p = p;
+                n.index = static_cast<std::uint32_t>(offset + i);
+                n.ring = static_cast<std::uint32_t>(r);
+                n.vertex = static_cast<std::uint32_t>(i);
+                kept.push_back(n);
+            }
+            while (kept.size() > 1 && kept.back().p == kept.front().p) {
+                kept.pop_back();
+            }
+            offset += ring.size();
+
+            std::vector<glm::dvec2> points;
+            points.reserve(kept.size());
+            for (const Node& n : kept) {
+                points.push_back(n.p);
+            }
+            const double area = kept.size() >= 3 ? signedArea(points) : 0.0;
+            if (r == 0 && kept.size() < 3) {
+                result.vertexCount = kept.size();
+                return false;
+            }
+            if (r == 0 && area == 0.0) {
+                // All on one line, or a ring that crosses itself (validation will say so) or
+                // folds back on itself (clipping will find nothing to clip).
+                bool collinear = true;
+                for (const Node& n : kept) {
+                    collinear = collinear && orient2d(kept[0].p, kept[1].p, n.p) == 0;
+                }
+                if (collinear) {
+                    result.vertexCount = kept.size();
+                    return false;
+                }
+            }
+            if (r == 0) {
+                _outerArea = std::abs(area);
+            }
+            if (r != 0 && (kept.size() < 3 || area == 0.0)) {
+                continue; // a hole with no area removes nothing
+            }
+            // Outer ring counter-clockwise, holes clockwise.
+            if ((r == 0) != (area > 0.0)) {
+                std::reverse(kept.begin(), kept.end());
+            }
+            const int first = static_cast<int>(_nodes.size());
+            const int count = static_cast<int>(kept.size());
+            for (int i = 0; i < count; ++i) {
+                Node n = kept[static_cast<std::size_t>(i)];
+                n.prev = first + (i + count - 1) % count;
+                n.next = first + (i + 1) % count;
+                _nodes.push_back(n);
+            }
+            _cycles.push_back(first);
+            result.vertexCount += kept.size();
+            if (r != 0) {
+                ++result.holeCount;
+            }
+        }
+        return true;
+    }
+
+    Node& node(int i) { return _nodes[static_cast<std::size_t>(i)]; }
+    const Node& node(int i) const { return _nodes[static_cast<std::size_t>(i)]; }
+    const glm::dvec2& pos(int i) const { return _nodes[static_cast<std::size_t>(i)].p; }
+
+    template <typename F>
+    void forEachInCycle(int start, F&& f) const
+    {
+        int i = start;
+        do {
+            f(i);
+            i = node(i).next;
+        } while (i != start);
+    }
+
+    int insertAfter(int after, const Node& copy)
+    {
+        Node n = copy;
+        const int id = static_cast<int>(_nodes.size());
+        n.prev = after;
+        n.next = node(after).next;
+        _nodes.push_back(n);
+        node(n.next).prev = id;
+        node(after).next = id;
+        return id;
+    }
+
+    // --- Validation: crossing edges are errors; a vertex touching another edge is made a vertex
+    // of that edge too, so that every touch is between vertices. ----------------------------------
+
+    // False when it removed a vertex to undo a crossing (call again); throws on other crossings.
+    bool splitTouchingEdges()
+    {
+        struct Edge {
+            int from;
+            double minX, maxX, minY, maxY;
+        };
+        std::vector<Edge> edges;
+        for (const int start : _cycles) {
+            forEachInCycle(start, [&](int i) {
+                const glm::dvec2& a = pos(i);
+                const glm::dvec2& b = pos(node(i).next);
+                edges.push_back({i, std::min(a.x, b.x), std::max(a.x, b.x), std::min(a.y, b.y), std::max(a.y, b.y)});
+            });
+        }
+        std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.minX < b.minX; });
+
+        std::vector<std::vector<int>> touching(_nodes.size()); // per edge (by its first node): touching vertices
+        auto touches = [&](int vertex, int edgeFrom) {
+            const glm::dvec2& a = pos(edgeFrom);
+            const glm::dvec2& b = pos(node(edgeFrom).next);
+            const glm::dvec2& p = pos(vertex);
+            if (p != a && p != b && onSegment(a, b, p)) {
+                touching[static_cast<std::size_t>(edgeFrom)].push_back(vertex);
+            }
+        };
+        for (std::size_t i = 0; i < edges.size(); ++i) {
+            const Edge& e = edges[i];
+            for (std::size_t j = i + 1; j < edges.size() && edges[j].minX <= e.maxX; ++j) {
+                const Edge& f = edges[j];
+                if (f.minY > e.maxY || f.maxY < e.minY) {
+                    continue;
+                }
+                const int a = e.from;
+                const int b = node(a).next;
+                const int c = f.from;
+                const int d = node(c).next;
+                if (b == c || d == a) {
+                    continue; // neighbours meet at their shared vertex; folding back is a spike, harmless
+                }
+                const int o1 = orient2d(pos(a), pos(b), pos(c));
+                const int o2 = orient2d(pos(a), pos(b), pos(d));
+                const int o3 = orient2d(pos(c), pos(d), pos(a));
+                const int o4 = orient2d(pos(c), pos(d), pos(b));
+                if (o1 * o2 < 0 && o3 * o4 < 0) {
+                    if (repairCrossing(a, c)) {
+                        return false;
+                    }
+                    fail(describeEdge(node(a), node(b)) + " crosses " + describeEdge(node(c), node(d)));
+                }
+                touches(c, a);
+                touches(d, a);
+                touches(a, c);
+                touches(b, c);
+            }
+        }
+        for (std::size_t from = 0; from < touching.size(); ++from) {
+            std::vector<int>& list = touching[from];
+            if (list.empty()) {
+                continue;
+            }
+            const glm::dvec2 a = pos(static_cast<int>(from));
+            const glm::dvec2 direction = pos(node(static_cast<int>(from)).next) - a;
+            auto along = [&](int v) { return glm::dot(pos(v) - a, direction); };
+            std::sort(list.begin(), list.end(), [&](int u, int v) { return along(u) < along(v); });
+            int after = static_cast<int>(from);
+            for (const int v : list) {
+                if (pos(v) == pos(after)) {
+                    continue;
+                }
+                after = insertAfter(after, node(v));
+            }
+        }
+        return true;
+    }
+
+    // Edges e (from node a) and f (from node c) cross with one edge between them: the ring twists
+    // next to a spike, as rings simplified with straight edges in longitude and latitude can once
+    // drawn with great-circle edges. Removing one of the two vertices between the crossing edges
+    // undoes it; the one whose triangle with its neighbours holds less area goes, if that is at most
+    // _repairRelativeArea of the outer ring's.
+    bool repairCrossing(int a, int c)
+    {
+        int first = a; // the crossing edges are first -> u and v -> w, with u -> v between them
+        if (node(node(c).next).next == a) {
+            first = c;
+        } else if (node(node(a).next).next != c) {
+            return false;
+        }
+        const int u = node(first).next;
+        const int v = node(u).next;
+        const int w = node(v).next;
+        auto triangleArea = [&](int x, int y, int z) {
+            const glm::dvec2 p = pos(y) - pos(x);
+            const glm::dvec2 q = pos(z) - pos(x);
+            return 0.5 * std::abs(p.x * q.y - p.y * q.x);
+        };
+        const double withoutU = triangleArea(first, u, v);
+        const double withoutV = triangleArea(u, v, w);
+        const int gone = withoutU <= withoutV ? u : v;
+        if (std::min(withoutU, withoutV) > _repairRelativeArea * _outerArea) {
+            return false;
+        }
+        _repairedArea += std::min(withoutU, withoutV);
+        std::size_t ringSize = 0;
+        forEachInCycle(gone, [&](int) { ++ringSize; });
+        if (ringSize <= 3) {
+            return false;
+        }
+        const int prev = node(gone).prev;
+        const int next = node(gone).next;
+        node(prev).next = next;
+        node(next).prev = prev;
+        for (int& start : _cycles) {
+            if (start == gone) {
+                start = next;
+            }
+        }
+        return true;
+    }
+
+    Location locate(const glm::dvec2& p, std::span<const int> cycles) const
+    {
+        int winding = 0;
+        for (const int start : cycles) {
+            bool boundary = false;
+            forEachInCycle(start, [&](int i) {
+                const glm::dvec2& u = pos(i);
+                const glm::dvec2& v = pos(node(i).next);
+                if (onSegment(u, v, p)) {
+                    boundary = true;
+                }
+                if (u.y <= p.y) {
+                    if (v.y > p.y && orient2d(u, v, p) > 0) {
+                        ++winding;
+                    }
+                } else if (v.y <= p.y && orient2d(u, v, p) < 0) {
+                    --winding;
+                }
+            });
+            if (boundary) {
+                return Location::Boundary;
+            }
+        }
+        return winding != 0 ? Location::Inside : Location::Outside;
+    }
+
+    // Where a ring lies relative to another: by its first vertex that is not on the other's boundary.
+    std::optional<Location> ringAgainst(int ring, int other) const
+    {
+        std::optional<Location> found;
+        const int cycles[] = {other};
+        forEachInCycle(ring, [&](int i) {
+            if (!found) {
+                const Location l = locate(pos(i), cycles);
+                if (l != Location::Boundary) {
+                    found = l;
+                }
+            }
+        });
+        return found;
+    }
+
+    void checkHoles()
+    {
+        struct Box {
+            glm::dvec2 lo{INFINITY}, hi{-INFINITY};
+        };
+        std::vector<Box> boxes(_cycles.size());
+        for (std::size_t k = 0; k < _cycles.size(); ++k) {
+            forEachInCycle(_cycles[k], [&](int i) {
+                boxes[k].lo = glm::min(boxes[k].lo, pos(i));
+                boxes[k].hi = glm::max(boxes[k].hi, pos(i));
+            });
+        }
+        for (std::size_t k = 1; k < _cycles.size(); ++k) {
+            const std::optional<Location> l = ringAgainst(_cycles[k], _cycles[0]);
+            if (!l || *l == Location::Outside) {
+                fail("hole ring " + std::to_string(node(_cycles[k]).ring) + " lies outside the outer ring (or on it)");
+            }
+            for (std::size_t m = 1; m < _cycles.size(); ++m) {
+                if (m == k || boxes[m].lo.x > boxes[k].hi.x || boxes[m].hi.x < boxes[k].lo.x ||
+                    boxes[m].lo.y > boxes[k].hi.y || boxes[m].hi.y < boxes[k].lo.y) {
+                    continue;
+                }
+                // The winding test counts the hole's clockwise turn as -1: inside means nonzero.
+                const std::optional<Location> inside = ringAgainst(_cycles[k], _cycles[m]);
+                if (inside && *inside == Location::Inside) {
+                    fail("hole ring " + std::to_string(node(_cycles[k]).ring) + " lies inside hole ring " +
+                         std::to_string(node(_cycles[m]).ring));
+                }
+            }
+        }
+    }
+
+    // --- Holes: bridges from each hole's rightmost vertex to a visible vertex -------------------
+
+    // True when direction b -> t leaves b into the polygon's interior, strictly.
+    bool locallyInside(int b, const glm::dvec2& t) const
+    {
+        const glm::dvec2& a = pos(node(b).prev);
+        const glm::dvec2& p = pos(b);
+        const glm::dvec2& c = pos(node(b).next);
+        const int turn = orient2d(a, p, c);
+        if (turn > 0) {
+            return orient2d(a, p, t) > 0 && orient2d(p, c, t) > 0;
+        }
+        if (turn < 0) {
+            return orient2d(a, p, t) > 0 || orient2d(p, c, t) > 0;
+        }
+        if (glm::dot(p - a, c - p) > 0.0) {
+            return orient2d(a, p, t) > 0; // straight through
+        }
+        return false; // a spike tip or a zero-length edge: no interior to speak of
+    }
+
+    bool bridgeIsValid(int m, int p, std::span<const int> cycles) const
+    {
+        const glm::dvec2& mp = pos(m);
+        const glm::dvec2& pp = pos(p);
+        if (mp == pp || !locallyInside(p, mp) || !locallyInside(m, pp)) {
+            return false;
+        }
+        bool valid = true;
+        for (const int start : cycles) {
+            forEachInCycle(start, [&](int i) {
+                if (!valid) {
+                    return;
+                }
+                const glm::dvec2& u = pos(i);
+                const glm::dvec2& v = pos(node(i).next);
+                if (!segmentsIntersect(mp, pp, u, v)) {
+                    return;
+                }
+                const bool uAt = u == mp || u == pp;
+                const bool vAt = v == mp || v == pp;
+                if (uAt == vAt) {
+                    valid = false; // crosses, or runs along the bridge
+                    return;
+                }
+                // The edge leaves one end of the bridge: fine unless it runs along it.
+                const glm::dvec2& end = uAt ? u : v;
+                const glm::dvec2& other = uAt ? v : u;
+                const glm::dvec2& far = end == mp ? pp : mp;
+                if (onSegment(mp, pp, other) || onSegment(end, other, far)) {
+                    valid = false;
+                }
+            });
+        }
+        // The bridge crosses nothing, so it is inside or outside as a whole: test its midpoint
+        // against every ring (this settles the places where rings touch).
+        return valid && locate(0.5 * (mp + pp), cycles) == Location::Inside;
+    }
+
+    void bridgeHoles()
+    {
+        std::vector<int> holes;
+        for (std::size_t k = 1; k < _cycles.size(); ++k) {
+            int rightmost = _cycles[k];
+            forEachInCycle(_cycles[k], [&](int i) {
+                const glm::dvec2& p = pos(i);
+                const glm::dvec2& best = pos(rightmost);
+                if (p.x > best.x || (p.x == best.x && p.y < best.y)) {
+                    rightmost = i;
+                }
+            });
+            holes.push_back(rightmost);
+        }
+        std::sort(holes.begin(), holes.end(), [&](int a, int b) { return pos(a).x > pos(b).x; });
+
+        // The rings still separate: the outer (with the holes bridged so far) and the rest.
+        std::vector<int> cycles = {_cycles[0]};
+        cycles.insert(cycles.end(), holes.begin(), holes.end());
+        for (std::size_t h = 0; h < holes.size(); ++h) {
+            const int m = holes[h];
+            const int p = findBridge(m, cycles);
+            if (p < 0) {
+                if (mergeAtTouch(m)) {
+                    cycles.erase(std::find(cycles.begin(), cycles.end(), m));
+                    continue;
+                }
+                fail("hole ring " + std::to_string(node(m).ring) +
+                     " cannot be joined to the outer ring (no vertex in sight; do rings overlap?)");
+            }
+            // Splice: p -> m -> ...hole... -> m' -> p' -> (p's old next).
+            const int pNext = node(p).next;
+            const int mPrev = node(m).prev;
+            const int m2 = static_cast<int>(_nodes.size());
+            _nodes.push_back(node(m));
+            const int p2 = static_cast<int>(_nodes.size());
+            _nodes.push_back(node(p));
+            node(p).next = m;
+            node(m).prev = p;
+            node(mPrev).next = m2;
+            node(m2).prev = mPrev;
+            node(m2).next = p2;
+            node(p2).prev = m2;
+            node(p2).next = pNext;
+            node(pNext).prev = p2;
+            cycles.erase(std::find(cycles.begin(), cycles.end(), m));
+        }
+        _start = _cycles[0];
+    }
+
+    // A hole with no bridge in sight may touch the outer cycle at a vertex: join it there, with
+    // no bridge (p -> hole from h's next round to h -> p's next), where the hole's edges at the
+    // touch leave into the outer cycle's wedge.
+    bool mergeAtTouch(int hole)
+    {
+        int touchP = -1;
+        int touchH = -1;
+        forEachInCycle(hole, [&](int h) {
+            if (touchP >= 0) {
+                return;
+            }
+            forEachInCycle(_cycles[0], [&](int p) {
+                if (touchP < 0 && pos(p) == pos(h) && locallyInside(p, pos(node(h).next)) &&
+                    locallyInside(p, pos(node(h).prev))) {
+                    touchP = p;
+                    touchH = h;
+                }
+            });
+        });
+        if (touchP < 0) {
+            return false;
+        }
+        const int pNext = node(touchP).next;
+        const int hNext = node(touchH).next;
+        node(touchP).next = hNext;
+        node(hNext).prev = touchP;
+        node(touchH).next = pNext;
+        node(pNext).prev = touchH;
+        return true;
+    }
+
+    int findBridge(int m, std::span<const int> cycles) const
+    {
+        const glm::dvec2 mp = pos(m);
+        // Eberly's candidate: the nearest edge of the outer cycle hit by the ray from m towards
+        // +x, its endpoint of larger x, or the reflex vertex inside the triangle (m, hit, endpoint)
+        // closest in angle to the ray.
+        int candidate = -1;
+        double bestX = INFINITY;
+        forEachInCycle(_cycles[0], [&](int i) {
+            const glm::dvec2& u = pos(i);
+            const glm::dvec2& v = pos(node(i).next);
+            if ((u.y > mp.y && v.y > mp.y) || (u.y < mp.y && v.y < mp.y)) {
+                return;
+            }
+            double x;
+            int end;
+            if (u.y == v.y) {
+                x = std::min(u.x, v.x);
+                end = u.x <= v.x ? i : node(i).next;
+                if (x < mp.x) {
+                    x = std::max(u.x, v.x);
+                    end = u.x <= v.x ? node(i).next : i;
+                }
+            } else {
+                x = u.x + (mp.y - u.y) * (v.x - u.x) / (v.y - u.y);
+                end = u.x >= v.x ? i : node(i).next;
+                if (u.y == mp.y) {
+                    end = i;
+                } else if (v.y == mp.y) {
+                    end = node(i).next;
+                }
+            }
+            if (x >= mp.x && x < bestX) {
+                bestX = x;
+                candidate = end;
+            }
+        });
+        if (candidate >= 0 && pos(candidate).y != mp.y) {
+            const glm::dvec2 hit(bestX, mp.y);
+            const glm::dvec2 end = pos(candidate);
+            const bool ccw = orient2d(mp, hit, end) > 0;
+            const glm::dvec2 a = mp;
+            const glm::dvec2 b = ccw ? hit : end;
+            const glm::dvec2 c = ccw ? end : hit;
+            double bestCos = -2.0;
+            double bestDistance = INFINITY;
+            forEachInCycle(_cycles[0], [&](int i) {
+                const glm::dvec2& q = pos(i);
+                if (i == candidate || q == mp || !inClosedTriangle(a, b, c, q)) {
+                    return;
+                }
+                if (orient2d(pos(node(i).prev), q, pos(node(i).next)) >= 0) {
+                    return; // only reflex vertices can hide the candidate
+                }
+                const double distance = glm::length(q - mp);
+                const double cosine = (q.x - mp.x) / distance;
+                if (cosine > bestCos || (cosine == bestCos && distance < bestDistance)) {
+                    bestCos = cosine;
+                    bestDistance = distance;
+                    candidate = i;
+                }
+            });
+        }
+        if (candidate >= 0) {
+            // Of the copies of a vertex that bridges made, the one whose wedge holds m.
+            const glm::dvec2 cp = pos(candidate);
+            int found = -1;
+            forEachInCycle(_cycles[0], [&](int i) {
+                if (found < 0 && pos(i) == cp && bridgeIsValid(m, i, cycles)) {
+                    found = i;
+                }
+            });
+            if (found >= 0) {
+                return found;
+            }
+        }
+        // Fallback: every vertex of the outer cycle, nearest first.
+        std::vector<std::pair<double, int>> byDistance;
+        forEachInCycle(_cycles[0], [&](int i) {
+            const glm::dvec2 d = pos(i) - mp;
+            byDistance.emplace_back(glm::dot(d, d), i);
+        });
+        std::sort(byDistance.begin(), byDistance.end());
+        for (const auto& [distance, i] : byDistance) {
+            if (bridgeIsValid(m, i, cycles)) {
+                return i;
+            }
+        }
+        return -1;
+    }
+
+    // --- Ear clipping ---------------------------------------------------------------------------
+
+    // Strictly inside the angle at corner x of a counter-clockwise triangle whose next corner is y
+    // and previous corner is z.
+    static bool inOpenWedge(const glm::dvec2& x, const glm::dvec2& y, const glm::dvec2& z, const glm::dvec2& q)
+    {
+        return orient2d(x, y, q) > 0 && orient2d(x, z, q) < 0;
+    }
+
+    bool edgesEnter(int other, const glm::dvec2& x, const glm::dvec2& y, const glm::dvec2& z) const
+    {
+        return inOpenWedge(x, y, z, pos(node(other).prev)) || inOpenWedge(x, y, z, pos(node(other).next));
+    }
+
+    bool isEar(int b, int pass) const
+    {
+        const int a = node(b).prev;
+        const int c = node(b).next;
+        const glm::dvec2& pa = pos(a);
+        const glm::dvec2& pb = pos(b);
+        const glm::dvec2& pc = pos(c);
+        if (orient2d(pa, pb, pc) <= 0) {
+            return false;
+        }
+        if (pass == 0) {
+            const glm::dvec2 ab = pb - pa;
+            const glm::dvec2 bc = pc - pb;
+            const glm::dvec2 ca = pa - pc;
+            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+            if (std::abs(ab.x * bc.y - ab.y * bc.x) < kSliverQuality * longest) {
+                return false;
+            }
+        }
+        const glm::dvec2 lo = glm::min(pa, glm::min(pb, pc));
+        const glm::dvec2 hi = glm::max(pa, glm::max(pb, pc));
+        for (int i = node(c).next; i != a; i = node(i).next) {
+            const glm::dvec2& q = pos(i);
+            if (q.x < lo.x || q.x > hi.x || q.y < lo.y || q.y > hi.y) {
+                continue;
+            }
+            if (q == pa) {
+                if (edgesEnter(i, pa, pb, pc)) {
+                    return false;
+                }
+            } else if (q == pb) {
+                if (edgesEnter(i, pb, pc, pa)) {
+                    return false;
+                }
+            } else if (q == pc) {
+                if (edgesEnter(i, pc, pa, pb)) {
+                    return false;
+                }
+            } else if (inClosedTriangle(pa, pb, pc, q)) {
+                return false;
+            }
+        }
+        // The edges on either side of the ear must not enter it either.
+        return !inOpenWedge(pa, pb, pc, pos(node(a).prev)) && !inOpenWedge(pc, pa, pb, pos(node(c).next));
+    }
+
+    void unlink(int b)
+    {
+        const int a = node(b).prev;
+        const int c = node(b).next;
+        node(a).next = c;
+        node(c).prev = a;
+        node(b).removed = true;
+        if (_start == b) {
+            _start = c;
+        }
+        --_remaining;
+    }
+
+    // A vertex that bounds no area: the end of a zero-length edge, or the tip of a spike (the
+    // ring comes straight back, its neighbours on one side of it on one line).
+    bool boundsNoArea(int b) const
+    {
+        const glm::dvec2& pa = pos(node(b).prev);
+        const glm::dvec2& pb = pos(b);
+        const glm::dvec2& pc = pos(node(b).next);
+        return pa == pb || pb == pc || (orient2d(pa, pb, pc) == 0 && glm::dot(pb - pa, pc - pb) <= 0.0);
+    }
+
+    // Removes the vertices that bound no area among the given ones and those that become so.
+    void removeNoArea(std::vector<int> work)
+    {
+        while (!work.empty() && _remaining >= 3) {
+            const int b = work.back();
+            work.pop_back();
+            if (node(b).removed || !boundsNoArea(b)) {
+                continue;
+            }
+            work.push_back(node(b).prev);
+            work.push_back(node(b).next);
+            unlink(b);
+        }
+    }
+
+    // Removes vertices that bound no area: ends of zero-length edges, tips of spikes; with
+    // straightToo, also vertices in the middle of a straight run. True when any went.
+    bool removeDegenerate(bool straightToo)
+    {
+        bool removed = false;
+        int i = _start;
+        std::size_t steps = _remaining;
+        while (steps-- > 0 && _remaining >= 3) {
+            const int a = node(i).prev;
+            const int c = node(i).next;
+            const glm::dvec2& pa = pos(a);
+            const glm::dvec2& pb = pos(i);
+            const glm::dvec2& pc = pos(c);
+            if (orient2d(pa, pb, pc) == 0 &&
+                (pa == pb || pb == pc || pa == pc || glm::dot(pb - pa, pc - pb) <= 0.0 || straightToo)) {
+                unlink(i);
+                removed = true;
+                if (straightToo) {
+                    return true;
+                }
+            }
+            i = c;
+        }
+        return removed;
+    }
+
+    void clip(std::vector<std::uint32_t>& indices)
+    {
+        _remaining = 0;
+        forEachInCycle(_start, [&](int) { ++_remaining; });
+        indices.reserve(3 * _remaining);
+        std::vector<int> all;
+        forEachInCycle(_start, [&](int i) { all.push_back(i); });
+        removeNoArea(std::move(all));
+        auto emit = [&](int a, int b, int c) {
+            indices.push_back(node(a).index);
+            indices.push_back(node(b).index);
+            indices.push_back(node(c).index);
+        };
+
+        int ear = _start;
+        int stop = ear;
+        int pass = 0;
+        while (_remaining > 3) {
+            if (isEar(ear, pass)) {
+                const int a = node(ear).prev;
+                const int c = node(ear).next;
+                emit(a, ear, c);
+                unlink(ear);
+                removeNoArea({a, c});
+                ear = node(_start).next;
+                if (!node(c).removed) {
+                    ear = c;
+                } else if (!node(a).removed) {
+                    ear = a;
+                }
+                stop = ear;
+                pass = 0;
+                continue;
+            }
+            ear = node(ear).next;
+            if (ear != stop) {
+                continue;
+            }
+            // A full turn without an ear.
+            if (pass == 0) {
+                pass = 1;
+            } else if (removeDegenerate(false) || removeDegenerate(true)) {
+                pass = 0;
+            } else {
+                fail("no ear found among the " + std::to_string(_remaining) +
+                     " vertices left (do rings overlap or cross?)");
+            }
+            ear = _start;
+            stop = ear;
+        }
+        if (_remaining == 3) {
+            const int a = node(_start).prev;
+            const int c = node(_start).next;
+            const int turn = orient2d(pos(a), pos(_start), pos(c));
+            if (turn > 0) {
+                emit(a, _start, c);
+            } else if (turn < 0) {
+                fail("the last triangle is clockwise (do rings overlap or cross?)");
+            }
+        }
+    }
+
+    // Ear clipping has to cut slivers where vertices are collinear but for rounding (as when
+    // positions on one great circle are projected onto a plane). Where a sliver's longest edge is
+    // shared with another triangle and the two form a convex quadrilateral, flipping that edge gives
+    // two fuller triangles; the triangulation stays one of the same polygon.
+    void flipSlivers(std::vector<std::uint32_t>& indices) const
+    {
+        std::unordered_map<std::uint32_t, glm::dvec2> where;
+        for (const Node& n : _nodes) {
+            where.emplace(n.index, n.p);
+        }
+        auto at = [&](std::uint32_t i) -> const glm::dvec2& { return where.find(i)->second; };
+        auto quality = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            const glm::dvec2 ab = at(b) - at(a);
+            const glm::dvec2 bc = at(c) - at(b);
+            const glm::dvec2 ca = at(a) - at(c);
+            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+            return longest > 0.0 ? std::abs(ab.x * bc.y - ab.y * bc.x) / longest : 0.0;
+        };
+        auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+        const std::size_t count = indices.size() / 3;
+        std::unordered_map<std::uint64_t, std::size_t> owner; // directed edge -> triangle
+        auto corner = [&](std::size_t t, std::size_t k) -> std::uint32_t& { return indices[3 * t + k % 3]; };
+        auto own = [&](std::size_t t, bool add) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                const std::uint64_t edge = key(corner(t, k), corner(t, k + 1));
+                if (add) {
+                    owner[edge] = t;
+                } else {
+                    owner.erase(edge);
+                }
+            }
+        };
+        constexpr std::size_t shared = static_cast<std::size_t>(-1); // an edge twice: rings touch, leave it
+        for (std::size_t t = 0; t < count; ++t) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                const auto [it, inserted] = owner.emplace(key(corner(t, k), corner(t, k + 1)), t);
+                if (!inserted) {
+                    it->second = shared;
+                }
+            }
+        }
+        for (int round = 0; round < 4; ++round) {
+            bool flipped = false;
+            for (std::size_t t = 0; t < count; ++t) {
+                const double q = quality(corner(t, 0), corner(t, 1), corner(t, 2));
+                if (q >= kSliverQuality) {
+                    continue;
+                }
+                std::size_t k = 0; // the longest edge, from corner k to corner k + 1
+                double longest = -1.0;
+                for (std::size_t j = 0; j < 3; ++j) {
+                    const glm::dvec2 d = at(corner(t, j + 1)) - at(corner(t, j));
+                    if (glm::dot(d, d) > longest) {
+                        longest = glm::dot(d, d);
+                        k = j;
+                    }
+                }
+                const std::uint32_t u = corner(t, k);
+                const std::uint32_t v = corner(t, k + 1);
+                const std::uint32_t w = corner(t, k + 2);
+                const auto across = owner.find(key(v, u));
+                const auto along = owner.find(key(u, v));
+                if (across == owner.end() || across->second == shared || along->second != t) {
+                    continue;
+                }
+                const std::size_t t2 = across->second;
+                std::uint32_t x = corner(t2, 0);
+                for (std::size_t j = 0; j < 3; ++j) {
+                    if (corner(t2, j) != u && corner(t2, j) != v) {
+                        x = corner(t2, j);
+                    }
+                }
+                if (x == u || x == v || x == w || orient2d(at(u), at(x), at(w)) <= 0 ||
+                    orient2d(at(x), at(v), at(w)) <= 0 ||
+                    std::min(quality(u, x, w), quality(x, v, w)) <= std::min(q, quality(corner(t2, 0), corner(t2, 1), corner(t2, 2)))) {
+                    continue;
+                }
+                own(t, false);
+                own(t2, false);
+                corner(t, 0) = u;
+                corner(t, 1) = x;
+                corner(t, 2) = w;
+                corner(t2, 0) = x;
+                corner(t2, 1) = v;
+                corner(t2, 2) = w;
+                own(t, true);
+                own(t2, true);
+                flipped = true;
+            }
+            if (!flipped) {
+                break;
+            }
+        }
+    }
+
+    std::string_view _name;
+    double _repairRelativeArea;
+    double _outerArea = 0.0;
+    double _repairedArea = 0.0;
+    std::vector<Node> _nodes;
+    std::vector<int> _cycles; // the first node of each ring kept: the outer ring first
+    int _start = -1;
+    std::size_t _remaining = 0;
+};
+
+} // namespace
+
+PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name,
+                         double repairRelativeArea)
+{
+    return EarClipper(name, std::max(repairRelativeArea, 0.0)).run(rings);
+}
+
+} // namespace orbis

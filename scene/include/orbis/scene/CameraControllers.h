@@ -1,0 +1,112 @@
+#pragma once
+
+#include "orbis/scene/Camera.h"
+
+#include <orbis/core/Ellipsoid.h>
+
+#include <vector>
+
+namespace orbis {
+
+/// A user input, as an interactive window or a scripted test produces it.
+struct InputEvent {
+    enum class Type { Drag, Scroll, Key };
+    enum class Key { Forward, Backward, Left, Right, Up, Down };
+
+    Type type = Type::Drag;
+    glm::dvec2 pixels{0.0}; ///< Drag: pointer movement in pixels (x right, y down)
+    double wheelSteps = 0.0; ///< Scroll: positive zooms in
+    Key key = Key::Forward;   ///< Key: which movement
+    double seconds = 0.0;     ///< Key: how long it was held
+
+    static InputEvent drag(double dx, double dy) { return {Type::Drag, {dx, dy}, 0.0, Key::Forward, 0.0}; }
+    static InputEvent scroll(double steps) { return {Type::Scroll, {0.0, 0.0}, steps, Key::Forward, 0.0}; }
+    static InputEvent keyHeld(Key key, double seconds) { return {Type::Key, {0.0, 0.0}, 0.0, key, seconds}; }
+};
+
+/// Orbits a centre point: dragging turns azimuth and elevation, scrolling scales the distance
+/// above a surface radius exponentially, so zooming towards a globe slows near the ground and
+/// never passes below it.
+class OrbitController final {
+public:
+    /// surfaceRadius: the distance from the centre the camera never reaches (0 for a point).
+    OrbitController(const glm::dvec3& centre, double range, double surfaceRadius = 0.0) noexcept;
+
+    void handle(const InputEvent& event) noexcept;
+    /// Turns by the given angles; elevation stays within +-89.9 degrees so up stays defined.
+    void rotate(double azimuthRadians, double elevationRadians) noexcept;
+    /// Multiplies the distance above the surface radius by factor (> 0), keeping at least minimumHeight.
+    void zoom(double factor) noexcept;
+
+    double azimuth() const noexcept { return _azimuth; }
+    double elevation() const noexcept { return _elevation; }
+    double range() const noexcept { return _range; }
+
+    /// Points the camera at the centre from the current azimuth, elevation and range (z up).
+    void apply(Camera& camera) const noexcept;
+
+    double radiansPerPixel = 0.005;
+    double zoomPerWheelStep = 0.85;
+    double minimumHeight = 1.0; ///< metres above the surface radius
+
+private:
+    glm::dvec3 _centre;
+    double _range;
+    double _surfaceRadius;
+    double _azimuth = 0.0;
+    double _elevation = 0.0;
+};
+
+/// Flies over an ellipsoid: dragging turns heading and pitch, keys move along the view, and the
+/// speed is the height above the ellipsoid per second (at least 1 m/s), so it suits both a street
+/// and orbit.
+class FlyController final {
+public:
+    FlyController(const Ellipsoid& ellipsoid, const glm::dvec3& position, double heading, double pitch) noexcept;
+
+    void handle(const InputEvent& event) noexcept;
+    const glm::dvec3& position() const noexcept { return _position; }
+    double heading() const noexcept { return _heading; }
+    double pitch() const noexcept { return _pitch; }
+    /// Current speed in metres per second.
+    double speed() const noexcept;
+
+    void apply(Camera& camera) const noexcept;
+
+    double radiansPerPixel = 0.003;
+
+private:
+    Ellipsoid _ellipsoid;
+    glm::dvec3 _position;
+    double _heading;
+    double _pitch;
+};
+
+/// A scripted camera flight: keyframes of geodetic eye and target positions at times, sampled
+/// with linear interpolation (longitude the short way round the antimeridian). Tests and
+/// benchmarks drive the scene with it.
+class CameraPath final {
+public:
+    struct Keyframe {
+        double seconds;
+        Geodetic3D eye;
+        Geodetic3D target;
+    };
+
+    explicit CameraPath(const Ellipsoid& ellipsoid) : _ellipsoid(ellipsoid) {}
+
+    /// Keyframes must be added in increasing time (asserted).
+    void add(const Keyframe& keyframe);
+    const std::vector<Keyframe>& keyframes() const noexcept { return _keyframes; }
+    double duration() const noexcept;
+
+    /// The camera at a time, clamped to the path's extent; the local up of the eye as up. An empty
+    /// path leaves the camera unchanged.
+    void apply(double seconds, Camera& camera) const;
+
+private:
+    Ellipsoid _ellipsoid;
+    std::vector<Keyframe> _keyframes;
+};
+
+} // namespace orbis

@@ -1,0 +1,52 @@
+#pragma once
+
+#include "orbis/scene/Camera.h"
+
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/core/EllipsoidalOccluder.h>
+#include <orbis/core/Frustum.h>
+#include <orbis/renderer/DrawCommand.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace orbis {
+
+class Context;
+class Device;
+
+/// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
+struct FrameState {
+    Context& context;
+    Device& device;
+    const Camera& camera;
+    const Ellipsoid& ellipsoid;
+    int width;
+    int height;
+    glm::dvec3 sunDirection; ///< unit, Earth-fixed, towards the Sun
+    double timeSeconds;
+    std::uint64_t frameNumber;
+    Frustum cullingVolume;   ///< the whole view: side planes and the near and far limits
+    EllipsoidalOccluder occluder;
+
+    /// Size in metres of one pixel at a distance from the eye (vertical field of view).
+    double metersPerPixel(double distance) const noexcept;
+};
+
+/// The draw commands primitives append to during Scene::render.
+using CommandList = std::vector<DrawCommand>;
+
+/// Something drawn in a Scene. update() creates or refreshes its GPU resources lazily and appends
+/// DrawCommands; a primitive with nothing to show appends nothing and allocates nothing.
+class Primitive {
+public:
+    virtual ~Primitive() = default;
+
+    /// The world bounding sphere of everything the primitive draws, when known. The scene skips
+    /// update() for a primitive whose sphere is culled, so it creates no GPU resources.
+    virtual std::optional<BoundingSphere> boundingSphere() const { return std::nullopt; }
+
+    virtual void update(FrameState& frameState, CommandList& commands) = 0;
+};
+
+} // namespace orbis

@@ -1,0 +1,42 @@
+#pragma once
+
+#include "orbis/scene/MultiFrustum.h"
+
+#include <orbis/renderer/RenderStatistics.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace orbis {
+
+/// What one Scene::render did, so that tests can assert that a scene pays only for what it
+/// contains.
+struct FrameStatistics {
+    std::uint64_t frameNumber = 0;
+    std::size_t primitivesUpdated = 0;
+    std::size_t primitivesCulled = 0;          ///< culled whole, before update(): no resources made
+    std::size_t commandsSubmitted = 0;
+    std::size_t commandsCulledByFrustum = 0;
+    std::size_t commandsCulledByHorizon = 0;
+    std::size_t commandsExecuted = 0;          ///< draw calls, counting repeats across frustums
+    std::size_t commandsExecutedMoreThanOnce = 0;
+    std::vector<FrustumRange> frustums;        ///< near to far
+    std::vector<std::size_t> drawCallsPerFrustum; ///< parallel to frustums
+    bool frustumsReused = false;
+    std::size_t opaquePasses = 0;              ///< passes that drew at least one command
+    std::size_t translucentPasses = 0;
+    std::size_t overlayPasses = 0;
+    std::uint64_t programsCompiled = 0;        ///< shader variants compiled during this frame
+    double updateMilliseconds = 0.0;           ///< primitives' update()
+    double cullMilliseconds = 0.0;             ///< culling and binning
+    double drawMilliseconds = 0.0;             ///< executing commands, GPU finished
+    RenderStatistics renderer;                 ///< the context's own counts for the frame
+
+    /// One readable block of text, as `orbis render` prints it.
+    std::string toText() const;
+    /// A JSON object with every figure, for --stats files.
+    std::string toJson() const;
+};
+
+} // namespace orbis

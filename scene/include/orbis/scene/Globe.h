@@ -1,0 +1,76 @@
+#pragma once
+
+#include "orbis/scene/FrameState.h"
+#include "orbis/scene/GlobeMethod.h"
+
+#include <orbis/core/Tessellation.h>
+
+#include <orbis/renderer/Sampler.h>
+#include <orbis/renderer/Texture2D.h>
+#include <orbis/renderer/VertexArray.h>
+
+#include <glm/vec4.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+namespace orbis {
+
+class ShaderProgram;
+
+/// Which core tessellator a Tessellated globe uses, and what its level means.
+enum class GlobeTessellation {
+    SubdivisionEllipsoid, ///< level = octahedron subdivisions (8 x 4^level triangles)
+    CubeMap,              ///< level = cells along a cube face's edge (12 x level^2 triangles)
+    GeographicGrid,       ///< level = stacks, with twice as many slices
+};
+
+struct GlobeOptions {
+    GlobeMethod method = GlobeMethod::RayCast;
+    /// An image file or a TMS folder (equirectangular, north up); empty: the plain colour.
+    std::filesystem::path dayTexture;
+    /// City lights shown on the night side; empty: none (and no night-lights shader variant).
+    std::filesystem::path nightTexture;
+    bool lighting = true;
+    bool grid = false;                   ///< latitude-longitude lines, spaced by the viewer's distance
+    glm::vec4 color{0.2f, 0.35f, 0.6f, 1.0f};
+    glm::vec4 gridColor{1.0f, 1.0f, 1.0f, 0.7f};
+    GlobeTessellation tessellation = GlobeTessellation::CubeMap; ///< Tessellated only
+    int tessellationLevel = 64;
+};
+
+/// The Earth (or any ellipsoid) of book chapter 4: ray-cast or tessellated, textured, lit by the
+/// Sun with night lights across the terminator, and an optional graticule. One draw command per
+/// frame. Resources (program variant, geometry, textures) are created on the first update.
+class Globe final : public Primitive {
+public:
+    explicit Globe(const Ellipsoid& ellipsoid, GlobeOptions options = {});
+    ~Globe() override;
+
+    const GlobeOptions& options() const noexcept { return _options; }
+
+    std::optional<BoundingSphere> boundingSphere() const override;
+    void update(FrameState& frameState, CommandList& commands) override;
+
+    /// The graticule spacing (radians) for an eye at a height above the surface: the finest of
+    /// 30, 15, 10, 5, 2, 1, 0.5, 0.25, 0.1 degrees whose lines stay at least 60 pixels apart.
+    /// The mesh a Tessellated globe draws (with its deviation from the ellipsoid when measured).
+    static TessellationResult tessellate(const Ellipsoid& ellipsoid, GlobeTessellation tessellation, int level,
+                                         Deviation deviation = Deviation::Skip);
+
+    static double gridSpacing(double heightMeters, double metersPerPixelAtHeight, double radius) noexcept;
+
+private:
+    void createResources(FrameState& frameState);
+
+    Ellipsoid _ellipsoid;
+    GlobeOptions _options;
+    std::shared_ptr<ShaderProgram> _program;
+    std::optional<VertexArray> _vertexArray;
+    std::optional<Texture2D> _dayTexture;
+    std::optional<Texture2D> _nightTexture;
+    std::optional<Sampler> _sampler;
+};
+
+} // namespace orbis

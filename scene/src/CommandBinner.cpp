@@ -1,0 +1,44 @@
+#include "orbis/scene/CommandBinner.h"
+
+#include <glm/geometric.hpp>
+
+namespace orbis {
+
+void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frustum& cullingVolume,
+                               const EllipsoidalOccluder& occluder, const glm::dvec3& eye,
+                               const glm::dvec3& viewDirection, FrameStatistics& statistics)
+{
+    const MultiFrustumOptions& limits = _multiFrustum.options();
+    _visible.clear();
+    _overlay.clear();
+    _intervals.clear();
+    statistics.commandsSubmitted += commands.size();
+    for (std::uint32_t i = 0; i < commands.size(); ++i) {
+        const DrawCommand& command = commands[i];
+        if (command.boundingSphere && cullingVolume.intersect(*command.boundingSphere) == Intersect::Outside) {
+            ++statistics.commandsCulledByFrustum;
+            continue;
+        }
+        if (command.horizonOcclusionPoint && !occluder.isScaledSpacePointVisible(*command.horizonOcclusionPoint)) {
+            ++statistics.commandsCulledByHorizon;
+            continue;
+        }
+        if (command.pass == Pass::Overlay) {
+            _overlay.push_back(i);
+            continue;
+        }
+        _visible.push_back(i);
+        if (command.boundingSphere) {
+            const double distance = glm::dot(command.boundingSphere->centre - eye, viewDirection);
+            _intervals.push_back({distance - command.boundingSphere->radius, distance + command.boundingSphere->radius});
+        } else {
+            _intervals.push_back({limits.nearLimit, limits.farLimit});
+        }
+    }
+    _multiFrustum.bin(_intervals);
+    statistics.frustums = _multiFrustum.frustums();
+    statistics.frustumsReused = _multiFrustum.reused();
+    statistics.commandsExecutedMoreThanOnce = _multiFrustum.commandsInSeveralFrustums();
+}
+
+} // namespace orbis

@@ -1,0 +1,73 @@
+#include "orbis/scene/FrameStatistics.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace orbis {
+
+namespace {
+
+std::string number(double value)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", value);
+    return text;
+}
+
+} // namespace
+
+std::string FrameStatistics::toText() const
+{
+    std::ostringstream out;
+    out << "frame " << frameNumber << ": " << primitivesUpdated << " primitives updated, " << primitivesCulled
+        << " culled whole\n"
+        << "commands: " << commandsSubmitted << " submitted, " << commandsCulledByFrustum << " culled by the frustum, "
+        << commandsCulledByHorizon << " by the horizon, " << commandsExecuted << " draw calls, "
+        << commandsExecutedMoreThanOnce << " commands drawn in more than one frustum\n"
+        << "frustums: " << frustums.size() << (frustumsReused ? " (reused)" : "") << "\n";
+    for (std::size_t f = 0; f < frustums.size(); ++f) {
+        out << "  " << f << ": " << number(frustums[f].nearDistance) << " m .. " << number(frustums[f].farDistance)
+            << " m, " << drawCallsPerFrustum[f] << " draw calls\n";
+    }
+    out << "passes: " << opaquePasses << " opaque, " << translucentPasses << " translucent, " << overlayPasses
+        << " overlay; programs compiled: " << programsCompiled << "\n"
+        << "renderer: " << renderer.drawCalls << " draws, " << renderer.primitives << " primitives, "
+        << renderer.stateChangesMade << " state changes made, " << renderer.stateChangesAvoided << " avoided\n"
+        << "time: update " << number(updateMilliseconds) << " ms, cull and bin " << number(cullMilliseconds)
+        << " ms, draw " << number(drawMilliseconds) << " ms\n";
+    return out.str();
+}
+
+std::string FrameStatistics::toJson() const
+{
+    std::ostringstream out;
+    out << "{\n"
+        << "  \"frameNumber\": " << frameNumber << ",\n"
+        << "  \"primitivesUpdated\": " << primitivesUpdated << ",\n"
+        << "  \"primitivesCulled\": " << primitivesCulled << ",\n"
+        << "  \"commandsSubmitted\": " << commandsSubmitted << ",\n"
+        << "  \"commandsCulledByFrustum\": " << commandsCulledByFrustum << ",\n"
+        << "  \"commandsCulledByHorizon\": " << commandsCulledByHorizon << ",\n"
+        << "  \"commandsExecuted\": " << commandsExecuted << ",\n"
+        << "  \"commandsExecutedMoreThanOnce\": " << commandsExecutedMoreThanOnce << ",\n"
+        << "  \"frustumsReused\": " << (frustumsReused ? "true" : "false") << ",\n"
+        << "  \"frustums\": [";
+    for (std::size_t f = 0; f < frustums.size(); ++f) {
+        out << (f ? ", " : "") << "{\"near\": " << number(frustums[f].nearDistance)
+            << ", \"far\": " << number(frustums[f].farDistance) << ", \"drawCalls\": " << drawCallsPerFrustum[f] << "}";
+    }
+    out << "],\n"
+        << "  \"passes\": {\"opaque\": " << opaquePasses << ", \"translucent\": " << translucentPasses
+        << ", \"overlay\": " << overlayPasses << "},\n"
+        << "  \"programsCompiled\": " << programsCompiled << ",\n"
+        << "  \"milliseconds\": {\"update\": " << number(updateMilliseconds) << ", \"cullAndBin\": "
+        << number(cullMilliseconds) << ", \"draw\": " << number(drawMilliseconds) << "},\n"
+        << "  \"renderer\": {\"drawCalls\": " << renderer.drawCalls << ", \"primitives\": " << renderer.primitives
+        << ", \"stateChangesMade\": " << renderer.stateChangesMade
+        << ", \"stateChangesAvoided\": " << renderer.stateChangesAvoided << ", \"programBinds\": " << renderer.programBinds
+        << ", \"textureBinds\": " << renderer.textureBinds << "}\n"
+        << "}\n";
+    return out.str();
+}
+
+} // namespace orbis

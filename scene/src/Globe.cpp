@@ -1,0 +1,144 @@
+#include "orbis/scene/Globe.h"
+
+#include "orbis/scene/TileMapService.h"
+
+#include <orbis/core/BoxTessellator.h>
+#include <orbis/core/CubeMapEllipsoidTessellator.h>
+#include <orbis/core/GeographicGridEllipsoidTessellator.h>
+#include <orbis/core/SubdivisionEllipsoidTessellator.h>
+#include <orbis/renderer/Context.h>
+#include <orbis/renderer/Device.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+
+namespace orbis {
+
+TessellationResult Globe::tessellate(const Ellipsoid& ellipsoid, GlobeTessellation tessellation, int level,
+                                     Deviation deviation)
+{
+    switch (tessellation) {
+    case GlobeTessellation::SubdivisionEllipsoid:
+        return SubdivisionEllipsoidTessellator::compute(ellipsoid, level, EllipsoidProjection::Geodetic,
+                                                        VertexAttributes::Position, deviation);
+    case GlobeTessellation::GeographicGrid:
+        return GeographicGridEllipsoidTessellator::compute(ellipsoid, 2 * level, level, VertexAttributes::Position,
+                                                           deviation);
+    case GlobeTessellation::CubeMap:
+        break;
+    }
+    return CubeMapEllipsoidTessellator::compute(ellipsoid, level, CubeMapSpacing::EqualAngle,
+                                                EllipsoidProjection::Geodetic, VertexAttributes::Position, deviation);
+}
+
+Globe::Globe(const Ellipsoid& ellipsoid, GlobeOptions options)
+    : _ellipsoid(ellipsoid)
+    , _options(std::move(options))
+{
+}
+
+Globe::~Globe() = default;
+
+std::optional<BoundingSphere> Globe::boundingSphere() const
+{
+    return BoundingSphere{glm::dvec3(0.0), _ellipsoid.maximumRadius()};
+}
+
+double Globe::gridSpacing(double heightMeters, double metersPerPixelAtHeight, double radius) noexcept
+{
+    static constexpr double kSpacingsDegrees[] = {0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 15.0, 30.0};
+    (void)heightMeters;
+    for (const double spacing : kSpacingsDegrees) {
+        if (toRadians(spacing) * radius / std::max(metersPerPixelAtHeight, 1e-9) >= 60.0) {
+            return toRadians(spacing);
+        }
+    }
+    return toRadians(30.0);
+}
+
+void Globe::createResources(FrameState& frameState)
+{
+    const bool rayCast = _options.method == GlobeMethod::RayCast;
+    ShaderProgramDescription description;
+    description.name = rayCast ? "globe (ray cast)" : "globe (tessellated)";
+    description.vertex = ShaderSource::embedded("scene/globe/globe.vert.glsl");
+    description.fragment = ShaderSource::embedded("scene/globe/globe.frag.glsl");
+    if (rayCast) {
+        description.defines.push_back({"RAY_CAST"});
+    }
+    if (!_options.dayTexture.empty()) {
+        description.defines.push_back({"DAY_TEXTURE"});
+    }
+    if (!_options.nightTexture.empty()) {
+        description.defines.push_back({"NIGHT_TEXTURE"});
+    }
+    if (_options.lighting) {
+        description.defines.push_back({"LIGHTING"});
+    }
+    if (_options.grid) {
+        description.defines.push_back({"GRID"});
+    }
+    _program = frameState.device.shaderCache().get(description);
+
+    const Mesh mesh = rayCast ? BoxTessellator::compute(_ellipsoid, VertexAttributes::Position, Deviation::Skip).mesh
+                              : tessellate(_ellipsoid, _options.tessellation, _options.tessellationLevel).mesh;
+    _vertexArray = frameState.context.createVertexArray(mesh, *_program);
+
+    if (!_options.dayTexture.empty()) {
+        _dayTexture = frameState.device.createTexture2D(readGlobeImage(_options.dayTexture), true);
+    }
+    if (!_options.nightTexture.empty()) {
+        _nightTexture = frameState.device.createTexture2D(readGlobeImage(_options.nightTexture), true);
+    }
+    SamplerDescription sampler;
+    sampler.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
+    sampler.wrapS = TextureWrap::Repeat;
+    // No anisotropy: Mesa 22's llvmpipe shows speckles along mip-level boundaries with it.
+    _sampler = frameState.device.createSampler(sampler);
+}
+
+void Globe::update(FrameState& frameState, CommandList& commands)
+{
+    if (!_program) {
+        createResources(frameState);
+    }
+    const bool rayCast = _options.method == GlobeMethod::RayCast;
+    DrawCommand command;
+    command.debugName = "globe";
+    command.vertexArray = &*_vertexArray;
+    command.shaderProgram = _program.get();
+    command.boundingSphere = boundingSphere();
+    // The box is drawn from inside out so that the globe still shows with the eye inside it.
+    command.renderState.facetCulling.face = rayCast ? CullFace::Front : CullFace::Back;
+
+    // Each variant uses some of these; the GLSL compiler removes the others.
+    auto set = [&](std::string_view name, const UniformValue& value) {
+        if (_program->hasUniform(name)) {
+            command.uniforms.set(name, value);
+        }
+    };
+    set("u_oneOverRadii", glm::vec3(_ellipsoid.oneOverRadii()));
+    set("u_oneOverRadiiSquared", glm::vec3(_ellipsoid.oneOverRadiiSquared()));
+    set("u_color", _options.color);
+    if (rayCast) {
+        const glm::dvec3 eyeScaled = frameState.camera.eye() * _ellipsoid.oneOverRadii();
+        set("u_cameraScaled", glm::vec3(eyeScaled));
+        set("u_cameraScaledLengthSquaredMinusOne", static_cast<float>(glm::dot(eyeScaled, eyeScaled) - 1.0));
+    }
+    if (_options.grid) {
+        const double height = std::max(1.0, _ellipsoid.toGeodetic3D(frameState.camera.eye()).height);
+        set("u_gridSpacing",
+            static_cast<float>(gridSpacing(height, frameState.metersPerPixel(height), _ellipsoid.maximumRadius())));
+        set("u_gridColor", _options.gridColor);
+    }
+    if (_dayTexture) {
+        command.textures.push_back({0, &*_dayTexture, &*_sampler});
+    }
+    if (_nightTexture) {
+        command.textures.push_back({1, &*_nightTexture, &*_sampler});
+    }
+    commands.push_back(std::move(command));
+}
+
+} // namespace orbis

@@ -1,0 +1,57 @@
+#include "SceneTestSupport.h"
+
+#include "RendererTestSupport.h"
+
+#include <orbis/core/Transforms.h>
+#include <orbis/renderer/Device.h>
+
+#include <cmath>
+
+namespace orbis::test {
+
+Mesh horizontalSquare(const Ellipsoid& ellipsoid, const Geodetic3D& centre, double halfSize)
+{
+    const glm::dmat4 frame = eastNorthUpToFixedFrame(ellipsoid, ellipsoid.toCartesian(centre));
+    Mesh mesh;
+    for (const glm::dvec2 corner : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
+        mesh.positions.push_back(glm::dvec3(frame * glm::dvec4(corner * halfSize, 0.0, 1.0)));
+    }
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    return mesh;
+}
+
+Mesh cube(const glm::dvec3& centre, double halfSize)
+{
+    Mesh mesh;
+    for (int i = 0; i < 8; ++i) {
+        mesh.positions.push_back(centre + halfSize * glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+    }
+    // Counter-clockwise from outside: -x, +x, -y, +y, -z, +z.
+    mesh.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
+                    2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+    return mesh;
+}
+
+RenderedFrame renderFrame(Scene& scene, int width, int height)
+{
+    Context& context = sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(width, height);
+    context.setFramebuffer(&framebuffer);
+    RenderedFrame frame;
+    frame.statistics = scene.render(context);
+    frame.image = context.readPixels();
+    context.setFramebuffer(nullptr);
+    return frame;
+}
+
+glm::ivec2 projectToPixel(const Scene& scene, const glm::dvec3& position, int width, int height)
+{
+    const Camera& camera = scene.camera();
+    const glm::dvec4 clip = camera.projectionMatrix(static_cast<double>(width) / height, 1.0, 1e8) *
+                            camera.viewMatrix() * glm::dvec4(position, 1.0);
+    const double x = (clip.x / clip.w * 0.5 + 0.5) * width;
+    const double y = (1.0 - (clip.y / clip.w * 0.5 + 0.5)) * height;
+    return {static_cast<int>(std::floor(x)), static_cast<int>(std::floor(y))};
+}
+
+} // namespace orbis::test

@@ -1,0 +1,28 @@
+#pragma once
+
+// Scenes for tests: a framebuffer-backed frame, markers and satellites as small meshes.
+
+#include <orbis/scene/MeshPrimitive.h>
+#include <orbis/renderer/Image.h>
+#include <orbis/scene/Scene.h>
+
+namespace orbis::test {
+
+/// A flat square, halfSize metres from its centre to each side, in the local horizontal plane of a
+/// geodetic position (heights along the normal), counter-clockwise seen from above.
+Mesh horizontalSquare(const Ellipsoid& ellipsoid, const Geodetic3D& centre, double halfSize);
+
+/// An axis-aligned cube around a world position.
+Mesh cube(const glm::dvec3& centre, double halfSize);
+
+/// Renders one frame of the scene into a new width x height framebuffer of the shared device.
+struct RenderedFrame {
+    FrameStatistics statistics;
+    Image image;
+};
+RenderedFrame renderFrame(Scene& scene, int width, int height);
+
+/// Where a world position lands in an image rendered with renderFrame (x from the left, y from the top).
+glm::ivec2 projectToPixel(const Scene& scene, const glm::dvec3& position, int width, int height);
+
+} // namespace orbis::test
