@@ -6,6 +6,7 @@
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/SceneFile.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -14,6 +15,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+
+#include <unistd.h>
 
 namespace {
 
@@ -71,36 +74,67 @@ int runValidate(Arguments arguments)
     return exitCode;
 }
 
-/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON]: one frame of a
-/// scene file (the built-in default Earth without one), headless. Nothing is written on failure.
+/// Where frame `index` of `count` goes: the output itself for one frame, else name_0001.png etc.
+std::string framePath(const std::string& output, int index, int count)
+{
+    if (count == 1) {
+        return output;
+    }
+    const std::size_t dot = output.rfind('.');
+    const std::size_t slash = output.rfind('/');
+    const bool hasExtension = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+    char number[16];
+    std::snprintf(number, sizeof number, "_%04d", index + 1);
+    return hasExtension ? output.substr(0, dot) + number + output.substr(dot) : output + number;
+}
+
+/// A progress bar on a terminal, for flights.
+void showProgress(int done, int count, double elapsedSeconds)
+{
+    if (count <= 1 || !isatty(fileno(stderr))) {
+        return;
+    }
+    constexpr int kWidth = 30;
+    const int filled = done * kWidth / count;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames, %.1f frames/s", filled, "==============================",
+                 kWidth - filled, "", done, count, elapsedSeconds > 0.0 ? done / elapsedSeconds : 0.0);
+    if (done == count) {
+        std::fputc('\n', stderr);
+    }
+}
+
+/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path
+/// PATH.json]: one frame of a scene file (the built-in default Earth without one), or a flight
+/// along a camera path as numbered PNGs, headless. Each PNG appears whole or not at all.
 int runRender(Arguments arguments)
 {
     std::optional<std::string> scenePath;
     std::string output = "orbis.png";
     std::optional<std::string> statisticsPath;
+    std::optional<std::string> cameraPath;
     std::optional<int> width;
     std::optional<int> height;
+    std::optional<int> frames;
     for (std::size_t i = 0; i < arguments.size(); ++i) {
         const std::string_view argument = arguments[i];
         const bool hasValue = i + 1 < arguments.size();
-        auto positive = [&](std::optional<int>& value) {
+        auto count = [&](std::optional<int>& value, int maximum) {
             const int parsed = std::atoi(arguments[++i]);
-            if (parsed < 1 || parsed > 16384) {
-                return false;
-            }
             value = parsed;
-            return true;
+            return parsed >= 1 && parsed <= maximum;
         };
         if (argument == "--out" && hasValue) {
             output = arguments[++i];
         } else if (argument == "--stats" && hasValue) {
             statisticsPath = arguments[++i];
-        } else if (argument == "--width" && hasValue) {
-            if (!positive(width)) {
-                return kExitUsage;
-            }
-        } else if (argument == "--height" && hasValue) {
-            if (!positive(height)) {
+        } else if (argument == "--path" && hasValue) {
+            cameraPath = arguments[++i];
+        } else if ((argument == "--width" && hasValue && !count(width, 16384)) ||
+                   (argument == "--height" && hasValue && !count(height, 16384)) ||
+                   (argument == "--frames" && hasValue && !count(frames, 100000))) {
+            return kExitUsage;
+        } else if (argument == "--width" || argument == "--height" || argument == "--frames") {
+            if (!hasValue) {
                 return kExitUsage;
             }
         } else if (!argument.starts_with("--") && !scenePath) {
@@ -109,10 +143,23 @@ int runRender(Arguments arguments)
             return kExitUsage;
         }
     }
+    if (frames.value_or(1) > 1 && !cameraPath) {
+        std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
+        return kExitUsage;
+    }
 
     try {
         const orbis::SceneDescription description =
             scenePath ? orbis::parseSceneFile(*scenePath) : orbis::parseDefaultScene();
+        std::optional<orbis::CameraPath> flight;
+        if (cameraPath) {
+            flight.emplace(orbis::Ellipsoid::wgs84());
+            for (const orbis::CameraPath::Keyframe& keyframe : orbis::parseCameraPathFile(*cameraPath)) {
+                flight->add(keyframe);
+            }
+        }
+        const int frameCount = flight ? frames.value_or(60) : 1;
+
         orbis::Device device;
         orbis::Context& context = device.context();
         orbis::Framebuffer framebuffer =
@@ -120,13 +167,35 @@ int runRender(Arguments arguments)
         context.setFramebuffer(&framebuffer);
         orbis::Scene scene;
         orbis::populateScene(description, scene);
-        const orbis::FrameStatistics statistics = scene.render(context);
-        orbis::writePng(context.readPixels(), output);
-        std::printf("%s: %dx%d, %s\n%s", output.c_str(), framebuffer.width(), framebuffer.height(),
-                    device.info().renderer.c_str(), statistics.toText().c_str());
+
+        std::string statisticsJson = frameCount > 1 ? "[\n" : "";
+        const auto start = std::chrono::steady_clock::now();
+        for (int frame = 0; frame < frameCount; ++frame) {
+            if (flight) {
+                const double t = frameCount > 1 ? static_cast<double>(frame) / (frameCount - 1) : 0.0;
+                flight->apply(flight->keyframes().front().seconds + t * flight->duration(), scene.camera());
+            }
+            const orbis::FrameStatistics statistics = scene.render(context);
+            const std::string path = framePath(output, frame, frameCount);
+            orbis::writePng(context.readPixels(), path);
+            if (frame == 0 || frameCount == 1) {
+                std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
+                            device.info().renderer.c_str(), statistics.toText().c_str());
+            }
+            statisticsJson += statistics.toJson();
+            if (frameCount > 1) {
+                statisticsJson += frame + 1 < frameCount ? ",\n" : "]\n";
+            }
+            showProgress(frame + 1, frameCount,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        if (frameCount > 1) {
+            std::printf("%d frames: %s .. %s\n", frameCount, framePath(output, 0, frameCount).c_str(),
+                        framePath(output, frameCount - 1, frameCount).c_str());
+        }
         if (statisticsPath) {
             std::ofstream file(*statisticsPath);
-            file << statistics.toJson();
+            file << statisticsJson;
             if (!file) {
                 std::fprintf(stderr, "orbis render: cannot write %s\n", statisticsPath->c_str());
                 return kExitFailed;
@@ -170,8 +239,10 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
-    {"render", "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON]",
-     "render a scene file (the default Earth without one) to a PNG, headless", runRender},
+    {"render", "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path PATH.json]",
+     "render a scene file (the default Earth without one) to a PNG, or a flight along a camera path to "
+     "numbered PNGs, headless",
+     runRender},
     {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };

@@ -268,6 +268,8 @@ constexpr std::array<std::string_view, 10> kRootKeys = {"version", "width",  "he
                                                         "sun",     "time",   "depth",  "globe",      "layers"};
 constexpr std::array<std::string_view, 6> kCameraKeys = {"position", "target", "heading", "pitch", "roll", "fovY"};
 constexpr std::array<std::string_view, 3> kPositionKeys = {"lon", "lat", "height"};
+constexpr std::array<std::string_view, 2> kCameraPathKeys = {"version", "keyframes"};
+constexpr std::array<std::string_view, 3> kKeyframeKeys = {"time", "position", "target"};
 constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 4> kGlobeKeys = {"method", "texture", "nightTexture", "grid"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
@@ -388,6 +390,34 @@ public:
             }
         }
         return scene;
+    }
+
+    std::vector<CameraPath::Keyframe> readCameraPath(const Json& root) const
+    {
+        if (!root.is_object()) {
+            fail("", "expected a JSON object at the top of the file, got " + describe(root));
+        }
+        readVersion(root);
+        checkKeys(root, "", kCameraPathKeys);
+        const Json& keyframes = required(root, "", "keyframes");
+        if (!keyframes.is_array() || keyframes.size() < 2) {
+            fail("/keyframes", "expected an array of at least two keyframes, got " + describe(keyframes));
+        }
+        std::vector<CameraPath::Keyframe> path;
+        for (std::size_t i = 0; i < keyframes.size(); ++i) {
+            const std::string pointer = "/keyframes/" + std::to_string(i);
+            const Json& keyframe = keyframes[i];
+            expectObject(keyframe, pointer);
+            checkKeys(keyframe, pointer, kKeyframeKeys);
+            const double seconds = readNumber(required(keyframe, pointer, "time"), pointer + "/time", {0.0, 1e9});
+            if (!path.empty() && !(seconds > path.back().seconds)) {
+                fail(pointer + "/time", formatNumber(seconds) + " is not after the previous keyframe's time (" +
+                                            formatNumber(path.back().seconds) + ")");
+            }
+            path.push_back({seconds, readPosition(required(keyframe, pointer, "position"), pointer + "/position"),
+                            readPosition(required(keyframe, pointer, "target"), pointer + "/target")});
+        }
+        return path;
     }
 
 private:
@@ -1082,10 +1112,12 @@ fs::path absoluteDirectory(const fs::path& directory)
 
 } // namespace
 
-SceneDescription parseSceneText(std::string_view text, std::string_view originName, const fs::path& baseDirectory,
-                                const SceneParseOptions& options)
+namespace {
+
+/// Parses JSON text (bounded nesting, no duplicate keys), throwing SceneFileError with the origin,
+/// line and column for what is not JSON.
+Json parseJsonDocument(std::string_view text, const std::string& origin)
 {
-    const std::string origin(originName);
     Json root;
     try {
         const Json::parser_callback_t limitDepth = [](int depth, Json::parse_event_t, Json&) {
@@ -1111,15 +1143,16 @@ SceneDescription parseSceneText(std::string_view text, std::string_view originNa
                              "duplicate key " + quote(tokens.empty() ? std::string() : tokens.back()) +
                                  " (first given at line " + std::to_string(first.line) + ")");
     }
-    return SceneReader(text, origin, absoluteDirectory(baseDirectory), options).read(root);
+    return root;
 }
 
-SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& options)
+/// The text of a file, or a SceneFileError naming it.
+std::string readDocument(const fs::path& path, std::string_view what)
 {
     const std::string origin = path.string();
     std::error_code error;
     if (fs::is_directory(path, error)) {
-        throw SceneFileError(origin, "", 0, 0, "is a folder; expected a scene file");
+        throw SceneFileError(origin, "", 0, 0, "is a folder; expected " + std::string(what));
     }
     std::ifstream file(path, std::ios::binary);
     if (!file) {
@@ -1131,8 +1164,36 @@ SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& o
     if (file.bad()) {
         throw SceneFileError(origin, "", 0, 0, "cannot be read");
     }
+    return contents.str();
+}
+
+} // namespace
+
+SceneDescription parseSceneText(std::string_view text, std::string_view originName, const fs::path& baseDirectory,
+                                const SceneParseOptions& options)
+{
+    const std::string origin(originName);
+    const Json root = parseJsonDocument(text, origin);
+    return SceneReader(text, origin, absoluteDirectory(baseDirectory), options).read(root);
+}
+
+std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName)
+{
+    const std::string origin(originName);
+    const Json root = parseJsonDocument(text, origin);
+    return SceneReader(text, origin, fs::path("."), SceneParseOptions{false}).readCameraPath(root);
+}
+
+std::vector<CameraPath::Keyframe> parseCameraPathFile(const fs::path& path)
+{
+    return parseCameraPathText(readDocument(path, "a camera path file"), path.string());
+}
+
+SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& options)
+{
+    const std::string text = readDocument(path, "a scene file");
     const fs::path parent = path.parent_path();
-    return parseSceneText(contents.str(), origin, parent.empty() ? fs::path(".") : parent, options);
+    return parseSceneText(text, path.string(), parent.empty() ? fs::path(".") : parent, options);
 }
 
 } // namespace orbis

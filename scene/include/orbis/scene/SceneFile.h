@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/scene/CameraControllers.h"
 #include "orbis/scene/SceneDescription.h"
 
 #include <orbis/core/Error.h>
@@ -8,6 +9,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace orbis {
 
@@ -56,6 +58,12 @@ SceneDescription parseSceneFile(const std::filesystem::path& path, const ScenePa
 /// baseDirectory (made absolute against the current directory if relative). Throws SceneFileError.
 SceneDescription parseSceneText(std::string_view text, std::string_view originName,
                                 const std::filesystem::path& baseDirectory, const SceneParseOptions& options = {});
+
+/// Reads a camera path file for `orbis render --path` (docs/scene-format.md): {"version": 1,
+/// "keyframes": [{"time": s, "position": {lon, lat, height}, "target": {...}}, ...]}, at least two
+/// keyframes in increasing time. Throws SceneFileError like parseSceneFile.
+std::vector<CameraPath::Keyframe> parseCameraPathFile(const std::filesystem::path& path);
+std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName);
 
 /// The text of data/scenes/default.json, embedded in the library at build time.
 std::string_view defaultSceneText() noexcept;
