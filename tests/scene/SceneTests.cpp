@@ -76,7 +76,7 @@ TEST_CASE("A globe seen from 200 km needs one frustum: its near and far come fro
     REQUIRE(statistics.frustums.front().farDistance < 2.5e6);
 }
 
-TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says; removing it restores one", "[scene][effects][multifrustum]")
+TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says, and removing it restores one", "[scene][effects][multifrustum]")
 {
     Scene scene(kEarth);
     scene.add(plainGlobe());
