@@ -211,6 +211,9 @@ public:
     /// Notes the pixels an addition to the atlas changed.
     void noteChange(const TextureAtlas::AddResult& result) noexcept
     {
+        if (!result.resized && !result.repacked && (result.changed.width <= 0 || result.changed.height <= 0)) {
+            return; // nothing new (characters already there, or without pixels)
+        }
         if (result.resized || result.repacked || !_pending) {
             _pending = result.changed;
             _whole = _whole || result.resized || result.repacked;

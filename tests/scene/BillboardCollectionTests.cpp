@@ -302,7 +302,7 @@ TEST_CASE("Images added one by one never overlap in the atlas and each billboard
     REQUIRE(coverage(frame.image).count <= drawn);
 }
 
-TEST_CASE("Changing one billboard uploads only its vertex; nearby changes share one upload", "[scene][billboard][upload]")
+TEST_CASE("Changing one billboard uploads only its vertex, and nearby changes share one upload", "[scene][billboard][upload]")
 {
     Scene scene(kEarth);
     lookFromAbove(scene);
@@ -361,7 +361,7 @@ TEST_CASE("Changing one billboard uploads only its vertex; nearby changes share 
     REQUIRE(pixelNear(frame.image, 10, 10, {255, 0, 0, 255}, 0)); // window (10, 21): the centre pixel of the 3x3
 }
 
-TEST_CASE("Billboards behind the Earth are hidden by the horizon test; beside it they show", "[scene][billboard][horizon]")
+TEST_CASE("Billboards behind the Earth are hidden by the horizon test, and beside it they show", "[scene][billboard][horizon]")
 {
     const int size = 64;
     Scene scene(kEarth);
@@ -400,7 +400,7 @@ TEST_CASE("Billboards behind the Earth are hidden by the horizon test; beside it
     REQUIRE(coverage(all).count == 3 * 9);
 }
 
-TEST_CASE("A billboard on the surface shows whole over the globe; with the depth test a cube in front hides it", "[scene][billboard][depth]")
+TEST_CASE("A billboard on the surface shows whole over the globe, and with the depth test a cube in front hides it", "[scene][billboard][depth]")
 {
     const int size = 64;
     for (const GlobeMethod method : {GlobeMethod::RayCast, GlobeMethod::Tessellated}) {

@@ -191,7 +191,7 @@ TEST_CASE("A label's halo surrounds the fill in the halo colour", "[scene][label
     REQUIRE(halo > 40); // a ring two pixels wide outside the O and inside its counter
 }
 
-TEST_CASE("Changing a label uploads only its glyphs; a new glyph count rewrites its font size", "[scene][label][upload]")
+TEST_CASE("Changing a label uploads only its glyphs, and a new glyph count rewrites its font size", "[scene][label][upload]")
 {
     Scene scene(kEarth);
     lookFromAbove(scene);
