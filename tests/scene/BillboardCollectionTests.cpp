@@ -5,12 +5,14 @@
 
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/scene/BillboardCollection.h>
+#include <orbis/scene/CsvPoints.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/MeshPrimitive.h>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 using namespace orbis;
@@ -485,4 +487,87 @@ TEST_CASE("A billboard collection renders as its golden image", "[scene][billboa
     const RenderedFrame frame = renderFrame(scene, 128, 128);
     // Exact on llvmpipe; a GPU may round the globe's edge and blends differently.
     ORBIS_REQUIRE_GOLDEN(frame.image, "scene/billboards", GoldenTolerance{2, 0.01});
+}
+
+TEST_CASE("All 171,075 GeoNames cities draw in one call and exactly those in front of the horizon show", "[scene][billboard][horizon][cities]")
+{
+    const CsvPoints cities =
+        loadCsvPoints(std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "geonames" / "cities.csv");
+    REQUIRE(cities.size() == 171075);
+    const int size = 256;
+    Scene scene(kEarth);
+    // Over the Atlantic at 35 N: Europe, Africa and the Americas in front, Asia and Oceania behind.
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(-30, 35, 1.5e7)), glm::dvec3(0.0), {0, 0, 1});
+    auto billboards = std::make_shared<BillboardCollection>();
+    const std::size_t pixel = billboards->addImage(solidImage(1, 1, {255, 255, 255, 255}));
+    billboards->reserve(cities.size());
+    for (const Geodetic3D& city : cities.positions) {
+        Billboard b;
+        b.position = kEarth.toCartesian(city);
+        b.image = pixel;
+        b.horizontalOrigin = HorizontalOrigin::Left;
+        b.verticalOrigin = VerticalOrigin::Bottom;
+        billboards->add(b);
+    }
+    scene.add(billboards);
+    const RenderedFrame frame = renderFrame(scene, size, size);
+    REQUIRE(frame.statistics.renderer.drawCalls == 1);
+    REQUIRE(frame.statistics.renderer.primitives == cities.size());
+
+    // The shader's horizon test in double: pixels of cities clearly in front must be lit, and a
+    // lit pixel must belong to a city in front or within rounding of the horizon (1e-5 of the
+    // test's terms; float carries about 6e-8) or of a half pixel (0.01 px).
+    const glm::dvec3 eyeScaled = scene.camera().eye() * kEarth.oneOverRadii();
+    const double horizon = glm::dot(eyeScaled, eyeScaled) - 1.0;
+    std::vector<std::uint8_t> must(static_cast<std::size_t>(size * size), 0);
+    std::vector<std::uint8_t> may(static_cast<std::size_t>(size * size), 0);
+    std::size_t inFront = 0;
+    std::size_t behind = 0;
+    for (const Geodetic3D& city : cities.positions) {
+        const glm::dvec3 p = kEarth.toCartesian(city);
+        const glm::dvec3 toCity = (p - scene.camera().eye()) * kEarth.oneOverRadii();
+        const double along = -glm::dot(toCity, eyeScaled);
+        const double coneTerm = along * along - horizon * glm::dot(toCity, toCity);
+        const bool hidden = along > horizon && coneTerm > 0.0;
+        const bool marginal = std::abs(along - horizon) < 1e-5 * horizon || std::abs(coneTerm) < 1e-5 * along * along;
+        (hidden ? behind : inFront) += 1;
+        if (hidden && !marginal) {
+            continue;
+        }
+        const glm::dvec2 w = windowCoordinates(scene, p, size, size);
+        const glm::dvec2 fraction = w - glm::floor(w);
+        const bool sure = !marginal && std::abs(fraction.x - 0.5) > 0.01 && std::abs(fraction.y - 0.5) > 0.01;
+        for (const double dx : {-0.01, 0.0, 0.01}) {
+            for (const double dy : {-0.01, 0.0, 0.01}) {
+                const int x = static_cast<int>(std::floor(w.x + dx + 0.5));
+                const int y = static_cast<int>(std::floor(w.y + dy + 0.5));
+                if (x >= 0 && y >= 0 && x < size && y < size) {
+                    const auto index = static_cast<std::size_t>((size - 1 - y) * size + x);
+                    may[index] = 1;
+                    if (sure && dx == 0.0 && dy == 0.0) {
+                        must[index] = 1;
+                    }
+                }
+            }
+        }
+    }
+    INFO(inFront << " cities in front, " << behind << " behind");
+    REQUIRE(behind > 20000);
+    REQUIRE(inFront > 20000);
+    int lit = 0;
+    for (int row = 0; row < size; ++row) {
+        for (int x = 0; x < size; ++x) {
+            const auto index = static_cast<std::size_t>(row * size + x);
+            const bool on = !pixelNear(frame.image, x, row, kBackground, 0);
+            lit += on ? 1 : 0;
+            INFO("pixel (" << x << ", " << row << ") " << describePixel(frame.image, x, row));
+            if (must[index]) {
+                REQUIRE(on);
+            }
+            if (on) {
+                REQUIRE(may[index]);
+            }
+        }
+    }
+    REQUIRE(lit > 5000);
 }
