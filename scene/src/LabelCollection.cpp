@@ -69,8 +69,11 @@ PixelRectangle LabelCollection::placement(std::size_t index) const
 {
     const Record& record = _labels.at(index);
     const PixelRectangle& box = record.layout.bounds;
+    // The origin's side sits on the anchor: its bottom edge for Bottom, so the top is a box
+    // height above (y down: negative).
     return {record.label.pixelOffset.x - originShift(static_cast<int>(record.label.horizontalOrigin), box.width),
-            record.label.pixelOffset.y - originShift(static_cast<int>(record.label.verticalOrigin), box.height),
+            record.label.pixelOffset.y + originShift(static_cast<int>(record.label.verticalOrigin), box.height) -
+                box.height,
             box.width, box.height};
 }
 
@@ -80,22 +83,23 @@ void LabelCollection::writeVertices(std::size_t index, bool mark)
     SizeBatch& batch = *_sizes.at(record.label.fontSizePixels);
     const Label& label = record.label;
     const PixelRectangle place = placement(index);
-    // The layout's box (y down from the baseline) moved so that its bottom-left is `place`.
+    // The layout's box (y down from the baseline) moved so that its top-left is `place`; each
+    // glyph is a billboard whose top-left corner sits at its offset.
     const int shiftX = place.x - record.layout.bounds.x;
-    const int shiftY = place.y + record.layout.bounds.y + record.layout.bounds.height;
+    const int shiftY = place.y - record.layout.bounds.y;
     detail::GlyphVertex common{};
     detail::setPosition(common, label.position);
     detail::packColor(label.fillColor, common.color);
     detail::packColor(label.haloColor, common.haloColor);
     common.scaleOriginVisibility =
-        detail::packScaleOriginVisibility(1.0f, HorizontalOrigin::Left, VerticalOrigin::Bottom, label.visible);
+        detail::packScaleOriginVisibility(1.0f, HorizontalOrigin::Left, VerticalOrigin::Top, label.visible);
     std::vector<detail::GlyphVertex>& vertices = batch.batch.vertices();
     for (std::size_t q = 0; q < record.layout.quads.size(); ++q) {
         const GlyphQuad& quad = record.layout.quads[q];
         detail::GlyphVertex& v = vertices[record.firstVertex + q];
         v = common;
         v.pixelOffset[0] = detail::clampToShort(shiftX + quad.x);
-        v.pixelOffset[1] = detail::clampToShort(shiftY - (quad.y + quad.height));
+        v.pixelOffset[1] = detail::clampToShort(shiftY + quad.y);
         detail::setTextureRectangle(v, batch.glyphs.atlas().rectangle(quad.atlasIndex));
         if (mark) {
             batch.batch.mark(record.firstVertex + q);

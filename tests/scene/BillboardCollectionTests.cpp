@@ -139,9 +139,10 @@ TEST_CASE("A 5x3 billboard with origin bottom-left and offset (+10, -4) covers e
     scene.add(billboards);
 
     const RenderedFrame frame = renderFrame(scene, 64, 64);
-    // Window x 42..46, y 28..30 (rows 33..35 from the top).
+    // Offsets go right and down: window x 42..46, y 36..38 (image rows 27..25 from the top), the
+    // bottom-left pixel 10 right of and 4 above the anchor's pixel corner.
     std::string why;
-    const bool exact = coversExactly(frame.image, 42, 28, 5, 3, {255, 0, 0, 255}, why);
+    const bool exact = coversExactly(frame.image, 42, 36, 5, 3, {255, 0, 0, 255}, why);
     INFO(why);
     REQUIRE(exact);
     REQUIRE(frame.statistics.translucentPasses == 1);
@@ -167,7 +168,7 @@ TEST_CASE("Every origin puts the billboard's side or centre on the anchor's pixe
             const RenderedFrame frame = renderFrame(scene, 64, 64);
             // Centre: floor(5 / 2) = 2 columns and floor(3 / 2) = 1 row left of and below the anchor.
             const int left = 32 - 7 - originShift(h, 5);
-            const int bottom = 32 + 6 - originShift(v, 3);
+            const int bottom = 32 - 6 - originShift(v, 3); // the offset's y goes down
             std::string why;
             const bool exact = coversExactly(frame.image, left, bottom, 5, 3, {0, 255, 0, 255}, why);
             INFO("horizontal origin " << h << ", vertical origin " << v << ": " << why);
@@ -218,7 +219,7 @@ TEST_CASE("Billboards anywhere in the view land on the pixels their projection, 
         const glm::ivec2 anchor(static_cast<int>(std::floor(window.x + 0.5)), static_cast<int>(std::floor(window.y + 0.5)));
         const glm::ivec2 extent = sizes[b.image] * static_cast<int>(b.scale);
         const int left = anchor.x + b.pixelOffset.x - originShift(static_cast<int>(b.horizontalOrigin), extent.x);
-        const int bottom = anchor.y + b.pixelOffset.y - originShift(static_cast<int>(b.verticalOrigin), extent.y);
+        const int bottom = anchor.y - b.pixelOffset.y - originShift(static_cast<int>(b.verticalOrigin), extent.y);
         std::string why;
         const bool exact =
             coversExactly(frame.image, left, bottom, extent.x, extent.y, {255, 255, 255, 255}, why, b.scale > 1.0f);
@@ -253,7 +254,7 @@ TEST_CASE("Images added one by one never overlap in the atlas and each billboard
         b.image = static_cast<std::size_t>(i);
         b.horizontalOrigin = HorizontalOrigin::Left;
         b.verticalOrigin = VerticalOrigin::Bottom;
-        b.pixelOffset = {2 + 16 * (i % 4) - 32, 2 + 16 * (i / 4) - 32};
+        b.pixelOffset = {2 + 16 * (i % 4) - 32, 32 - (2 + 16 * (i / 4))}; // y down
         billboards->add(b);
         // Drawn after each addition, so the texture follows the atlas as it grows.
         renderFrame(scene, 64, 64);
@@ -360,7 +361,7 @@ TEST_CASE("Changing one billboard uploads only its vertex, and nearby changes sh
     frame = renderFrame(scene, 32, 32);
     REQUIRE(billboards->lastUpload().bytesUploaded == vertex);
     REQUIRE(pixelNear(frame.image, 16, 16, {0, 0, 0, 255}, 0));
-    REQUIRE(pixelNear(frame.image, 10, 10, {255, 0, 0, 255}, 0)); // window (10, 21): the centre pixel of the 3x3
+    REQUIRE(pixelNear(frame.image, 10, 20, {255, 0, 0, 255}, 0)); // window (10, 11): the 3x3's centre pixel
 }
 
 TEST_CASE("Billboards behind the Earth are hidden by the horizon test, and beside it they show", "[scene][billboard][horizon]")

@@ -36,15 +36,16 @@ std::vector<float> expectedText(LabelCollection& labels, std::size_t index, cons
     const TextLayout& layout = labels.layout(index);
     const PixelRectangle place = labels.placement(index);
     const TextureAtlas& atlas = labels.glyphAtlas(label.fontSizePixels).atlas();
-    // The layout's box, y down from the first baseline, has its bottom-left at `place`.
+    // The layout's box, y down from the first baseline, has its top-left at `place` (y down
+    // from the anchor's pixel corner).
     const int originX = anchor.x + place.x - layout.bounds.x;
-    const int baselineY = anchor.y + place.y + layout.bounds.y + layout.bounds.height;
+    const int baselineY = anchor.y - (place.y - layout.bounds.y);
     for (const GlyphQuad& quad : layout.quads) {
         const PixelRectangle r = atlas.rectangle(quad.atlasIndex);
         for (int row = 0; row < quad.height; ++row) {
             for (int column = 0; column < quad.width; ++column) {
                 const int x = originX + quad.x + column;
-                const int y = baselineY - quad.y - row - 1;
+                const int y = baselineY - quad.y - row - 1; // window y of the pixel below that line
                 if (x < 0 || y < 0 || x >= width || y >= height) {
                     continue;
                 }
@@ -125,7 +126,7 @@ TEST_CASE("A label's text pixels are where its layout says, texel for pixel, for
     REQUIRE(labels->lastDrawCalls() == 1);
 }
 
-TEST_CASE("Placement centres a label above its point by default, offsets in window pixels", "[scene][label]")
+TEST_CASE("Placement centres a label above its point by default, and offsets go right and down", "[scene][label]")
 {
     auto labels = std::make_shared<LabelCollection>();
     Label label = whiteText("Orbis");
@@ -135,11 +136,11 @@ TEST_CASE("Placement centres a label above its point by default, offsets in wind
     REQUIRE(place.width == box.width);
     REQUIRE(place.height == box.height);
     REQUIRE(place.x == -(box.width / 2));
-    REQUIRE(place.y == 0);
+    REQUIRE(place.y == -box.height); // its bottom edge on the anchor: the top a box height above
     labels->setPixelOffset(0, {4, 9});
     labels->setOrigin(0, HorizontalOrigin::Right, VerticalOrigin::Top);
     REQUIRE(labels->placement(0).x == 4 - box.width);
-    REQUIRE(labels->placement(0).y == 9 - box.height);
+    REQUIRE(labels->placement(0).y == 9); // top edge on the anchor, 9 px down
 }
 
 TEST_CASE("A label's halo surrounds the fill in the halo colour", "[scene][label]")
@@ -173,7 +174,7 @@ TEST_CASE("A label's halo surrounds the fill in the halo colour", "[scene][label
             const std::uint8_t* texel = atlas.image().pixel(r.x + column, r.y + row);
             // One glyph: its quad is the label's box.
             const int x = size / 2 + place.x + column;
-            const int imageRow = size - 1 - (size / 2 + place.y + quad.height - 1 - row);
+            const int imageRow = size / 2 + place.y + row; // y down from the anchor's row line
             INFO("glyph texel (" << column << ", " << row << ") coverage " << int(texel[0]) << " halo " << int(texel[1])
                                  << ": " << describePixel(image, x, imageRow));
             if (texel[0] == 255) {
@@ -289,7 +290,7 @@ TEST_CASE("Labels over billboards on a globe render as their golden image", "[sc
         label.position = position;
         label.text = city.name;
         label.fontSizePixels = 13.0f;
-        label.pixelOffset = {0, 3};
+        label.pixelOffset = {0, -3}; // 3 px above
         labels->add(label);
     }
     scene.add(billboards);

@@ -46,7 +46,8 @@ void main()
     vec2 anchor = floor(window + 0.5);
     vec4 texels = v_textureRectangle[0];
     vec2 size = floor(texels.zw * v_scaleOrigin[0].x + 0.5);
-    vec2 lowerLeft = anchor + v_pixelOffset[0] - floor(v_scaleOrigin[0].yz * size);
+    // Window y grows upwards; the offset's y grows downwards.
+    vec2 lowerLeft = anchor + vec2(v_pixelOffset[0].x, -v_pixelOffset[0].y) - floor(v_scaleOrigin[0].yz * size);
     vec2 upperRight = lowerLeft + size;
     vec2 viewportEnd = og_viewport.xy + og_viewport.zw;
     if (size.x < 1.0 || size.y < 1.0 || any(greaterThanEqual(lowerLeft, viewportEnd)) ||

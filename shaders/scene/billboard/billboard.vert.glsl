@@ -4,7 +4,7 @@
 
 in vec3 positionHigh;
 in vec3 positionLow;
-in vec2 pixelOffset;          // window pixels, x right, y up
+in vec2 pixelOffset;          // pixels, x right, y down
 in vec4 textureRectangle;     // atlas texels: x, y (rows from the top), width, height
 in vec4 color;
 in uint scaleOriginVisibility; // bits 0-15 scale x 256, 16-17 horizontal origin, 18-19 vertical, 20 visible

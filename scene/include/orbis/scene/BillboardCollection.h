@@ -52,7 +52,8 @@ struct BillboardCollectionOptions {
 struct Billboard {
     glm::dvec3 position{0.0};  ///< world, metres
     std::size_t image = 0;     ///< index returned by BillboardCollection::addImage
-    /// Moves the image in window pixels from its anchor: x to the right, y up.
+    /// Moves the image from its anchor, in pixels: x to the right, y down (as rows of an image,
+    /// and as scene files give it).
     glm::ivec2 pixelOffset{0, 0};
     HorizontalOrigin horizontalOrigin = HorizontalOrigin::Center;
     VerticalOrigin verticalOrigin = VerticalOrigin::Center;

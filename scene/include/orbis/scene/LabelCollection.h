@@ -30,7 +30,7 @@ struct Label {
     float fontSizePixels = 16.0f; ///< em size; each size has its own glyph atlas and draw call
     glm::vec4 fillColor{1.0f};
     glm::vec4 haloColor{0.0f, 0.0f, 0.0f, 1.0f}; ///< alpha 0: no halo
-    /// Moves the box in window pixels from its anchor: x to the right, y up.
+    /// Moves the box from its anchor, in pixels: x to the right, y down.
     glm::ivec2 pixelOffset{0, 0};
     /// Which side of the text's box (its glyphs' bitmaps, halo included) sits on the anchor. The
     /// default centres the text above the point.
@@ -81,9 +81,9 @@ public:
     void setOrigin(std::size_t index, HorizontalOrigin horizontal, VerticalOrigin vertical);
     void setVisible(std::size_t index, bool visible);
 
-    /// The box of label `index`'s glyph quads relative to its anchor, in window pixels (x right,
-    /// y up; (x, y) its bottom-left corner), offset and origins applied: where its pixels land
-    /// around the anchor's pixel corner.
+    /// The box of label `index`'s glyph quads relative to its anchor's pixel corner, offset and
+    /// origins applied, in pixels x right and y down ((x, y) its top-left corner): where its
+    /// pixels land.
     PixelRectangle placement(std::size_t index) const;
     /// The laid-out text of label `index` (glyph positions y down from the first baseline).
     const TextLayout& layout(std::size_t index) const { return _labels.at(index).layout; }
