@@ -43,6 +43,11 @@ TEST_CASE("The chapter 4 examples render their golden images", "[scene][golden][
     }
 }
 
+TEST_CASE("The chapter 9 example renders its golden image", "[scene][golden][examples]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch09_billboards", "ch09_billboards"), "scene/ch09_billboards", kTolerance);
+}
+
 TEST_CASE("orbis render draws the default Earth as its golden image", "[scene][golden][examples]")
 {
     ORBIS_REQUIRE_GOLDEN(runExample("orbis render", "render-default"), "scene/orbis_render_default", kTolerance);
