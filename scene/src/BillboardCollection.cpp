@@ -1,5 +1,7 @@
 #include "orbis/scene/BillboardCollection.h"
 
+#include "orbis/scene/Effect.h"
+
 #include "BillboardBatch.h"
 
 #include <orbis/core/Error.h>
@@ -218,6 +220,7 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
     }
     DrawCommand command;
     command.debugName = "billboards";
+    command.tags = static_cast<std::uint32_t>(Effect::Billboards);
     command.horizonOcclusionPoint = _bounds->refresh(frameState.ellipsoid, positions);
     command.boundingSphere = _bounds->sphere();
     command.vertexArray = _batch->vertexArray();

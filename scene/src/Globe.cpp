@@ -1,5 +1,6 @@
 #include "orbis/scene/Globe.h"
 
+#include "orbis/scene/Effect.h"
 #include "orbis/scene/TileMapService.h"
 
 #include <orbis/core/BoxTessellator.h>
@@ -105,6 +106,16 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     const bool rayCast = _options.method == GlobeMethod::RayCast;
     DrawCommand command;
     command.debugName = "globe";
+    command.tags = static_cast<std::uint32_t>(Effect::Globe);
+    if (_options.lighting) {
+        command.tags = command.tags | Effect::Lighting;
+    }
+    if (!_options.nightTexture.empty()) {
+        command.tags = command.tags | Effect::NightLights;
+    }
+    if (_options.grid) {
+        command.tags = command.tags | Effect::Grid;
+    }
     command.vertexArray = &*_vertexArray;
     command.shaderProgram = _program.get();
     command.boundingSphere = boundingSphere();

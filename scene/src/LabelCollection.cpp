@@ -1,5 +1,7 @@
 #include "orbis/scene/LabelCollection.h"
 
+#include "orbis/scene/Effect.h"
+
 #include "BillboardBatch.h"
 
 #include <orbis/renderer/Font.h>
@@ -264,6 +266,7 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
 
         DrawCommand command;
         command.debugName = "labels";
+        command.tags = static_cast<std::uint32_t>(Effect::Labels);
         command.horizonOcclusionPoint = occlusionPoint;
         command.boundingSphere = _bounds->sphere();
         command.vertexArray = batch->batch.vertexArray();

@@ -1,5 +1,7 @@
 #include "orbis/scene/MeshPrimitive.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
@@ -39,6 +41,7 @@ void MeshPrimitive::update(FrameState& frameState, CommandList& commands)
     }
     DrawCommand command;
     command.debugName = "mesh";
+    command.tags = static_cast<std::uint32_t>(Effect::Meshes);
     command.vertexArray = &*_vertexArray;
     command.shaderProgram = _program.get();
     command.modelMatrix = glm::translate(glm::dmat4(1.0), _boundingSphere.centre);

@@ -144,6 +144,7 @@ FrameStatistics Scene::render(Context& context)
                 const DrawCommand& command = _commands[visible[binned]];
                 if (command.pass == pass) {
                     context.draw(command, sceneState);
+                    statistics.effects |= command.tags;
                     ++drawn;
                 }
             }
@@ -161,6 +162,7 @@ FrameStatistics Scene::render(Context& context)
         sceneState.projectionMatrix = wholeProjection;
         for (const std::uint32_t index : overlay) {
             context.draw(_commands[index], sceneState);
+            statistics.effects |= _commands[index].tags;
         }
         statistics.commandsExecuted += overlay.size();
         statistics.overlayPasses = 1;

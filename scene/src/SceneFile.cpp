@@ -1,5 +1,7 @@
 #include "orbis/scene/SceneFile.h"
 
+#include "orbis/scene/CsvPoints.h"
+
 #include "JsonLocator.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -250,8 +252,8 @@ std::variant<std::vector<std::string>, std::string> readCsvHeader(const fs::path
     return columns;
 }
 
-constexpr std::array<std::string_view, 4> kLongitudeColumns = {"lon", "lng", "long", "longitude"};
-constexpr std::array<std::string_view, 2> kLatitudeColumns = {"lat", "latitude"};
+constexpr auto kLongitudeColumns = kLongitudeColumnNames;
+constexpr auto kLatitudeColumns = kLatitudeColumnNames;
 
 bool hasColumn(const std::vector<std::string>& columns, Keys names)
 {

@@ -68,6 +68,8 @@ struct DrawCommand {
     /// distance to its horizon). They narrow the frustums; the defaults leave the sphere to decide.
     double nearestDistance = 0.0;
     double farthestDistance = std::numeric_limits<double>::infinity();
+    /// A bit set the layer above defines (the scene's Effect); reported, never interpreted here.
+    std::uint32_t tags = 0;
 };
 
 } // namespace orbis

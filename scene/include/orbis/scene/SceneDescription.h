@@ -51,7 +51,7 @@ Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipso
 
 /// What placed the Sun.
 enum class SunSource {
-    Camera,   ///< nothing in the file: the Sun is behind the camera, lighting what it sees
+    Camera,   ///< nothing in the file: no lighting; the direction points from the camera
     Position, ///< "sun": the point where the Sun is overhead
     Time,     ///< "time": computed from a UTC time
 };
