@@ -2,8 +2,13 @@
 // (lines_adjacency), becomes a quad of the line's width plus its outline on both sides, measured in
 // pixels. At a shared vertex both segments take the same mitred offset, so they meet without gap
 // or overlap (turns sharper than 120 degrees fall back to square ends). The quad extends one pixel
-// further for anti-aliasing; g_distance carries the signed distance from the centre in pixels.
-// Segments are clipped at the near plane before the division by w.
+// further for anti-aliasing. Segments are clipped at the near plane before the division by w.
+//
+// The signed distance from the centre in pixels varies linearly across the screen. It is sent as
+// (distance * w, w), interpolated perspective-correctly, and divided in the fragment shader, which
+// gives the screen-linear value. A noperspective varying would say the same more simply, but with
+// Mesa 22.3's llvmpipe it came out wrong on quads that needed clipping, and whole segments with
+// an end near the near plane were discarded (the test "A line running behind the eye...").
 
 layout(lines_adjacency) in;
 layout(triangle_strip, max_vertices = 4) out;
@@ -15,7 +20,7 @@ in vec2 v_widths[];
 flat out vec4 g_color;
 flat out vec4 g_outlineColor;
 flat out vec2 g_halfWidths; // the line's, and the line's with its outline
-noperspective out float g_distance;
+out vec2 g_distanceTimesW; // (signed distance in pixels * w, w)
 
 uniform vec4 og_viewport;
 
@@ -46,7 +51,7 @@ vec2 jointOffset(vec2 normal, vec2 neighbourAlong, bool joined)
 void emit(vec4 clip, vec2 offsetPixels, float distance)
 {
     gl_Position = vec4(clip.xy + offsetPixels / (0.5 * og_viewport.zw) * clip.w, clip.zw);
-    g_distance = distance;
+    g_distanceTimesW = vec2(distance * clip.w, clip.w);
     EmitVertex();
 }
 
