@@ -1,7 +1,6 @@
 // Book chapter 8: filled polygons on the ellipsoid. Every country of Natural Earth's countries-110m,
 // ear clipped on the ellipsoid and subdivided to one degree, in translucent colours with white
-// borders, seen from over the South Pacific: Antarctica around the pole, Fiji and Russia's far
-// east across the antimeridian. Usage: ch08_polygons [--out file.png] [--width W --height H]
+// borders, seen from over Japan: Russia across the antimeridian to Chukotka, East Asia, Alaska. Usage: ch08_polygons [--out file.png] [--width W --height H]
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/FeaturePrimitives.h>
@@ -11,7 +10,6 @@
 #include <glm/geometric.hpp>
 
 #include <array>
-#include <functional>
 
 int main(int argc, char** argv)
 {
@@ -22,21 +20,20 @@ int main(int argc, char** argv)
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), globe));
 
         FeatureStyle style;
-        static constexpr std::array<glm::vec4, 6> kPalette = {
+        // Colours by the feature's place in the file (alphabetical), so neighbours mostly differ.
+        static constexpr std::array<glm::vec4, 7> kPalette = {
             glm::vec4(0.89f, 0.45f, 0.36f, 0.8f), glm::vec4(0.95f, 0.77f, 0.36f, 0.8f),
             glm::vec4(0.55f, 0.78f, 0.45f, 0.8f), glm::vec4(0.42f, 0.68f, 0.84f, 0.8f),
-            glm::vec4(0.70f, 0.55f, 0.82f, 0.8f), glm::vec4(0.93f, 0.60f, 0.75f, 0.8f)};
-        style.fillColorOf = [](const Feature& feature) {
-            const std::size_t hash = std::hash<std::string>{}(feature.stringProperty("name").value_or(""));
-            return kPalette[hash % kPalette.size()];
-        };
+            glm::vec4(0.70f, 0.55f, 0.82f, 0.8f), glm::vec4(0.93f, 0.60f, 0.75f, 0.8f),
+            glm::vec4(0.45f, 0.80f, 0.75f, 0.8f)};
+        style.fillColorOf = [](const Feature& feature) { return kPalette[feature.index % kPalette.size()]; };
         style.border.color = {1.0f, 1.0f, 1.0f, 1.0f};
         style.border.widthPixels = 1.0f;
         const FeatureCollection countries = loadGeoJson(ORBIS_DATA_DIR "/natural-earth/countries-110m.geojson");
         buildFeaturePrimitives(scene.ellipsoid(), countries, style).addTo(scene);
 
         // Daylight where the camera looks.
-        scene.setSunDirection(glm::normalize(scene.ellipsoid().toCartesian(Geodetic3D::fromDegrees(175.0, 10.0))));
-        examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(175.0, -35.0, 1.7e7));
+        scene.setSunDirection(glm::normalize(scene.ellipsoid().toCartesian(Geodetic3D::fromDegrees(140.0, 40.0))));
+        examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(140.0, 40.0, 1.4e7));
     });
 }
