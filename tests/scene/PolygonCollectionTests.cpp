@@ -80,7 +80,7 @@ std::vector<std::pair<std::string, std::vector<std::vector<glm::dvec3>>>> polygo
 
 } // namespace
 
-TEST_CASE("Every country of countries-110m fills; Fiji and Russia across the antimeridian, Antarctica around the pole", "[polygon][natural-earth][golden]")
+TEST_CASE("Every country of countries-110m fills, Fiji and Russia across the antimeridian, Antarctica around the pole", "[polygon][natural-earth][golden]")
 {
     FeatureStyle style;
     style.borders = false;
@@ -223,7 +223,7 @@ TEST_CASE("No point of any country's fill dips below the ellipsoid, at any granu
     }
 }
 
-TEST_CASE("A translucent polygon with a hole blends over the globe; setColor makes it opaque", "[polygon]")
+TEST_CASE("A translucent polygon with a hole blends over the globe, and setColor makes it opaque", "[polygon]")
 {
     PolygonCollectionOptions options;
     options.granularityRadians = toRadians(0.5);

@@ -306,7 +306,7 @@ TEST_CASE("A line running behind the eye is clipped at the near plane, not smear
     REQUIRE(countPixelsNear(image, kRedPixel, 60, size / 2 + 10, 0, size, size) == 0);
 }
 
-TEST_CASE("A world of borders is drawn in groups the scene culls; setStyle recolours and hides one line", "[polyline][culling]")
+TEST_CASE("A world of borders is drawn in groups the scene culls, and setStyle recolours and hides one line", "[polyline][culling]")
 {
     FeatureStyle style;
     style.fill = false;
