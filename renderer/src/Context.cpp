@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 namespace orbis {
@@ -22,9 +23,11 @@ namespace {
 using detail::AutomaticUniform;
 using detail::ShaderProgramAccess;
 
+using detail::ErrorSource;
+
 std::string commandLabel(const DrawCommand& command)
 {
-    return command.debugName.empty() ? std::string("DrawCommand (unnamed)") : "DrawCommand '" + command.debugName + "'";
+    return ErrorSource{"DrawCommand", command.debugName}.text();
 }
 
 std::string framebufferStatusName(GLenum status)
@@ -56,20 +59,29 @@ glm::mat4 toFloat(const glm::dmat4& m) noexcept
 
 /// Fills the og_ uniforms the program uses, each computed in double and sent as float.
 void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const glm::dmat4& model,
-                          const Rectangle& viewport, const DepthRange& depthRange, RenderStatistics& statistics)
+                          const Rectangle& viewport, const DepthRange& depthRange, detail::MatrixCache& cache,
+                          RenderStatistics& statistics)
 {
     const auto& slots = ShaderProgramAccess::automaticSlots(program);
     if (slots.empty()) {
         return;
     }
-    bool haveModelView = false;
-    glm::dmat4 modelView;
+    if (!cache.valid || std::memcmp(&cache.model, &model, sizeof model) != 0 ||
+        std::memcmp(&cache.view, &scene.viewMatrix, sizeof model) != 0 ||
+        std::memcmp(&cache.projection, &scene.projectionMatrix, sizeof model) != 0) {
+        cache.valid = true;
+        cache.model = model;
+        cache.view = scene.viewMatrix;
+        cache.projection = scene.projectionMatrix;
+        cache.haveModelView = false;
+        cache.haveModelViewProjection = false;
+    }
     auto getModelView = [&]() -> const glm::dmat4& {
-        if (!haveModelView) {
-            modelView = scene.viewMatrix * model;
-            haveModelView = true;
+        if (!cache.haveModelView) {
+            cache.modelView = scene.viewMatrix * model;
+            cache.haveModelView = true;
         }
-        return modelView;
+        return cache.modelView;
     };
     auto relativeToEye = [&] {
         glm::dmat4 m = getModelView();
@@ -88,7 +100,11 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
             putAutomatic(program, slot, toFloat(scene.projectionMatrix * scene.viewMatrix), statistics);
             break;
         case AutomaticUniform::ModelViewProjectionMatrix:
-            putAutomatic(program, slot, toFloat(scene.projectionMatrix * getModelView()), statistics);
+            if (!cache.haveModelViewProjection) {
+                cache.modelViewProjection = toFloat(scene.projectionMatrix * getModelView());
+                cache.haveModelViewProjection = true;
+            }
+            putAutomatic(program, slot, cache.modelViewProjection, statistics);
             break;
         case AutomaticUniform::NormalMatrix:
             putAutomatic(program, slot, glm::mat3(glm::transpose(glm::inverse(glm::dmat3(getModelView())))), statistics);
@@ -192,16 +208,17 @@ Rectangle Context::targetRectangle(const Framebuffer* framebuffer) const noexcep
     return r;
 }
 
-Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& where)
+Framebuffer* Context::bindTarget(Framebuffer* requested, const detail::ErrorSource& source)
 {
+    auto where = [&] { return source.text(); }; // put into words only on the way to an error
     detail::ContextState& state = *_state;
     if (!state.isCurrent()) {
-        throw Error(where + ": the context is not current on this thread");
+        throw Error(where() + ": the context is not current on this thread");
     }
     Framebuffer* framebuffer = requested ? requested : _framebuffer;
     if (!framebuffer) {
         if (!state.backend->hasDefaultFramebuffer()) {
-            throw Error(where +
+            throw Error(where() +
                         ": no framebuffer to draw into (a headless context has no default framebuffer: pass one in "
                         "the command or call Context::setFramebuffer)");
         }
@@ -209,10 +226,10 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
         return nullptr;
     }
     if (!framebuffer->valid()) {
-        throw Error(where + ": the framebuffer is empty");
+        throw Error(where() + ": the framebuffer is empty");
     }
     if (framebuffer->_owner != &state) {
-        throw Error(where + ": the framebuffer belongs to another context (framebuffers are not shared)");
+        throw Error(where() + ": the framebuffer belongs to another context (framebuffers are not shared)");
     }
     state.bindFramebuffer(framebuffer->_serial, framebuffer->_name);
     if (framebuffer->_dirty) {
@@ -226,7 +243,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
             if (i < device().info().maxColorAttachments) {
                 gl.glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture ? texture->_name : 0u, 0);
             } else if (texture) {
-                throw Error(where + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
+                throw Error(where() + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
                             std::to_string(device().info().maxColorAttachments));
             }
             if (texture) {
@@ -255,7 +272,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
         gl.glReadBuffer(readBuffer);
         const GLenum status = gl.glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
-            throw Error(where + ": the framebuffer is incomplete: " + framebufferStatusName(status));
+            throw Error(where() + ": the framebuffer is incomplete: " + framebufferStatusName(status));
         }
         framebuffer->_dirty = false;
     }
@@ -270,7 +287,7 @@ void Context::clear(const ClearState& clearState)
 void Context::clear(const ClearState& clearState, Framebuffer* framebuffer)
 {
     detail::ContextState& state = *_state;
-    bindTarget(framebuffer, "Context::clear");
+    bindTarget(framebuffer, ErrorSource{"Context::clear", {}});
     state.applyClearState(clearState);
     const detail::GlApi& gl = state.gl;
     GLbitfield mask = 0;
@@ -308,9 +325,36 @@ void Context::draw(const DrawCommand& command)
     draw(command, identity);
 }
 
+namespace {
+
+/// Asks the CPU to fetch the command that follows `command` in memory. Commands are a few hundred
+/// bytes of plain data, usually kept one after another in a vector: fetching the next while the
+/// driver works on this one hides most of the memory latency of reading it. A prefetch never
+/// faults, so an address past the end of an allocation is harmless.
+inline void prefetchFollowing(const DrawCommand& command, std::size_t distance) noexcept
+{
+    const std::uintptr_t next = reinterpret_cast<std::uintptr_t>(&command) + distance * sizeof(DrawCommand);
+    for (std::size_t offset = 0; offset < sizeof(DrawCommand); offset += 64) {
+        __builtin_prefetch(reinterpret_cast<const void*>(next + offset));
+    }
+}
+
+} // namespace
+
+void Context::draw(std::span<const DrawCommand> commands, const SceneState& scene)
+{
+    for (const DrawCommand& command : commands) {
+        draw(command, scene); // each fetches the one two ahead
+    }
+}
+
 void Context::draw(const DrawCommand& command, const SceneState& scene)
 {
+    prefetchFollowing(command, 2);
     detail::ContextState& state = *_state;
+    if (!state.isCurrent()) {
+        throw Error(commandLabel(command) + ": the context is not current on this thread");
+    }
     ShaderProgram* program = command.shaderProgram;
     const VertexArray* array = command.vertexArray;
     if (!program || !program->valid()) {
@@ -348,7 +392,8 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
                     ") but the vertex array has " + std::to_string(available));
     }
 
-    Framebuffer* target = bindTarget(command.framebuffer, commandLabel(command));
+    const ErrorSource source{"DrawCommand", command.debugName};
+    Framebuffer* target = bindTarget(command.framebuffer, source);
     const Rectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
                                                                                      : targetRectangle(target);
     state.applyViewport(viewport);
@@ -376,21 +421,25 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
         boundUnits |= 1u << binding.unit;
     }
 
-    for (const UniformValues::Entry& entry : command.uniforms) {
-        const std::uint64_t serial = ShaderProgramAccess::serial(*program);
-        if (entry.cachedProgramSerial != serial) {
-            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, entry.name);
-            entry.cachedProgramSerial = serial;
+    const std::uint64_t programSerial = ShaderProgramAccess::serial(*program);
+    const UniformValues& uniforms = command.uniforms;
+    for (std::size_t i = 0; i < uniforms._count; ++i) {
+        const UniformValues::Entry& entry = uniforms.entry(i);
+        if (entry.cachedProgramSerial != programSerial) [[unlikely]] {
+            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, uniforms._names[i]);
+            entry.cachedProgramSerial = programSerial;
         }
-        if (entry.cachedSlot < 0) {
-            program->uniformIndex(entry.name); // throws, naming the active uniforms
+        if (entry.cachedSlot < 0) [[unlikely]] {
+            entry.cachedProgramSerial = 0;
+            program->uniformIndex(uniforms._names[i]); // throws, naming the active uniforms
         }
-        if (!ShaderProgramAccess::assign(*program, entry.cachedSlot, entry.value, commandLabel(command))) {
+        if (!ShaderProgramAccess::assignBytes(*program, entry.cachedSlot, entry.type, uniforms.bytes(entry), entry.size,
+                                              source)) {
             ++state.statistics.uniformUploadsAvoided;
         }
     }
     setAutomaticUniforms(*program, scene, command.modelMatrix, viewport, command.renderState.depthRange,
-                         state.statistics);
+                         state.matrices, state.statistics);
     if (ShaderProgramAccess::unsetCount(*program) != 0) {
         ShaderProgramAccess::checkAllSet(*program, commandLabel(command));
     }
@@ -423,7 +472,7 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
 Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
 {
     detail::ContextState& state = *_state;
-    Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), "Context::readPixels");
+    Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), ErrorSource{"Context::readPixels", {}});
     const Rectangle size = targetRectangle(target);
     if (target) {
         if (colorAttachment < 0 || colorAttachment >= Framebuffer::kMaxColorAttachments ||
@@ -450,6 +499,11 @@ Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
         }
     }
     return image;
+}
+
+void Context::resetState() noexcept
+{
+    _state->forgetState();
 }
 
 void Context::flush()

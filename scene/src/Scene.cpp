@@ -101,7 +101,10 @@ FrameStatistics Scene::render(Context& context)
     // Cull, then bin what survives into frustums by its extent along the view direction.
     phase = std::chrono::steady_clock::now();
     const glm::dvec3 eye = _camera.eye();
-    _binner.cullAndBin(_commands, frameState.cullingVolume, frameState.occluder, eye, _camera.direction(), statistics);
+    const double tanHalfY = std::tan(0.5 * _camera.fieldOfViewY());
+    const double cosHalfDiagonal = 1.0 / std::sqrt(1.0 + tanHalfY * tanHalfY * (1.0 + aspect * aspect));
+    _binner.cullAndBin(_commands, frameState.cullingVolume, frameState.occluder, eye, _camera.direction(),
+                       cosHalfDiagonal, statistics);
     statistics.cullMilliseconds = millisecondsSince(phase);
 
     // Draw: back to front, a depth clear per frustum, opaque before translucent.
