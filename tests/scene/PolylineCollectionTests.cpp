@@ -5,6 +5,8 @@
 #include <orbis/scene/FeaturePrimitives.h>
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/scene/PolylineCollection.h>
+#include <orbis/scene/SceneBuilder.h>
+#include <orbis/scene/SceneFile.h>
 
 #include <glm/geometric.hpp>
 
@@ -386,4 +388,31 @@ TEST_CASE("Empty collections and lines of fewer than two positions submit nothin
     REQUIRE(lines->positions(1).empty());
     REQUIRE(lines->segmentCount() == 0);
     REQUIRE(renderFrame(scene, 16, 16).statistics.commandsSubmitted == 0);
+}
+
+TEST_CASE("Scene files draw GeoJSON layers as borders and fills, and polyline layers as lines", "[polyline][polygon][scenefile]")
+{
+    const std::string text = R"({"version": 1,
+        "camera": {"position": {"lon": 20, "lat": 10, "height": 15000000}, "target": {"lon": 20, "lat": 10, "height": 0}},
+        "globe": {"method": "raycast"},
+        "layers": [
+          {"type": "geojson", "source": "natural-earth/countries-110m.geojson",
+           "stroke": {"color": "#ff0000", "width": 2}, "fill": {"color": "#00ff00"}},
+          {"type": "polyline", "positions": [[-10, -30], [50, -30]], "width": 4, "color": "#ffff00"}]})";
+    const SceneDescription description = parseSceneText(text, "layers.json", ORBIS_SOURCE_DIR "/data");
+    Scene scene(kEarth);
+    populateScene(description, scene);
+    REQUIRE(scene.primitives().size() == 4); // globe, fills, borders, line
+    const Image image = renderFrame(scene, 96, 96).image;
+    REQUIRE(countPixelsNear(image, {0, 255, 0, 255}) > 300);   // Africa filled
+    REQUIRE(countPixelsNear(image, kRedPixel) > 50);            // its borders
+    REQUIRE(countPixelsNear(image, {255, 255, 0, 255}) > 40);  // the line across the South Atlantic and Africa
+
+    // Layers this build cannot draw still name themselves.
+    const std::string points = R"({"version": 1, "layers": [{"type": "model", "source": "m.glb",
+        "position": {"lon": 0, "lat": 0}}]})";
+    const SceneDescription unsupported =
+        parseSceneText(points, "model.json", ORBIS_SOURCE_DIR "/data", SceneParseOptions{false});
+    Scene other(kEarth);
+    REQUIRE_THROWS_WITH(populateScene(unsupported, other), Catch::Contains("/layers/0: model layers"));
 }
