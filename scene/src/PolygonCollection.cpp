@@ -36,6 +36,7 @@ struct PolygonCollection::Item {
 struct PolygonCollection::Gpu {
     struct Group {
         detail::GroupBounds bounds;
+        double maxHeight = 0.0; ///< the largest lift: polygons lie on the ellipsoid
         std::vector<std::size_t> polygons;
     };
     struct Range {
@@ -164,6 +165,7 @@ void PolygonCollection::build(FrameState& frameState)
         for (const std::uint32_t member : members) {
             const Mesh& mesh = _polygons[drawable[member]].mesh;
             group.polygons.push_back(drawable[member]);
+            group.maxHeight = std::max(group.maxHeight, _polygons[drawable[member]].lift);
             positions.insert(positions.end(), mesh.positions.begin(), mesh.positions.end());
         }
         group.bounds = detail::boundsOf(_ellipsoid, positions);
@@ -276,6 +278,8 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
 
     const glm::vec4 depthOffset =
         detail::depthOffsetUniform(_ellipsoid, _options.depthOffset, kFillDepthSteps, kFillDepthFraction, 0.0);
+    const glm::dvec3 eye = frameState.camera.eye();
+    const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Gpu::Range& range : gpu.ranges) {
         const Gpu::Group& group = gpu.groups[range.group];
         DrawCommand command;
@@ -292,6 +296,7 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
         command.pass = range.pass;
         command.boundingSphere = group.bounds.sphere;
         command.horizonOcclusionPoint = group.bounds.occlusionPoint;
+        detail::boundDepth(command, _ellipsoid, eye, eyeHeight, group.maxHeight);
         commands.push_back(std::move(command));
     }
 }

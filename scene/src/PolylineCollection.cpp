@@ -35,6 +35,7 @@ struct SurfacePoint {
 struct PolylineCollection::Line {
     std::vector<glm::dvec3> positions; ///< drawn: subdivided and lifted
     double lift = 0.0;
+    double maxHeight = 0.0; ///< of the drawn positions above the ellipsoid: lift and heights given
     bool loop = false;
     PolylineStyle style;
     BoundingSphere sphere;
@@ -44,6 +45,7 @@ struct PolylineCollection::Line {
 struct PolylineCollection::Gpu {
     struct Group {
         detail::GroupBounds bounds;
+        double maxHeight = 0.0;
         std::vector<std::size_t> lines;
     };
     struct Range {
@@ -141,6 +143,10 @@ std::size_t PolylineCollection::add(std::span<const glm::dvec3> positions, const
             widest = std::max(widest, detail::centralAngle(drawn[k].surface, drawn[(k + 1) % count].surface));
         }
         line.lift = detail::chordSagBound(_ellipsoid, widest);
+        line.maxHeight = line.lift;
+        for (const SurfacePoint& point : drawn) {
+            line.maxHeight = std::max(line.maxHeight, point.height + line.lift);
+        }
         line.positions.reserve(count);
         for (const SurfacePoint& point : drawn) {
             line.positions.push_back(point.surface +
@@ -228,6 +234,7 @@ void PolylineCollection::build(FrameState& frameState)
         for (const std::uint32_t member : members) {
             const Line& line = _lines[drawable[member]];
             group.lines.push_back(drawable[member]);
+            group.maxHeight = std::max(group.maxHeight, line.maxHeight);
             positions.insert(positions.end(), line.positions.begin(), line.positions.end());
         }
         group.bounds = detail::boundsOf(_ellipsoid, positions);
@@ -365,6 +372,8 @@ void PolylineCollection::update(FrameState& frameState, CommandList& commands)
     const glm::vec4 depthOffset = detail::depthOffsetUniform(
         _ellipsoid, _options.depthOffset, kLineDepthSteps, kLineDepthFraction,
         detail::triangleSagBound(_ellipsoid, _options.granularityRadians));
+    const glm::dvec3 eye = frameState.camera.eye();
+    const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Gpu::Range& range : gpu.ranges) {
         const Gpu::Group& group = gpu.groups[range.group];
         DrawCommand command;
@@ -383,6 +392,7 @@ void PolylineCollection::update(FrameState& frameState, CommandList& commands)
         command.pass = range.pass;
         command.boundingSphere = group.bounds.sphere;
         command.horizonOcclusionPoint = group.bounds.occlusionPoint;
+        detail::boundDepth(command, _ellipsoid, eye, eyeHeight, group.maxHeight);
         commands.push_back(std::move(command));
     }
 }

@@ -96,6 +96,20 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
     return bounds;
 }
 
+void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+                double maxHeight) noexcept
+{
+    if (!(eyeHeight > 0.0)) {
+        return;
+    }
+    const double b = ellipsoid.minimumRadius();
+    const double top = ellipsoid.maximumRadius() + std::max(maxHeight, 0.0);
+    const double eyeDistance = glm::length(eye);
+    command.nearestDistance = std::max(0.0, eyeHeight - maxHeight);
+    command.farthestDistance =
+        std::sqrt(std::max(0.0, eyeDistance * eyeDistance - b * b)) + std::sqrt(top * top - b * b);
+}
+
 void appendPosition(std::vector<float>& out, const glm::dvec3& position, bool relativeToEye, const glm::dvec3& centre)
 {
     if (relativeToEye) {

@@ -53,6 +53,15 @@ struct GroupBounds {
 };
 GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> positions);
 
+/// Sets a command's nearestDistance and farthestDistance for geometry no higher than maxHeight
+/// above the ellipsoid, seen from `eye` (nothing when the eye is not above the ellipsoid): nothing
+/// is nearer than the eye's height less maxHeight, and nothing visible is farther than the tangent
+/// from the eye to the inscribed sphere (radius b: a sight line through it meets the ellipsoid)
+/// continued to the sphere of radius a + maxHeight. Far tighter than a group's sphere, which a
+/// low eye is often inside, so low views need fewer frustums.
+void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+                double maxHeight) noexcept;
+
 /// Appends a position as the vertex shader reads it: positionHigh, positionLow (relative to the
 /// eye on the GPU) or a float offset from `centre` (relative to centre).
 void appendPosition(std::vector<float>& out, const glm::dvec3& position, bool relativeToEye, const glm::dvec3& centre);
