@@ -2,6 +2,7 @@
 
 #include "orbis/scene/BillboardCollection.h"
 #include "orbis/scene/CsvPoints.h"
+#include "orbis/scene/FeaturePrimitives.h"
 #include "orbis/scene/GeoJson.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
@@ -10,10 +11,46 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <variant>
 
 namespace orbis {
 
 namespace {
+
+PolylineStyle polylineStyle(const StrokeStyle& stroke)
+{
+    PolylineStyle style;
+    style.color = stroke.color;
+    style.widthPixels = static_cast<float>(stroke.widthPixels);
+    style.outlineColor = stroke.outlineColor;
+    style.outlineWidthPixels = static_cast<float>(stroke.outlineWidthPixels);
+    return style;
+}
+
+/// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
+/// default stroke.
+void addGeoJsonLayer(const GeoJsonLayer& layer, Scene& scene)
+{
+    FeatureStyle style;
+    style.borders = layer.stroke.has_value() || !layer.fill.has_value();
+    style.border = polylineStyle(layer.stroke.value_or(StrokeStyle{}));
+    style.fill = layer.fill.has_value();
+    if (layer.fill) {
+        style.fillColor = layer.fill->color;
+    }
+    buildFeaturePrimitives(scene.ellipsoid(), loadGeoJson(layer.source), style).addTo(scene);
+}
+
+void addPolylineLayer(const PolylineLayer& layer, Scene& scene)
+{
+    StrokeStyle stroke;
+    stroke.color = layer.color;
+    stroke.widthPixels = layer.widthPixels;
+    auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid());
+    lines->add(std::span<const Geodetic3D>(layer.positions), polylineStyle(stroke));
+    scene.add(std::move(lines));
+}
 
 /// A white disc with a soft edge, `size` pixels across: the default billboard (its colour comes
 /// from the style), drawn at scale 1 so it stays crisp.
@@ -55,7 +92,7 @@ struct Points {
     std::vector<std::string> texts;
 };
 
-Points readPoints(const PointsLayer& layer, const std::string& pointer)
+Points readPoints(const PointsLayer& layer)
 {
     Points points;
     const std::string field = layer.label ? layer.label->field : std::string();
@@ -68,7 +105,7 @@ Points readPoints(const PointsLayer& layer, const std::string& pointer)
         if (!field.empty()) {
             const std::vector<std::string>* texts = csv.column(field);
             if (!texts) {
-                throw Error(pointer + "/label/field: " + layer.source.string() + " has no column \"" + field + "\"");
+                throw Error("label field: " + layer.source.string() + " has no column \"" + field + "\"");
             }
             points.texts = *texts;
         }
@@ -96,9 +133,9 @@ Points readPoints(const PointsLayer& layer, const std::string& pointer)
 }
 
 /// A billboard for every point, and a label when the layer asks for one.
-void addPointsLayer(const PointsLayer& layer, const std::string& pointer, Scene& scene)
+void addPointsLayer(const PointsLayer& layer, Scene& scene)
 {
-    const Points points = readPoints(layer, pointer);
+    const Points points = readPoints(layer);
     const Ellipsoid& ellipsoid = scene.ellipsoid();
     const BillboardStyle& style = layer.billboard;
     const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
@@ -147,16 +184,6 @@ void addPointsLayer(const PointsLayer& layer, const std::string& pointer, Scene&
     scene.add(labels);
 }
 
-const char* layerKind(const LayerDescription& layer)
-{
-    switch (layer.index()) {
-    case 0: return "geojson";
-    case 1: return "points";
-    case 2: return "polyline";
-    default: return "model";
-    }
-}
-
 } // namespace
 
 void populateScene(const SceneDescription& description, Scene& scene)
@@ -183,12 +210,24 @@ void populateScene(const SceneDescription& description, Scene& scene)
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
     }
     for (std::size_t i = 0; i < description.layers.size(); ++i) {
-        const std::string pointer = "/layers/" + std::to_string(i);
-        if (const auto* points = std::get_if<PointsLayer>(&description.layers[i])) {
-            addPointsLayer(*points, pointer, scene);
-            continue;
+        try {
+            std::visit(
+                [&](const auto& layer) {
+                    using Layer = std::decay_t<decltype(layer)>;
+                    if constexpr (std::is_same_v<Layer, GeoJsonLayer>) {
+                        addGeoJsonLayer(layer, scene);
+                    } else if constexpr (std::is_same_v<Layer, PolylineLayer>) {
+                        addPolylineLayer(layer, scene);
+                    } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
+                        addPointsLayer(layer, scene);
+                    } else {
+                        throw Error("model layers are not drawn by this build yet");
+                    }
+                },
+                description.layers[i]);
+        } catch (const Error& error) {
+            throw Error("/layers/" + std::to_string(i) + ": " + error.what());
         }
-        throw Error(pointer + ": " + layerKind(description.layers[i]) + " layers are not drawn by this build yet");
     }
 }
 

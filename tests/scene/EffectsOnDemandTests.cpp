@@ -126,3 +126,24 @@ TEST_CASE("Flying low adds the multi-frustum only when the depth range needs it"
     REQUIRE(difference(near.effects, high.effects) == std::set<std::string>{"multi-frustum"});
     REQUIRE(difference(high.effects, near.effects).empty());
 }
+
+TEST_CASE("A GeoJSON layer's stroke adds polylines, its translucent fill adds polygons and the translucent pass", "[scene][effects]")
+{
+    const std::string source = R"("source": "../natural-earth/countries-110m.geojson")";
+    requireOnlyEffect(render(sceneText()),
+                      render(sceneText(R"(, "layers": [{"type": "geojson", )" + source +
+                                       R"(, "stroke": {"color": "#ffff00", "width": 2}}])")),
+                      {"polylines"});
+    requireOnlyEffect(render(sceneText()),
+                      render(sceneText(R"(, "layers": [{"type": "geojson", )" + source +
+                                       R"(, "fill": {"color": "#ff000080"}}])")),
+                      {"polygons", "translucent pass"});
+}
+
+TEST_CASE("A polyline layer adds polylines and nothing else", "[scene][effects]")
+{
+    requireOnlyEffect(render(sceneText()),
+                      render(sceneText(R"(, "layers": [{"type": "polyline", "width": 3, "color": "#ff0000ff",
+                                             "positions": [[0, 40, 0], [40, 50, 0]]}])")),
+                      {"polylines"});
+}

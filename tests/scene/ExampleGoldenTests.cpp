@@ -43,6 +43,14 @@ TEST_CASE("The chapter 4 examples render their golden images", "[scene][golden][
     }
 }
 
+TEST_CASE("The chapter 7 and 8 examples render their golden images", "[scene][golden][examples]")
+{
+    for (const char* example : {"ch07_vector_data", "ch08_polygons"}) {
+        INFO(example);
+        ORBIS_REQUIRE_GOLDEN(runExample(example, example), std::string("scene/") + example, kTolerance);
+    }
+}
+
 TEST_CASE("The chapter 9 example renders its golden image", "[scene][golden][examples]")
 {
     ORBIS_REQUIRE_GOLDEN(runExample("ch09_billboards", "ch09_billboards"), "scene/ch09_billboards", kTolerance);
