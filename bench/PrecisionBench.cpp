@@ -396,7 +396,7 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
                     "draw (GPU) ms per frame"};
     Framebuffer framebuffer = context.createFramebuffer(800, 600);
     context.setFramebuffer(&framebuffer);
-    for (const DepthStrategy strategy : kDepthStrategies) {
+    for (const DepthStrategy strategy : kAllDepthStrategies) {
         Scene scene;
         scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T08:30:00Z")));
         scene.options().depthStrategy = strategy;

@@ -9,6 +9,7 @@ packages="
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   libstb-dev libtinygltf-dev nlohmann-json3-dev
   xplanet-images fonts-dejavu-core
+  clang-14 libclang-rt-14-dev
 "
 
 missing=""

@@ -8,7 +8,9 @@ namespace orbis {
 
 glm::dmat3 eastNorthUpAxes(const Ellipsoid& ellipsoid, const glm::dvec3& origin) noexcept
 {
-    const glm::dvec3 up = ellipsoid.geodeticSurfaceNormal(origin);
+    // The normal at the foot below origin: above the surface, the gradient at origin itself belongs
+    // to a scaled ellipsoid and leans by up to a few hundredths of a degree.
+    const glm::dvec3 up = ellipsoid.geodeticSurfaceNormal(ellipsoid.scaleToGeodeticSurface(origin));
     glm::dvec3 east(-up.y, up.x, 0.0); // z x up
     const double eastLength = glm::length(east);
     east = eastLength > 1e-15 ? east / eastLength : glm::dvec3(0.0, 1.0, 0.0);

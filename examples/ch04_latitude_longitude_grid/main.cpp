@@ -12,6 +12,6 @@ int main(int argc, char** argv)
         options.dayTexture = examples::xplanetDayImage();
         options.grid = true;
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
-        examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(170.0, 50.0, 1.2e7));
+        examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(20.0, 50.0, 1.2e7));
     });
 }

@@ -1,5 +1,6 @@
 // Book section 4.1: the globe as a tessellated mesh, here an octahedron subdivided six times and
-// projected onto WGS84, drawn relative to the eye. Usage: ch04_subdivision_sphere [--out file.png]
+// projected onto WGS84, drawn relative to the eye, textured with the Natural Earth II tile
+// pyramid. Usage: ch04_subdivision_sphere [--out file.png]
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/Globe.h>
@@ -12,7 +13,8 @@ int main(int argc, char** argv)
         options.method = GlobeMethod::Tessellated;
         options.tessellation = GlobeTessellation::SubdivisionEllipsoid;
         options.tessellationLevel = 6;
-        options.dayTexture = examples::xplanetDayImage();
+        options.dayTexture = examples::naturalEarthPyramid(); // the TMS tiles, joined
+
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
         examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(-60.0, 10.0, 1.8e7));
     });

@@ -8,6 +8,7 @@
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/PrecisionMeasurement.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -54,7 +55,9 @@ int main(int argc, char** argv)
             char caption[256];
             std::snprintf(caption, sizeof caption, "%s\nmeasured: %.3g px, %.3g mm", vertexTransformName(transform),
                           error.maxPixels, 1e3 * error.maxMeters);
-            examples::drawCaption(tile, 6, 4, caption, 13.0f);
+            // Captions scale with the tile, up to 13 pixels.
+            const float captionSize = std::clamp(std::min(static_cast<float>(width) / 25.0f, static_cast<float>(height) / 18.0f), 6.5f, 13.0f);
+            examples::drawCaption(tile, 4, 3, caption, captionSize);
             tiles.push_back(std::move(tile));
             std::printf("%-42s %12.4g %12.4g\n", vertexTransformName(transform), error.maxPixels, 1e3 * error.maxMeters);
         }

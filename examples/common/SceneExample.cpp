@@ -48,6 +48,11 @@ int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
     }
 }
 
+std::string naturalEarthPyramid()
+{
+    return std::string(ORBIS_DATA_DIR) + "/imagery/NaturalEarthII";
+}
+
 std::string xplanetDayImage()
 {
     return "/usr/share/xplanet/images/earth.jpg";

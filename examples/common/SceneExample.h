@@ -21,6 +21,9 @@ struct ExampleSettings {
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
                     const std::function<void(Scene&, const ExampleSettings&)>& setup);
 
+/// The Natural Earth II TMS pyramid in data/imagery.
+std::string naturalEarthPyramid();
+
 /// The day and night Earth images of Debian's xplanet-images package.
 std::string xplanetDayImage();
 std::string xplanetNightImage();

@@ -1,10 +1,30 @@
-// The orbis command. For now it demonstrates the core library: a few geodetic conversions on WGS84.
+// The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
+// from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
+// 2 the command line is wrong.
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/renderer/Device.h>
+#include <orbis/scene/SceneBuilder.h>
+#include <orbis/scene/SceneFile.h>
 
+#include <chrono>
 #include <cstdio>
-#include <cstring>
+#include <cstdlib>
+#include <exception>
+#include <fstream>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include <unistd.h>
 
 namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailed = 1;
+constexpr int kExitUsage = 2;
+
+using Arguments = std::span<char* const>;
 
 void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbis::Geodetic3D& g)
 {
@@ -16,18 +36,11 @@ void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbi
                 orbis::toDegrees(back.longitude), orbis::toDegrees(back.latitude), back.height);
 }
 
-int usage()
+/// orbis demo: a few geodetic conversions on WGS84.
+int runDemo(Arguments arguments)
 {
-    std::fprintf(stderr, "usage: orbis demo\n");
-    return 2;
-}
-
-} // namespace
-
-int main(int argc, char** argv)
-{
-    if (argc > 2 || (argc == 2 && std::strcmp(argv[1], "demo") != 0)) {
-        return usage();
+    if (!arguments.empty()) {
+        return kExitUsage;
     }
     const orbis::Ellipsoid earth = orbis::Ellipsoid::wgs84();
     printConversion(earth, "Greenwich, sea level", orbis::Geodetic3D::fromDegrees(0.0, 51.4778, 0.0));
@@ -39,5 +52,234 @@ int main(int argc, char** argv)
     std::printf("%-22s x 0 y 0 z 0 -> lon %.1f lat %.1f h %.3f m (the closest surface point is a pole)\n",
                 "Earth's centre", orbis::toDegrees(centre.longitude), orbis::toDegrees(centre.latitude),
                 centre.height);
-    return 0;
+    return kExitOk;
+}
+
+/// orbis validate SCENE.json...: reads each file as `orbis render` would, renders nothing.
+int runValidate(Arguments arguments)
+{
+    if (arguments.empty()) {
+        return kExitUsage;
+    }
+    int exitCode = kExitOk;
+    for (const char* path : arguments) {
+        try {
+            const orbis::SceneDescription scene = orbis::parseSceneFile(path);
+            std::printf("%s: ok (%zu %s)\n", path, scene.layers.size(), scene.layers.size() == 1 ? "layer" : "layers");
+        } catch (const orbis::Error& error) {
+            std::fprintf(stderr, "%s\n", error.what());
+            exitCode = kExitFailed;
+        }
+    }
+    return exitCode;
+}
+
+/// Where frame `index` of `count` goes: the output itself for one frame, else name_0001.png etc.
+std::string framePath(const std::string& output, int index, int count)
+{
+    if (count == 1) {
+        return output;
+    }
+    const std::size_t dot = output.rfind('.');
+    const std::size_t slash = output.rfind('/');
+    const bool hasExtension = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+    char number[16];
+    std::snprintf(number, sizeof number, "_%04d", index + 1);
+    return hasExtension ? output.substr(0, dot) + number + output.substr(dot) : output + number;
+}
+
+/// A progress bar on a terminal, for flights.
+void showProgress(int done, int count, double elapsedSeconds)
+{
+    if (count <= 1 || !isatty(fileno(stderr))) {
+        return;
+    }
+    constexpr int kWidth = 30;
+    const int filled = done * kWidth / count;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames, %.1f frames/s", filled, "==============================",
+                 kWidth - filled, "", done, count, elapsedSeconds > 0.0 ? done / elapsedSeconds : 0.0);
+    if (done == count) {
+        std::fputc('\n', stderr);
+    }
+}
+
+/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path
+/// PATH.json]: one frame of a scene file (the built-in default Earth without one), or a flight
+/// along a camera path as numbered PNGs, headless. Each PNG appears whole or not at all.
+int runRender(Arguments arguments)
+{
+    std::optional<std::string> scenePath;
+    std::string output = "orbis.png";
+    std::optional<std::string> statisticsPath;
+    std::optional<std::string> cameraPath;
+    std::optional<int> width;
+    std::optional<int> height;
+    std::optional<int> frames;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        const bool hasValue = i + 1 < arguments.size();
+        auto count = [&](std::optional<int>& value, int maximum) {
+            const int parsed = std::atoi(arguments[++i]);
+            value = parsed;
+            return parsed >= 1 && parsed <= maximum;
+        };
+        if (argument == "--out" && hasValue) {
+            output = arguments[++i];
+        } else if (argument == "--stats" && hasValue) {
+            statisticsPath = arguments[++i];
+        } else if (argument == "--path" && hasValue) {
+            cameraPath = arguments[++i];
+        } else if ((argument == "--width" && hasValue && !count(width, 16384)) ||
+                   (argument == "--height" && hasValue && !count(height, 16384)) ||
+                   (argument == "--frames" && hasValue && !count(frames, 100000))) {
+            return kExitUsage;
+        } else if (argument == "--width" || argument == "--height" || argument == "--frames") {
+            if (!hasValue) {
+                return kExitUsage;
+            }
+        } else if (!argument.starts_with("--") && !scenePath) {
+            scenePath = std::string(argument);
+        } else {
+            return kExitUsage;
+        }
+    }
+    if (frames.value_or(1) > 1 && !cameraPath) {
+        std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
+        return kExitUsage;
+    }
+
+    try {
+        const orbis::SceneDescription description =
+            scenePath ? orbis::parseSceneFile(*scenePath) : orbis::parseDefaultScene();
+        std::optional<orbis::CameraPath> flight;
+        if (cameraPath) {
+            flight.emplace(orbis::Ellipsoid::wgs84());
+            for (const orbis::CameraPath::Keyframe& keyframe : orbis::parseCameraPathFile(*cameraPath)) {
+                flight->add(keyframe);
+            }
+        }
+        const int frameCount = flight ? frames.value_or(60) : 1;
+
+        orbis::Device device;
+        orbis::Context& context = device.context();
+        orbis::Framebuffer framebuffer =
+            context.createFramebuffer(width.value_or(description.width), height.value_or(description.height));
+        context.setFramebuffer(&framebuffer);
+        orbis::Scene scene;
+        orbis::populateScene(description, scene);
+
+        std::string statisticsJson = frameCount > 1 ? "[\n" : "";
+        const auto start = std::chrono::steady_clock::now();
+        for (int frame = 0; frame < frameCount; ++frame) {
+            if (flight) {
+                const double t = frameCount > 1 ? static_cast<double>(frame) / (frameCount - 1) : 0.0;
+                flight->apply(flight->keyframes().front().seconds + t * flight->duration(), scene.camera());
+            }
+            const orbis::FrameStatistics statistics = scene.render(context);
+            const std::string path = framePath(output, frame, frameCount);
+            orbis::writePng(context.readPixels(), path);
+            if (frame == 0 || frameCount == 1) {
+                std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
+                            device.info().renderer.c_str(), statistics.toText().c_str());
+            }
+            statisticsJson += statistics.toJson();
+            if (frameCount > 1) {
+                statisticsJson += frame + 1 < frameCount ? ",\n" : "]\n";
+            }
+            showProgress(frame + 1, frameCount,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+        if (frameCount > 1) {
+            std::printf("%d frames: %s .. %s\n", frameCount, framePath(output, 0, frameCount).c_str(),
+                        framePath(output, frameCount - 1, frameCount).c_str());
+        }
+        if (statisticsPath) {
+            std::ofstream file(*statisticsPath);
+            file << statisticsJson;
+            if (!file) {
+                std::fprintf(stderr, "orbis render: cannot write %s\n", statisticsPath->c_str());
+                return kExitFailed;
+            }
+        }
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis render: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
+/// orbis info: the OpenGL driver the headless device gets, and its limits.
+int runInfo(Arguments arguments)
+{
+    if (!arguments.empty()) {
+        return kExitUsage;
+    }
+    const orbis::Device device;
+    const orbis::DeviceInfo& info = device.info();
+    std::printf("backend:          %s\n", info.backendDescription.c_str());
+    std::printf("vendor:           %s\n", info.vendor.c_str());
+    std::printf("renderer:         %s\n", info.renderer.c_str());
+    std::printf("version:          %s\n", info.version.c_str());
+    std::printf("GLSL:             %s\n", info.shadingLanguageVersion.c_str());
+    std::printf("max texture size: %d\n", info.maxTextureSize);
+    std::printf("texture units:    %d\n", info.maxTextureUnits);
+    std::printf("colour targets:   %d\n", info.maxColorAttachments);
+    std::printf("vertex attributes: %d\n", info.maxVertexAttributes);
+    std::printf("max anisotropy:   %g\n", static_cast<double>(info.maxAnisotropy));
+    std::printf("KHR_debug:        %s\n", info.khrDebug ? "yes" : "no");
+    return kExitOk;
+}
+
+struct Subcommand {
+    std::string_view name;
+    std::string_view arguments; ///< for the usage line
+    std::string_view summary;
+    int (*run)(Arguments);
+};
+
+constexpr Subcommand kSubcommands[] = {
+    {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
+    {"render", "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path PATH.json]",
+     "render a scene file (the default Earth without one) to a PNG, or a flight along a camera path to "
+     "numbered PNGs, headless",
+     runRender},
+    {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+    {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
+};
+
+int usage(std::FILE* stream, int exitCode)
+{
+    std::fprintf(stream, "usage:\n");
+    for (const Subcommand& subcommand : kSubcommands) {
+        std::fprintf(stream, "  orbis %.*s %.*s\n      %.*s\n", static_cast<int>(subcommand.name.size()),
+                     subcommand.name.data(), static_cast<int>(subcommand.arguments.size()),
+                     subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
+                     subcommand.summary.data());
+    }
+    std::fprintf(stream, "exit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
+    return exitCode;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const Arguments all(argv, static_cast<std::size_t>(argc));
+    const std::string_view name = all.size() > 1 ? std::string_view(all[1]) : std::string_view("demo");
+    if (name == "help" || name == "--help" || name == "-h") {
+        return usage(stdout, kExitOk);
+    }
+    for (const Subcommand& subcommand : kSubcommands) {
+        if (subcommand.name == name) {
+            try {
+                const int exitCode = subcommand.run(all.size() > 2 ? all.subspan(2) : Arguments());
+                return exitCode == kExitUsage ? usage(stderr, kExitUsage) : exitCode;
+            } catch (const std::exception& error) {
+                std::fprintf(stderr, "orbis %.*s: %s\n", static_cast<int>(name.size()), name.data(), error.what());
+                return kExitFailed;
+            }
+        }
+    }
+    std::fprintf(stderr, "orbis: unknown command \"%.*s\"\n", static_cast<int>(name.size()), name.data());
+    return usage(stderr, kExitUsage);
 }

@@ -45,6 +45,8 @@ public:
     virtual GetProcAddressFunction getProcAddress() const noexcept = 0;
     /// "EGL 1.5 surfaceless (Mesa Project)" and the like.
     virtual std::string description() const = 0;
+    /// The window of a window backend (a GLFWwindow); null for the headless ones.
+    virtual void* nativeWindow() const noexcept { return nullptr; }
 };
 
 /// Throws orbis::Error listing what each display tried answered.

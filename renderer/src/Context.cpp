@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -24,9 +25,11 @@ namespace {
 using detail::AutomaticUniform;
 using detail::ShaderProgramAccess;
 
+using detail::ErrorSource;
+
 std::string commandLabel(const DrawCommand& command)
 {
-    return command.debugName.empty() ? std::string("DrawCommand (unnamed)") : "DrawCommand '" + command.debugName + "'";
+    return ErrorSource{"DrawCommand", command.debugName}.text();
 }
 
 std::string framebufferStatusName(GLenum status)
@@ -58,20 +61,29 @@ glm::mat4 toFloat(const glm::dmat4& m) noexcept
 
 /// Fills the og_ uniforms the program uses, each computed in double and sent as float.
 void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const glm::dmat4& model,
-                          const Rectangle& viewport, const DepthRange& depthRange, RenderStatistics& statistics)
+                          const Rectangle& viewport, const DepthRange& depthRange, detail::MatrixCache& cache,
+                          RenderStatistics& statistics)
 {
     const auto& slots = ShaderProgramAccess::automaticSlots(program);
     if (slots.empty()) {
         return;
     }
-    bool haveModelView = false;
-    glm::dmat4 modelView;
+    if (!cache.valid || std::memcmp(&cache.model, &model, sizeof model) != 0 ||
+        std::memcmp(&cache.view, &scene.viewMatrix, sizeof model) != 0 ||
+        std::memcmp(&cache.projection, &scene.projectionMatrix, sizeof model) != 0) {
+        cache.valid = true;
+        cache.model = model;
+        cache.view = scene.viewMatrix;
+        cache.projection = scene.projectionMatrix;
+        cache.haveModelView = false;
+        cache.haveModelViewProjection = false;
+    }
     auto getModelView = [&]() -> const glm::dmat4& {
-        if (!haveModelView) {
-            modelView = scene.viewMatrix * model;
-            haveModelView = true;
+        if (!cache.haveModelView) {
+            cache.modelView = scene.viewMatrix * model;
+            cache.haveModelView = true;
         }
-        return modelView;
+        return cache.modelView;
     };
     auto relativeToEye = [&] {
         glm::dmat4 m = getModelView();
@@ -90,7 +102,11 @@ void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const
             putAutomatic(program, slot, toFloat(scene.projectionMatrix * scene.viewMatrix), statistics);
             break;
         case AutomaticUniform::ModelViewProjectionMatrix:
-            putAutomatic(program, slot, toFloat(scene.projectionMatrix * getModelView()), statistics);
+            if (!cache.haveModelViewProjection) {
+                cache.modelViewProjection = toFloat(scene.projectionMatrix * getModelView());
+                cache.haveModelViewProjection = true;
+            }
+            putAutomatic(program, slot, cache.modelViewProjection, statistics);
             break;
         case AutomaticUniform::NormalMatrix:
             putAutomatic(program, slot, glm::mat3(glm::transpose(glm::inverse(glm::dmat3(getModelView())))), statistics);
@@ -221,16 +237,17 @@ Rectangle Context::targetRectangle(const Framebuffer* framebuffer) const noexcep
     return r;
 }
 
-Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& where)
+Framebuffer* Context::bindTarget(Framebuffer* requested, const detail::ErrorSource& source)
 {
+    auto where = [&] { return source.text(); }; // put into words only on the way to an error
     detail::ContextState& state = *_state;
     if (!state.isCurrent()) {
-        throw Error(where + ": the context is not current on this thread");
+        throw Error(where() + ": the context is not current on this thread");
     }
     Framebuffer* framebuffer = requested ? requested : _framebuffer;
     if (!framebuffer) {
         if (!state.backend->hasDefaultFramebuffer()) {
-            throw Error(where +
+            throw Error(where() +
                         ": no framebuffer to draw into (a headless context has no default framebuffer: pass one in "
                         "the command or call Context::setFramebuffer)");
         }
@@ -238,10 +255,10 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
         return nullptr;
     }
     if (!framebuffer->valid()) {
-        throw Error(where + ": the framebuffer is empty");
+        throw Error(where() + ": the framebuffer is empty");
     }
     if (framebuffer->_owner != &state) {
-        throw Error(where + ": the framebuffer belongs to another context (framebuffers are not shared)");
+        throw Error(where() + ": the framebuffer belongs to another context (framebuffers are not shared)");
     }
     state.bindFramebuffer(framebuffer->_serial, framebuffer->_name);
     if (framebuffer->_dirty) {
@@ -255,7 +272,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
             if (i < device().info().maxColorAttachments) {
                 gl.glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture ? texture->_name : 0u, 0);
             } else if (texture) {
-                throw Error(where + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
+                throw Error(where() + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
                             std::to_string(device().info().maxColorAttachments));
             }
             if (texture) {
@@ -284,7 +301,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const std::string& wher
         gl.glReadBuffer(readBuffer);
         const GLenum status = gl.glCheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
-            throw Error(where + ": the framebuffer is incomplete: " + framebufferStatusName(status));
+            throw Error(where() + ": the framebuffer is incomplete: " + framebufferStatusName(status));
         }
         framebuffer->_dirty = false;
     }
@@ -299,7 +316,7 @@ void Context::clear(const ClearState& clearState)
 void Context::clear(const ClearState& clearState, Framebuffer* framebuffer)
 {
     detail::ContextState& state = *_state;
-    bindTarget(framebuffer, "Context::clear");
+    bindTarget(framebuffer, ErrorSource{"Context::clear", {}});
     state.applyClearState(clearState);
     const detail::GlApi& gl = state.gl;
     GLbitfield mask = 0;
@@ -339,6 +356,18 @@ void Context::draw(const DrawCommand& command)
 
 namespace {
 
+/// Asks the CPU to fetch the command that follows `command` in memory. Commands are a few hundred
+/// bytes of plain data, usually kept one after another in a vector: fetching the next while the
+/// driver works on this one hides most of the memory latency of reading it. A prefetch never
+/// faults, so an address past the end of an allocation is harmless.
+inline void prefetchFollowing(const DrawCommand& command, std::size_t distance) noexcept
+{
+    const std::uintptr_t next = reinterpret_cast<std::uintptr_t>(&command) + distance * sizeof(DrawCommand);
+    for (std::size_t offset = 0; offset < sizeof(DrawCommand); offset += 64) {
+        __builtin_prefetch(reinterpret_cast<const void*>(next + offset));
+    }
+}
+
 /// Each comparison as seen with near and far swapped: Less becomes Greater, Equal stays.
 CompareFunction mirrored(CompareFunction function) noexcept
 {
@@ -353,9 +382,20 @@ CompareFunction mirrored(CompareFunction function) noexcept
 
 } // namespace
 
-std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& scene)
+void Context::draw(std::span<const DrawCommand> commands, const SceneState& scene)
 {
+    for (const DrawCommand& command : commands) {
+        draw(command, scene); // each fetches the one two ahead
+    }
+}
+
+void Context::draw(const DrawCommand& command, const SceneState& scene)
+{
+    prefetchFollowing(command, 2);
     detail::ContextState& state = *_state;
+    if (!state.isCurrent()) {
+        throw Error(commandLabel(command) + ": the context is not current on this thread");
+    }
     ShaderProgram* program = command.shaderProgram;
     const VertexArray* array = command.vertexArray;
     if (!program || !program->valid()) {
@@ -392,19 +432,21 @@ std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& s
                     std::to_string(command.first) + ", " + std::to_string(command.first + count) +
                     ") but the vertex array has " + std::to_string(available));
     }
+
     const bool complementary = scene.depthConvention == DepthConvention::Complementary;
-    if (complementary && !device().info().clipControl) {
+    if (complementary && !device().info().clipControl) [[unlikely]] {
         throw Error(commandLabel(command) +
                     ": complementary depth needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control) for a 0..1 "
                     "clip-space depth range, and this driver (" + device().info().renderer + ", OpenGL " +
                     device().info().version + ") has neither");
     }
 
-    Framebuffer* target = bindTarget(command.framebuffer, commandLabel(command));
+    const ErrorSource source{"DrawCommand", command.debugName};
+    Framebuffer* target = bindTarget(command.framebuffer, source);
     const Rectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
                                                                                      : targetRectangle(target);
     state.applyViewport(viewport);
-    if (complementary) {
+    if (complementary) [[unlikely]] {
         RenderState renderState = command.renderState;
         renderState.depthTest.function = mirrored(renderState.depthTest.function);
         renderState.polygonOffset.factor = -renderState.polygonOffset.factor;
@@ -413,7 +455,7 @@ std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& s
     } else {
         state.applyRenderState(command.renderState);
     }
-    if (device().info().clipControl) {
+    if (complementary || state.clipDepthZeroToOne()) [[unlikely]] {
         state.applyClipDepthZeroToOne(complementary);
     }
     state.bindProgram(ShaderProgramAccess::serial(*program), ShaderProgramAccess::handle(*program));
@@ -439,21 +481,25 @@ std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& s
         boundUnits |= 1u << binding.unit;
     }
 
-    for (const UniformValues::Entry& entry : command.uniforms) {
-        const std::uint64_t serial = ShaderProgramAccess::serial(*program);
-        if (entry.cachedProgramSerial != serial) {
-            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, entry.name);
-            entry.cachedProgramSerial = serial;
+    const std::uint64_t programSerial = ShaderProgramAccess::serial(*program);
+    const UniformValues& uniforms = command.uniforms;
+    for (std::size_t i = 0; i < uniforms._count; ++i) {
+        const UniformValues::Entry& entry = uniforms.entry(i);
+        if (entry.cachedProgramSerial != programSerial) [[unlikely]] {
+            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, uniforms._names[i]);
+            entry.cachedProgramSerial = programSerial;
         }
-        if (entry.cachedSlot < 0) {
-            program->uniformIndex(entry.name); // throws, naming the active uniforms
+        if (entry.cachedSlot < 0) [[unlikely]] {
+            entry.cachedProgramSerial = 0;
+            program->uniformIndex(uniforms._names[i]); // throws, naming the active uniforms
         }
-        if (!ShaderProgramAccess::assign(*program, entry.cachedSlot, entry.value, commandLabel(command))) {
+        if (!ShaderProgramAccess::assignBytes(*program, entry.cachedSlot, entry.type, uniforms.bytes(entry), entry.size,
+                                              source)) {
             ++state.statistics.uniformUploadsAvoided;
         }
     }
     setAutomaticUniforms(*program, scene, command.modelMatrix, viewport, command.renderState.depthRange,
-                         state.statistics);
+                         state.matrices, state.statistics);
     if (ShaderProgramAccess::unsetCount(*program) != 0) {
         ShaderProgramAccess::checkAllSet(*program, commandLabel(command));
     }
@@ -466,13 +512,10 @@ std::size_t Context::prepareDraw(const DrawCommand& command, const SceneState& s
         }
     }
     state.statistics.uniformUploads += ShaderProgramAccess::flush(*program, state.gl);
-    return count;
-}
 
-void Context::issueDraw(const DrawCommand& command, std::size_t count)
-{
-    detail::ContextState& state = *_state;
-    const VertexArray* array = command.vertexArray;
+    if (count == 0) {
+        return;
+    }
     const GLenum mode = detail::toGl(command.primitiveType);
     if (array->indexed()) {
         const std::size_t offset = command.first * indexSize(array->indexType());
@@ -486,18 +529,15 @@ void Context::issueDraw(const DrawCommand& command, std::size_t count)
     state.statistics.vertices += count;
 }
 
-void Context::draw(const DrawCommand& command, const SceneState& scene)
-{
-    const std::size_t count = prepareDraw(command, scene);
-    if (count != 0) {
-        issueDraw(command, count);
-    }
-}
-
 std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, const SceneState& scene)
 {
-    if (command.shaderProgram && command.shaderProgram->valid() && command.shaderProgram->capturedComponents() == 0) {
-        throw Error(commandLabel(command) + ": shader program '" + command.shaderProgram->name() +
+    ShaderProgram* program = command.shaderProgram;
+    const VertexArray* array = command.vertexArray;
+    if (!program || !program->valid() || !array || !array->valid()) {
+        draw(command, scene); // throws, saying what is missing
+    }
+    if (program->capturedComponents() == 0) {
+        throw Error(commandLabel(command) + ": shader program '" + program->name() +
                     "' captures nothing (build it with ShaderProgramDescription::transformFeedbackVaryings)");
     }
     GLenum captureMode = GL_POINTS;
@@ -506,6 +546,8 @@ std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, con
     case PrimitiveType::Points: break;
     case PrimitiveType::Lines:
     case PrimitiveType::LineStrip:
+    case PrimitiveType::LinesAdjacency:
+    case PrimitiveType::LineStripAdjacency:
         captureMode = GL_LINES;
         verticesPerPrimitive = 2;
         break;
@@ -515,22 +557,29 @@ std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, con
         verticesPerPrimitive = 3;
         break;
     }
-    const std::size_t count = prepareDraw(command, scene);
+    // The count draw() will take (it checks it too).
+    const std::size_t available = array->indexed() ? array->indexCount() : array->vertexCount();
+    const std::size_t count = std::min(command.count.value_or(available - std::min(command.first, available)),
+                                       available - std::min(command.first, available));
     const std::size_t records = detail::primitiveCount(command.primitiveType, count) * verticesPerPrimitive;
-    const std::size_t floatsPerRecord = static_cast<std::size_t>(command.shaderProgram->capturedComponents());
-    std::vector<float> captured(records * floatsPerRecord);
+    std::vector<float> captured(records * static_cast<std::size_t>(program->capturedComponents()));
     if (captured.empty()) {
         return captured;
     }
 
-    const detail::GlApi& gl = _state->gl;
+    detail::ContextState& state = *_state;
+    const detail::GlApi& gl = state.gl;
     GLuint buffer = 0;
     gl.glGenBuffers(1, &buffer);
-    struct BufferGuard {
+    struct Guard {
         const detail::GlApi& gl;
         GLuint name;
-        ~BufferGuard()
+        bool active = false;
+        ~Guard()
         {
+            if (active) {
+                gl.glEndTransformFeedback.unchecked();
+            }
             gl.glBindBufferBase.unchecked(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
             gl.glDeleteBuffers.unchecked(1, &name);
             gl.glDisable.unchecked(GL_RASTERIZER_DISCARD);
@@ -541,9 +590,13 @@ std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, con
                     GL_STREAM_READ);
     gl.glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
     gl.glEnable(GL_RASTERIZER_DISCARD);
+    // Transform feedback begins with the capturing program bound; draw() then finds it bound.
+    state.bindProgram(ShaderProgramAccess::serial(*program), ShaderProgramAccess::handle(*program));
     gl.glBeginTransformFeedback(captureMode);
-    issueDraw(command, count);
+    guard.active = true;
+    draw(command, scene);
     gl.glEndTransformFeedback();
+    guard.active = false;
     gl.glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, static_cast<GLsizeiptr>(captured.size() * sizeof(float)),
                           captured.data());
     return captured;
@@ -552,7 +605,7 @@ std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, con
 Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
 {
     detail::ContextState& state = *_state;
-    Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), "Context::readPixels");
+    Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), ErrorSource{"Context::readPixels", {}});
     const Rectangle size = targetRectangle(target);
     if (target) {
         if (colorAttachment < 0 || colorAttachment >= Framebuffer::kMaxColorAttachments ||
@@ -579,6 +632,11 @@ Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
         }
     }
     return image;
+}
+
+void Context::resetState() noexcept
+{
+    _state->forgetState();
 }
 
 void Context::flush()

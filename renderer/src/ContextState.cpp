@@ -5,20 +5,21 @@
 #include "orbis/core/Error.h"
 
 #include <atomic>
+#include <cstring>
 #include <cstdio>
 #include <string>
 
 namespace orbis::detail {
-namespace {
-
 thread_local ContextState* tlsCurrentState = nullptr;
+
+namespace {
 
 void APIENTRY printDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                                 const GLchar* message, const void* userParam)
 {
     (void)source;
     (void)userParam;
-    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) {
+    if (severity == GL_DEBUG_SEVERITY_NOTIFICATION || (severity == GL_DEBUG_SEVERITY_LOW && type != GL_DEBUG_TYPE_ERROR)) {
         return;
     }
     const char* kind = type == GL_DEBUG_TYPE_ERROR                 ? "error"
@@ -124,11 +125,6 @@ void ContextState::releaseCurrent() noexcept
     }
 }
 
-bool ContextState::isCurrent() const noexcept
-{
-    return tlsCurrentState == this;
-}
-
 void ContextState::initialize()
 {
     _initialized = true;
@@ -142,8 +138,81 @@ void ContextState::initialize()
     }
 }
 
+void ContextState::forgetState() noexcept
+{
+    constexpr std::uint64_t unknown = ~std::uint64_t{0}; // a serial no object has
+    _known = false;
+    _lastWantedValid = false;
+    _viewport = {-1, -1, -1, -1};
+    _program = unknown;
+    _vertexArray = unknown;
+    _framebuffer = unknown;
+    _activeUnit = -1;
+    _textures.fill(unknown);
+    _samplers.fill(unknown);
+    clearColor[0] = -1.0f; // outside 0..1: a clear always sets it
+    clearDepth = -1.0;
+    clearStencil = -1;
+}
+
+void ContextState::ensureKnown()
+{
+    if (_known) {
+        return;
+    }
+    _known = true;
+    const RenderState& s = _state;
+    auto enable = [&](bool on, GLenum capability) {
+        if (on) {
+            gl.glEnable(capability);
+        } else {
+            gl.glDisable(capability);
+        }
+    };
+    enable(s.primitiveRestart.enabled, GL_PRIMITIVE_RESTART);
+    gl.glPrimitiveRestartIndex(s.primitiveRestart.index);
+    enable(s.facetCulling.enabled, GL_CULL_FACE);
+    gl.glCullFace(toGl(s.facetCulling.face));
+    gl.glFrontFace(toGl(s.facetCulling.frontFaceWindingOrder));
+    gl.glPolygonMode(GL_FRONT_AND_BACK, toGl(s.rasterizationMode));
+    enable(s.scissorTest.enabled, GL_SCISSOR_TEST);
+    if (s.scissorTest.rectangle.width >= 0 && s.scissorTest.rectangle.height >= 0) {
+        const Rectangle& r = s.scissorTest.rectangle;
+        gl.glScissor(r.x, r.y, r.width, r.height);
+    }
+    enable(s.stencilTest.enabled, GL_STENCIL_TEST);
+    const std::pair<const StencilTestFace*, GLenum> faces[] = {{&s.stencilTest.frontFace, GL_FRONT},
+                                                                 {&s.stencilTest.backFace, GL_BACK}};
+    for (const auto& [face, glFace] : faces) {
+        gl.glStencilFuncSeparate(glFace, toGl(face->function), face->referenceValue, face->mask);
+        gl.glStencilOpSeparate(glFace, toGl(face->stencilFailOperation), toGl(face->depthFailStencilPassOperation),
+                               toGl(face->depthPassStencilPassOperation));
+        gl.glStencilMaskSeparate(glFace, face->writeMask);
+    }
+    enable(s.depthTest.enabled, GL_DEPTH_TEST);
+    gl.glDepthFunc(toGl(s.depthTest.function));
+    gl.glDepthRange(s.depthRange.nearValue, s.depthRange.farValue);
+    const Blending& b = s.blending;
+    enable(b.enabled, GL_BLEND);
+    gl.glBlendFuncSeparate(toGl(b.sourceRgbFactor), toGl(b.destinationRgbFactor), toGl(b.sourceAlphaFactor),
+                           toGl(b.destinationAlphaFactor));
+    gl.glBlendEquationSeparate(toGl(b.rgbEquation), toGl(b.alphaEquation));
+    gl.glBlendColor(b.color.r, b.color.g, b.color.b, b.color.a);
+    gl.glColorMask(s.colorMask.red, s.colorMask.green, s.colorMask.blue, s.colorMask.alpha);
+    gl.glDepthMask(s.depthMask);
+    enable(s.polygonOffset.enabled, GL_POLYGON_OFFSET_FILL);
+    gl.glPolygonOffset(s.polygonOffset.factor, s.polygonOffset.units);
+    enable(s.programPointSize, GL_PROGRAM_POINT_SIZE);
+    statistics.stateChangesMade += 30;
+}
+
 void ContextState::applyRenderState(const RenderState& wanted)
 {
+    if (_lastWantedValid && std::memcmp(&_lastWanted, &wanted, sizeof wanted) == 0) {
+        statistics.stateChangesAvoided += _lastWantedItems;
+        return;
+    }
+    ensureKnown();
     RenderState& s = _state;
     std::uint64_t made = 0;
     std::uint64_t avoided = 0;
@@ -299,10 +368,16 @@ void ContextState::applyRenderState(const RenderState& wanted)
 
     statistics.stateChangesMade += made;
     statistics.stateChangesAvoided += avoided;
+    // Copied whole, padding included, so that the next memcmp of an equal copy can match.
+    std::memcpy(static_cast<void*>(&_lastWanted), &wanted, sizeof wanted);
+    _lastWantedItems = made + avoided;
+    _lastWantedValid = true;
 }
 
 void ContextState::applyClearState(const ClearState& clear)
 {
+    _lastWantedValid = false; // a clear sets the scissor and the masks its own way
+    ensureKnown();
     std::uint64_t made = 0;
     std::uint64_t avoided = 0;
     RenderState& s = _state;
@@ -417,7 +492,7 @@ void ContextState::bindFramebuffer(std::uint64_t serial, GLuint name)
 
 void ContextState::activeTexture(int unit)
 {
-    if (_activeUnit != unit) {
+    if (_activeUnit != unit) { // -1 after forgetState: never equal
         gl.glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
         _activeUnit = unit;
     }

@@ -11,6 +11,8 @@
 #include "orbis/renderer/RenderState.h"
 #include "orbis/renderer/RenderStatistics.h"
 
+#include <glm/mat4x4.hpp>
+
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -24,9 +26,26 @@ namespace orbis::detail {
 /// Texture units the shadow tracks; the last usable one is kept for uploads.
 inline constexpr int kMaxTrackedTextureUnits = 32;
 
+class ContextState;
+/// The state of the context current on this thread (see currentState()).
+extern thread_local ContextState* tlsCurrentState;
+
 /// A number no other GL object of the process ever gets: the shadow compares these, not GL names,
 /// so a deleted name that GL hands out again is never mistaken for the old object.
 std::uint64_t nextObjectSerial() noexcept;
+
+/// The matrix products of the automatic uniforms, kept while the matrices they come from stay the
+/// same (consecutive draws usually share the camera, often the model matrix too).
+struct MatrixCache {
+    bool valid = false;
+    glm::dmat4 model{0.0};
+    glm::dmat4 view{0.0};
+    glm::dmat4 projection{0.0};
+    bool haveModelView = false;
+    bool haveModelViewProjection = false;
+    glm::dmat4 modelView{0.0};
+    glm::mat4 modelViewProjection{0.0f}; ///< as sent
+};
 
 class ContextState {
 public:
@@ -38,7 +57,11 @@ public:
     /// Makes the context current on this thread and records it as this thread's state.
     void makeCurrent();
     void releaseCurrent() noexcept;
-    bool isCurrent() const noexcept;
+    bool isCurrent() const noexcept { return tlsCurrentState == this; }
+
+    /// Forgets what GL has: after GL calls made outside the renderer. The next state change
+    /// first sets every item to what the shadow holds, making it true again.
+    void forgetState() noexcept;
 
     void applyRenderState(const RenderState& state);
     /// The parts of the state a clear obeys: scissor, colour, depth and stencil write masks.
@@ -46,6 +69,7 @@ public:
     void applyViewport(const Rectangle& viewport);
     /// glClipControl's depth mode: 0..1 when true, GL's -1..1 otherwise (needs glClipControl).
     void applyClipDepthZeroToOne(bool zeroToOne);
+    bool clipDepthZeroToOne() const noexcept { return _clipDepthZeroToOne; }
 
     void bindProgram(std::uint64_t serial, GLuint name);
     void bindVertexArray(std::uint64_t serial, GLuint name);
@@ -61,6 +85,7 @@ public:
     const int commandTextureUnits; ///< units 0..commandTextureUnits-1 are for draw commands
     RenderStatistics statistics;
     std::uint64_t glCallsAtReset = 0;
+    MatrixCache matrices;
     bool debugOutput = false; ///< ask for KHR_debug messages on first make-current
     // Clear values GL has (glClearColor, glClearDepth, glClearStencil).
     float clearColor[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -70,8 +95,16 @@ public:
 private:
     void initialize();
     void activeTexture(int unit);
+    /// When the shadow is unknown, sets GL to it with every call.
+    void ensureKnown();
 
     bool _initialized = false;
+    bool _known = true;
+    // The state last asked for, when GL has it: asking for the same again skips the item-by-item
+    // comparison (only a memcmp). Items it stands for, all found set: _lastWantedItems.
+    bool _lastWantedValid = false;
+    RenderState _lastWanted;
+    std::uint64_t _lastWantedItems = 0;
     RenderState _state;     ///< what GL has
     Rectangle _viewport{-1, -1, -1, -1};
     bool _clipDepthZeroToOne = false;

@@ -5,6 +5,7 @@
 #include "GlApi.h"
 
 #include "orbis/core/Error.h"
+#include "orbis/renderer/Window.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -15,6 +16,7 @@ namespace orbis {
 
 struct Device::Impl {
     std::unique_ptr<detail::Backend> backend;
+    std::unique_ptr<Window> window;
     std::unique_ptr<detail::GlApi> gl;
     std::unique_ptr<Context> context;
     std::unique_ptr<ShaderCache> cache;
@@ -78,6 +80,22 @@ std::unique_ptr<Backend> createGlfwBackend(const BackendRequest&)
     throw Error("window backend: this build of Orbis has no GLFW (install GLFW 3.3 and reconfigure)");
 }
 } // namespace detail
+
+// Without GLFW no Window exists; these are never reached.
+bool Window::shouldClose() const
+{
+    return true;
+}
+void Window::pollEvents() {}
+void Window::swapBuffers() {}
+int Window::framebufferWidth() const
+{
+    return 0;
+}
+int Window::framebufferHeight() const
+{
+    return 0;
+}
 #endif
 
 const char* glBackendName(GlBackend backend) noexcept
@@ -166,6 +184,9 @@ Device::Device(const DeviceOptions& options)
         _impl->info = std::move(info);
         _impl->context.reset(new Context(*this, std::move(state)));
         _impl->context->makeCurrent();
+        if (void* native = _impl->backend->nativeWindow()) {
+            _impl->window = std::make_unique<Window>(native);
+        }
     };
 
     const GlBackend chosen = resolveBackend(options.backend);
@@ -200,6 +221,7 @@ Device::~Device()
         }
     }
     _impl->cache.reset();
+    _impl->window.reset();
     _impl->context.reset();
     _impl->gl.reset();
     _impl->backend.reset();
@@ -227,7 +249,7 @@ ShaderCache& Device::shaderCache() noexcept
 
 Window* Device::window() noexcept
 {
-    return nullptr;
+    return _impl->window.get();
 }
 
 std::unique_ptr<Context> Device::createSharedContext()

@@ -30,6 +30,8 @@ Framebuffer::Framebuffer(Framebuffer&& other) noexcept
     , _colors(std::move(other._colors))
     , _depth(std::move(other._depth))
     , _dirty(other._dirty)
+    , _width(other._width)
+    , _height(other._height)
 {
 }
 
@@ -43,6 +45,8 @@ Framebuffer& Framebuffer::operator=(Framebuffer&& other) noexcept
         std::swap(_colors, moved._colors);
         std::swap(_depth, moved._depth);
         std::swap(_dirty, moved._dirty);
+        std::swap(_width, moved._width);
+        std::swap(_height, moved._height);
     }
     return *this;
 }
@@ -62,6 +66,7 @@ void Framebuffer::setColorAttachment(int index, std::shared_ptr<Texture2D> textu
     }
     _colors[index] = std::move(texture);
     _dirty = true;
+    updateSize();
 }
 
 void Framebuffer::setDepthAttachment(std::shared_ptr<Texture2D> texture)
@@ -75,6 +80,7 @@ void Framebuffer::setDepthAttachment(std::shared_ptr<Texture2D> texture)
     }
     _depth = std::move(texture);
     _dirty = true;
+    updateSize();
 }
 
 const std::shared_ptr<Texture2D>& Framebuffer::colorAttachment(int index) const
@@ -86,36 +92,22 @@ const std::shared_ptr<Texture2D>& Framebuffer::colorAttachment(int index) const
     return _colors[index];
 }
 
-int Framebuffer::width() const noexcept
+void Framebuffer::updateSize() noexcept
 {
-    int w = 0;
     bool any = false;
-    for (const auto& c : _colors) {
-        if (c) {
-            w = any ? std::min(w, c->width()) : c->width();
+    _width = 0;
+    _height = 0;
+    auto take = [&](const std::shared_ptr<Texture2D>& texture) {
+        if (texture) {
+            _width = any ? std::min(_width, texture->width()) : texture->width();
+            _height = any ? std::min(_height, texture->height()) : texture->height();
             any = true;
         }
+    };
+    for (const auto& color : _colors) {
+        take(color);
     }
-    if (_depth) {
-        w = any ? std::min(w, _depth->width()) : _depth->width();
-    }
-    return w;
-}
-
-int Framebuffer::height() const noexcept
-{
-    int h = 0;
-    bool any = false;
-    for (const auto& c : _colors) {
-        if (c) {
-            h = any ? std::min(h, c->height()) : c->height();
-            any = true;
-        }
-    }
-    if (_depth) {
-        h = any ? std::min(h, _depth->height()) : _depth->height();
-    }
-    return h;
+    take(_depth);
 }
 
 Framebuffer Context::createFramebuffer()

@@ -71,6 +71,8 @@ inline GLenum toGl(PrimitiveType p) noexcept
     case PrimitiveType::LineStrip: return GL_LINE_STRIP;
     case PrimitiveType::Triangles: return GL_TRIANGLES;
     case PrimitiveType::TriangleStrip: return GL_TRIANGLE_STRIP;
+    case PrimitiveType::LinesAdjacency: return GL_LINES_ADJACENCY;
+    case PrimitiveType::LineStripAdjacency: return GL_LINE_STRIP_ADJACENCY;
     }
     return GL_TRIANGLES;
 }
@@ -123,6 +125,8 @@ inline std::uint64_t primitiveCount(PrimitiveType p, std::size_t count) noexcept
     case PrimitiveType::LineStrip: return count >= 2 ? count - 1 : 0;
     case PrimitiveType::Triangles: return count / 3;
     case PrimitiveType::TriangleStrip: return count >= 3 ? count - 2 : 0;
+    case PrimitiveType::LinesAdjacency: return count / 4;
+    case PrimitiveType::LineStripAdjacency: return count >= 4 ? count - 3 : 0;
     }
     return 0;
 }

@@ -449,6 +449,7 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
         } else if (size != 1 || uniform.type == UniformType::Unsupported) {
             slot.hasValue = true; // not settable yet (arrays, other types): GL's zero stays
         } else {
+            slot.settable = true;
             ++program._unsetCount;
         }
         if (isSampler(uniform.type)) {
@@ -549,7 +550,7 @@ bool ShaderProgram::setUniform(int index, const UniformValue& value)
     if (index < 0 || index >= static_cast<int>(_slots.size())) {
         throw Error("shader program '" + _name + "': uniform index " + std::to_string(index) + " out of range");
     }
-    return ShaderProgramAccess::assign(*this, index, value, "shader program '" + _name + "'");
+    return ShaderProgramAccess::assign(*this, index, value, detail::ErrorSource{"shader program", _name});
 }
 
 namespace detail {
@@ -564,22 +565,8 @@ int ShaderProgramAccess::findSlot(const ShaderProgram& p, std::string_view name)
     return -1;
 }
 
-bool ShaderProgramAccess::assign(ShaderProgram& p, int slotIndex, const UniformValue& value, const std::string& where)
+bool ShaderProgramAccess::assign(ShaderProgram& p, int slotIndex, const UniformValue& value, const ErrorSource& source)
 {
-    const ShaderUniform& uniform = p._uniforms[slotIndex];
-    if (uniform.automatic) {
-        throw Error(where + ": uniform " + uniform.name + " is automatic (set by the Context from the SceneState)");
-    }
-    if (uniform.arraySize != 1 || uniform.type == UniformType::Unsupported) {
-        throw Error(where + ": uniform " + uniform.name + " is an array or of an unsupported type (" +
-                    uniformTypeName(uniform.type) + "); only single values can be set");
-    }
-    const UniformType given = uniformTypeOf(value);
-    const bool intForInt = given == UniformType::Int && (uniform.type == UniformType::Bool || isSampler(uniform.type));
-    if (given != uniform.type && !intForInt) {
-        throw Error(where + ": uniform " + uniform.name + " is " + uniformTypeName(uniform.type) + " but the value is " +
-                    uniformTypeName(given));
-    }
     alignas(16) unsigned char bytes[64];
     std::size_t size = 0;
     std::visit(
@@ -596,13 +583,55 @@ bool ShaderProgramAccess::assign(ShaderProgram& p, int slotIndex, const UniformV
             }
         },
         value);
+    return assignBytes(p, slotIndex, uniformTypeOf(value), bytes, size, source);
+}
+
+bool ShaderProgramAccess::assignBytes(ShaderProgram& p, int slotIndex, UniformType given, const void* bytes,
+                                      std::size_t size, const ErrorSource& source)
+{
+    const ShaderProgram::Slot& slot = p._slots[slotIndex];
+    if (given != slot.type || !slot.settable) [[unlikely]] {
+        const ShaderUniform& uniform = p._uniforms[slotIndex];
+        if (uniform.automatic) {
+            throw Error(source.text() + ": uniform " + uniform.name +
+                        " is automatic (set by the Context from the SceneState)");
+        }
+        if (!slot.settable) {
+            throw Error(source.text() + ": uniform " + uniform.name + " is an array or of an unsupported type (" +
+                        uniformTypeName(uniform.type) + "); only single values can be set");
+        }
+        const bool intForInt =
+            given == UniformType::Int && (uniform.type == UniformType::Bool || isSampler(uniform.type));
+        if (!intForInt) {
+            throw Error(source.text() + ": uniform " + uniform.name + " is " + uniformTypeName(uniform.type) +
+                        " but the value is " + uniformTypeName(given));
+        }
+    }
     return assignRaw(p, slotIndex, bytes, size);
 }
+
+namespace {
+
+/// memcmp(a, b, size) == 0 for the sizes uniforms have, with constant sizes the compiler inlines.
+bool sameBytes(const void* a, const void* b, std::size_t size) noexcept
+{
+    switch (size) {
+    case 4: return std::memcmp(a, b, 4) == 0;
+    case 8: return std::memcmp(a, b, 8) == 0;
+    case 12: return std::memcmp(a, b, 12) == 0;
+    case 16: return std::memcmp(a, b, 16) == 0;
+    case 36: return std::memcmp(a, b, 36) == 0;
+    case 64: return std::memcmp(a, b, 64) == 0;
+    default: return std::memcmp(a, b, size) == 0;
+    }
+}
+
+} // namespace
 
 bool ShaderProgramAccess::assignRaw(ShaderProgram& p, int slotIndex, const void* data, std::size_t size) noexcept
 {
     ShaderProgram::Slot& slot = p._slots[slotIndex];
-    if (slot.hasValue && std::memcmp(slot.value, data, size) == 0) {
+    if (slot.hasValue && sameBytes(slot.value, data, size)) {
         return false;
     }
     std::memcpy(slot.value, data, size);
@@ -644,6 +673,17 @@ void ShaderProgramAccess::checkAllSet(const ShaderProgram& p, const std::string&
     }
     throw Error(where + ": shader program '" + p._name + "' has uniforms that were never given a value: " + names +
                 " (set them in DrawCommand::uniforms or with ShaderProgram::setUniform)");
+}
+
+void ShaderProgramAccess::markAllDirty(ShaderProgram& p)
+{
+    for (std::size_t i = 0; i < p._slots.size(); ++i) {
+        ShaderProgram::Slot& slot = p._slots[i];
+        if (slot.hasValue && !slot.dirty && slot.type != UniformType::Unsupported && p._uniforms[i].arraySize == 1) {
+            slot.dirty = true;
+            p._dirtySlots.push_back(static_cast<int>(i));
+        }
+    }
 }
 
 std::uint64_t ShaderProgramAccess::flush(ShaderProgram& p, const GlApi& gl)

@@ -1,5 +1,8 @@
 #include "orbis/renderer/UniformValue.h"
 
+#include <cstring>
+#include <type_traits>
+
 namespace orbis {
 
 const char* uniformTypeName(UniformType type) noexcept
@@ -35,36 +38,123 @@ UniformType uniformTypeOf(const UniformValue& value) noexcept
     return byIndex[value.index()];
 }
 
-void UniformValues::set(std::string_view name, const UniformValue& value)
+namespace {
+
+/// The bytes GL takes for a value (bool as a 32-bit int); returns their count.
+std::size_t toBytes(const UniformValue& value, unsigned char* out) noexcept
 {
-    for (Entry& entry : _entries) {
-        if (entry.name == name) {
-            entry.value = value;
-            return;
-        }
-    }
-    _entries.push_back({std::string(name), value});
+    return std::visit(
+        [&](const auto& v) -> std::size_t {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, bool>) {
+                const std::int32_t i = v ? 1 : 0;
+                std::memcpy(out, &i, sizeof i);
+                return sizeof i;
+            } else {
+                std::memcpy(out, &v, sizeof(T));
+                return sizeof(T);
+            }
+        },
+        value);
 }
 
-const UniformValue* UniformValues::find(std::string_view name) const noexcept
+template <typename T>
+T fromBytes(const unsigned char* bytes) noexcept
 {
-    for (const Entry& entry : _entries) {
-        if (entry.name == name) {
-            return &entry.value;
+    T value;
+    std::memcpy(&value, bytes, sizeof(T));
+    return value;
+}
+
+} // namespace
+
+void UniformValues::set(std::string_view name, const UniformValue& value)
+{
+    alignas(16) unsigned char bytes[64];
+    const std::size_t size = toBytes(value, bytes);
+    std::size_t index = 0;
+    while (index < _names.size() && _names[index] != name) {
+        ++index;
+    }
+    if (index == _names.size()) {
+        _names.emplace_back(name);
+        if (_count >= kInlineEntries) {
+            _moreEntries.emplace_back();
+        }
+        entry(_count) = Entry{};
+        ++_count;
+    }
+    Entry& entry = this->entry(index);
+    const bool reuseLarge = entry.size > kInline && entry.size == size;
+    entry.type = uniformTypeOf(value);
+    entry.size = static_cast<std::uint8_t>(size);
+    if (size <= kInline) {
+        std::memcpy(entry.inlineBytes, bytes, size);
+    } else {
+        if (!reuseLarge) {
+            entry.offset = static_cast<std::uint32_t>(_large.size());
+            _large.resize(_large.size() + size);
+        }
+        std::memcpy(_large.data() + entry.offset, bytes, size);
+    }
+}
+
+UniformValue UniformValues::value(std::size_t i) const
+{
+    const Entry& e = entry(i);
+    const unsigned char* b = bytes(e);
+    switch (e.type) {
+    case UniformType::Bool: return fromBytes<std::int32_t>(b) != 0;
+    case UniformType::Int: return fromBytes<int>(b);
+    case UniformType::IntVec2: return fromBytes<glm::ivec2>(b);
+    case UniformType::IntVec3: return fromBytes<glm::ivec3>(b);
+    case UniformType::IntVec4: return fromBytes<glm::ivec4>(b);
+    case UniformType::Float: return fromBytes<float>(b);
+    case UniformType::FloatVec2: return fromBytes<glm::vec2>(b);
+    case UniformType::FloatVec3: return fromBytes<glm::vec3>(b);
+    case UniformType::FloatVec4: return fromBytes<glm::vec4>(b);
+    case UniformType::FloatMat2: return fromBytes<glm::mat2>(b);
+    case UniformType::FloatMat3: return fromBytes<glm::mat3>(b);
+    case UniformType::FloatMat4: return fromBytes<glm::mat4>(b);
+    default: return fromBytes<float>(b);
+    }
+}
+
+std::optional<UniformValue> UniformValues::find(std::string_view name) const
+{
+    for (std::size_t i = 0; i < _names.size(); ++i) {
+        if (_names[i] == name) {
+            return value(i);
         }
     }
-    return nullptr;
+    return std::nullopt;
 }
 
 bool UniformValues::erase(std::string_view name)
 {
-    for (auto it = _entries.begin(); it != _entries.end(); ++it) {
-        if (it->name == name) {
-            _entries.erase(it);
+    for (std::size_t i = 0; i < _names.size(); ++i) {
+        if (_names[i] == name) {
+            // The bytes of a large value stay in _large, unused, until clear().
+            _names.erase(_names.begin() + static_cast<std::ptrdiff_t>(i));
+            for (std::size_t k = i; k + 1 < _count; ++k) {
+                entry(k) = entry(k + 1);
+            }
+            --_count;
+            if (_count >= kInlineEntries) {
+                _moreEntries.pop_back();
+            }
             return true;
         }
     }
     return false;
+}
+
+void UniformValues::clear() noexcept
+{
+    _count = 0;
+    _moreEntries.clear();
+    _names.clear();
+    _large.clear();
 }
 
 } // namespace orbis

@@ -2,11 +2,14 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
+
 namespace orbis {
 
 void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frustum& cullingVolume,
                                const EllipsoidalOccluder& occluder, const glm::dvec3& eye,
-                               const glm::dvec3& viewDirection, FrameStatistics& statistics)
+                               const glm::dvec3& viewDirection, double cosHalfDiagonal,
+                               FrameStatistics& statistics)
 {
     const MultiFrustumOptions& limits = _multiFrustum.options();
     _visible.clear();
@@ -28,12 +31,15 @@ void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frus
             continue;
         }
         _visible.push_back(i);
+        DepthInterval interval{limits.nearLimit, limits.farLimit};
         if (command.boundingSphere) {
             const double distance = glm::dot(command.boundingSphere->centre - eye, viewDirection);
-            _intervals.push_back({distance - command.boundingSphere->radius, distance + command.boundingSphere->radius});
-        } else {
-            _intervals.push_back({limits.nearLimit, limits.farLimit});
+            interval = {distance - command.boundingSphere->radius, distance + command.boundingSphere->radius};
         }
+        // Within the view, depth lies between distance x cos(half diagonal) and distance.
+        interval.nearDistance = std::max(interval.nearDistance, command.nearestDistance * cosHalfDiagonal);
+        interval.farDistance = std::min(interval.farDistance, command.farthestDistance);
+        _intervals.push_back(interval);
     }
     _multiFrustum.bin(_intervals);
     statistics.frustums = _multiFrustum.frustums();

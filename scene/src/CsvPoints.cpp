@@ -5,9 +5,11 @@
 #include "ReadFile.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <span>
 
 namespace orbis {
 
@@ -249,8 +251,23 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
         }
         return static_cast<std::size_t>(it - header.begin());
     };
-    const std::size_t longitudeIndex = find(options.longitudeColumn, "longitude");
-    const std::size_t latitudeIndex = find(options.latitudeColumn, "latitude");
+    // An empty name: the first column whose lower-case name is one of the accepted ones.
+    auto findNamed = [&](const std::string& name, std::span<const std::string_view> accepted, const char* role) {
+        if (!name.empty()) {
+            return find(name, role);
+        }
+        for (std::size_t c = 0; c < header.size(); ++c) {
+            std::string lower = header[c];
+            std::transform(lower.begin(), lower.end(), lower.begin(),
+                           [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+            if (std::find(accepted.begin(), accepted.end(), lower) != accepted.end()) {
+                return c;
+            }
+        }
+        return find(std::string(accepted.front()), role);
+    };
+    const std::size_t longitudeIndex = findNamed(options.longitudeColumn, kLongitudeColumnNames, "longitude");
+    const std::size_t latitudeIndex = findNamed(options.latitudeColumn, kLatitudeColumnNames, "latitude");
     constexpr std::size_t kNone = static_cast<std::size_t>(-1);
     const std::size_t heightIndex = options.heightColumn.empty() ? kNone : find(options.heightColumn, "height");
     std::vector<std::size_t> propertyIndices;

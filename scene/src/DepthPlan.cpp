@@ -7,7 +7,7 @@ DepthPlan DepthPlan::of(DepthStrategy strategy, const MultiFrustumOptions& limit
     DepthPlan plan;
     plan.strategy = strategy;
     plan.binning = limits;
-    if (strategy == DepthStrategy::MultiFrustum || strategy == DepthStrategy::Auto) {
+    if (strategy == DepthStrategy::MultiFrustum || strategy == DepthStrategy::Automatic) {
         plan.strategy = DepthStrategy::MultiFrustum;
         plan.ownedRanges = true;
         return plan;

@@ -40,7 +40,7 @@ struct AutoInputs {
 };
 
 /// Auto's choice: one multi-frustum frustum when far/near fits the ratio, else Complementary, else
-/// Logarithmic, else MultiFrustum (see DepthStrategy::Auto).
+/// Logarithmic, else MultiFrustum (see DepthStrategy::Automatic).
 DepthStrategy resolveAutomaticDepth(const AutoInputs& inputs, const MultiFrustumOptions& limits) noexcept;
 
 } // namespace orbis::detail

@@ -1,5 +1,8 @@
 #include "orbis/scene/DepthStrategy.h"
 
+#include <orbis/renderer/DrawCommand.h>
+#include <orbis/renderer/ShaderProgram.h>
+
 #include <cmath>
 #include <limits>
 
@@ -8,7 +11,7 @@ namespace orbis {
 const char* depthStrategyName(DepthStrategy strategy) noexcept
 {
     switch (strategy) {
-    case DepthStrategy::Auto: return "auto";
+    case DepthStrategy::Automatic: return "auto";
     case DepthStrategy::MultiFrustum: return "multi-frustum";
     case DepthStrategy::Logarithmic: return "logarithmic";
     case DepthStrategy::LogarithmicVertex: return "logarithmic (vertex)";
@@ -29,7 +32,7 @@ std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass
             return {{"OG_DEPTH_OWNED_RANGE"}};
         }
         return {};
-    case DepthStrategy::Auto:
+    case DepthStrategy::Automatic:
     case DepthStrategy::Single: break;
     }
     return {};
@@ -46,7 +49,7 @@ double analyticMinimumSeparation(DepthStrategy strategy, double distance, double
     };
     switch (strategy) {
     case DepthStrategy::Single: return baker(nearDistance);
-    case DepthStrategy::Auto:
+    case DepthStrategy::Automatic:
     case DepthStrategy::MultiFrustum: {
         // The frustum holding `distance`: near ratio^k < distance <= near ratio^(k + 1).
         const double k = std::max(

@@ -1,5 +1,7 @@
 #include "orbis/scene/FrameStatistics.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <cstdio>
 #include <sstream>
 
@@ -16,6 +18,28 @@ std::string number(double value)
 
 } // namespace
 
+std::vector<std::string> FrameStatistics::effectsRun() const
+{
+    std::vector<std::string> names = effectNames(effects);
+    if (translucentPasses > 0) {
+        names.emplace_back("translucent pass");
+    }
+    if (overlayPasses > 0) {
+        names.emplace_back("overlay pass");
+    }
+    if (frustums.size() > 1) {
+        names.emplace_back("multi-frustum");
+    }
+    if (depthStrategy == DepthStrategy::Logarithmic) {
+        names.emplace_back("logarithmic depth");
+    } else if (depthStrategy == DepthStrategy::LogarithmicVertex) {
+        names.emplace_back("logarithmic depth (per vertex)");
+    } else if (depthStrategy == DepthStrategy::Complementary) {
+        names.emplace_back("complementary depth");
+    }
+    return names;
+}
+
 std::string FrameStatistics::toText() const
 {
     std::ostringstream out;
@@ -31,6 +55,12 @@ std::string FrameStatistics::toText() const
         out << "  " << f << ": " << number(frustums[f].nearDistance) << " m .. " << number(frustums[f].farDistance)
             << " m, " << drawCallsPerFrustum[f] << " draw calls\n";
     }
+    out << "effects:";
+    const std::vector<std::string> names = effectsRun();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        out << (i ? ", " : " ") << names[i];
+    }
+    out << "\n";
     out << "passes: " << opaquePasses << " opaque, " << translucentPasses << " translucent, " << overlayPasses
         << " overlay; programs compiled: " << programsCompiled << "\n"
         << "renderer: " << renderer.drawCalls << " draws, " << renderer.primitives << " primitives, "
@@ -64,6 +94,12 @@ std::string FrameStatistics::toJson() const
         << "  \"passes\": {\"opaque\": " << opaquePasses << ", \"translucent\": " << translucentPasses
         << ", \"overlay\": " << overlayPasses << "},\n"
         << "  \"programsCompiled\": " << programsCompiled << ",\n"
+        << "  \"effects\": [";
+    const std::vector<std::string> names = effectsRun();
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        out << (i ? ", " : "") << "\"" << names[i] << "\"";
+    }
+    out << "],\n"
         << "  \"milliseconds\": {\"update\": " << number(updateMilliseconds) << ", \"cullAndBin\": "
         << number(cullMilliseconds) << ", \"draw\": " << number(drawMilliseconds) << "},\n"
         << "  \"renderer\": {\"drawCalls\": " << renderer.drawCalls << ", \"primitives\": " << renderer.primitives

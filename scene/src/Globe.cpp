@@ -1,5 +1,6 @@
 #include "orbis/scene/Globe.h"
 
+#include "orbis/scene/Effect.h"
 #include "orbis/scene/TileMapService.h"
 
 #include <orbis/core/BoxTessellator.h>
@@ -45,12 +46,11 @@ std::optional<BoundingSphere> Globe::boundingSphere() const
     return BoundingSphere{glm::dvec3(0.0), _ellipsoid.maximumRadius()};
 }
 
-double Globe::gridSpacing(double heightMeters, double metersPerPixelAtHeight, double radius) noexcept
+double Globe::gridSpacing(double metersPerPixelOnGround, double radius) noexcept
 {
     static constexpr double kSpacingsDegrees[] = {0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 15.0, 30.0};
-    (void)heightMeters;
     for (const double spacing : kSpacingsDegrees) {
-        if (toRadians(spacing) * radius / std::max(metersPerPixelAtHeight, 1e-9) >= 60.0) {
+        if (toRadians(spacing) * radius / std::max(metersPerPixelOnGround, 1e-9) >= 60.0) {
             return toRadians(spacing);
         }
     }
@@ -124,9 +124,31 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     const bool rayCast = _options.method == GlobeMethod::RayCast;
     DrawCommand command;
     command.debugName = "globe";
+    command.tags = static_cast<std::uint32_t>(Effect::Globe);
+    if (_options.lighting) {
+        command.tags = command.tags | Effect::Lighting;
+    }
+    if (!_options.nightTexture.empty()) {
+        command.tags = command.tags | Effect::NightLights;
+    }
+    if (_options.grid) {
+        command.tags = command.tags | Effect::Grid;
+    }
     command.vertexArray = &*_vertexArray;
     command.shaderProgram = &shaderProgram;
     command.boundingSphere = boundingSphere();
+    // Nothing on the ellipsoid is nearer than the eye's height above it. Nothing visible is farther
+    // than the tangent to the inscribed sphere (radius b: a sight line through it would hit the
+    // ellipsoid first) continued to the circumscribed one (radius a). Both are far tighter than
+    // the bounding sphere, so a low eye needs fewer frustums.
+    const double eyeHeight = _ellipsoid.toGeodetic3D(frameState.camera.eye()).height;
+    if (eyeHeight > 0.0) {
+        const double a = _ellipsoid.maximumRadius();
+        const double b = _ellipsoid.minimumRadius();
+        const double eyeDistance = glm::length(frameState.camera.eye());
+        command.nearestDistance = eyeHeight;
+        command.farthestDistance = std::sqrt(std::max(0.0, eyeDistance * eyeDistance - b * b)) + std::sqrt(a * a - b * b);
+    }
     // The box is drawn from inside out so that the globe still shows with the eye inside it.
     command.renderState.facetCulling.face = rayCast ? CullFace::Front : CullFace::Back;
 
@@ -145,9 +167,9 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         set("u_cameraScaledLengthSquaredMinusOne", static_cast<float>(glm::dot(eyeScaled, eyeScaled) - 1.0));
     }
     if (_options.grid) {
-        const double height = std::max(1.0, _ellipsoid.toGeodetic3D(frameState.camera.eye()).height);
+        const double distance = std::max(1.0, eyeHeight);
         set("u_gridSpacing",
-            static_cast<float>(gridSpacing(height, frameState.metersPerPixel(height), _ellipsoid.maximumRadius())));
+            static_cast<float>(gridSpacing(frameState.metersPerPixel(distance), _ellipsoid.maximumRadius())));
         set("u_gridColor", _options.gridColor);
     }
     if (_dayTexture) {

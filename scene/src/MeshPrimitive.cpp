@@ -1,5 +1,7 @@
 #include "orbis/scene/MeshPrimitive.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
@@ -52,6 +54,7 @@ void MeshPrimitive::update(FrameState& frameState, CommandList& commands)
     }
     DrawCommand command;
     command.debugName = "mesh";
+    command.tags = static_cast<std::uint32_t>(Effect::Meshes);
     command.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
     command.primitiveType = _primitiveType;
     command.shaderProgram = program.get();

@@ -65,6 +65,7 @@ void MultiFrustum::bin(std::span<const DepthInterval> commands)
         _bins.clear();
         _reused = false;
         _commandsInSeveralFrustums = 0;
+        _desired = {0.0, 0.0};
         return;
     }
 
@@ -82,6 +83,7 @@ void MultiFrustum::bin(std::span<const DepthInterval> commands)
     }
     const double desiredNear = std::clamp(nearest, _options.nearLimit, _options.farLimit);
     const double desiredFar = std::clamp(farthest, desiredNear, _options.farLimit);
+    _desired = {desiredNear, desiredFar};
 
     _reused = havePrevious && desiredNear >= _near && desiredFar <= _far &&
               frustumCount(desiredNear, desiredFar, _options.farToNearRatio) == _frustums.size();

@@ -69,7 +69,7 @@ DepthStrategy Scene::chooseDepthStrategy(Context& context, Framebuffer* target, 
 {
     const DeviceInfo& device = context.device().info();
     const DepthStrategy requested = _options.depthStrategy;
-    if (requested == DepthStrategy::Auto) {
+    if (requested == DepthStrategy::Automatic) {
         detail::AutoInputs inputs;
         inputs.nearDistance = nearDistance;
         inputs.farDistance = farDistance;
@@ -81,7 +81,7 @@ DepthStrategy Scene::chooseDepthStrategy(Context& context, Framebuffer* target, 
         if (!device.clipControl) {
             throw Error("Scene: complementary depth needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control) for a "
                         "0..1 clip-space depth range, and this driver (" + device.renderer + ", OpenGL " +
-                        device.version + ") has neither; use DepthStrategy::Auto, Logarithmic or MultiFrustum");
+                        device.version + ") has neither; use DepthStrategy::Automatic, Logarithmic or MultiFrustum");
         }
         if (!target) {
             throw Error("Scene: complementary depth needs a Depth32F depth buffer, which a default (window) "
@@ -135,7 +135,7 @@ FrameStatistics Scene::render(Context& context)
     context.resetStatistics();
 
     // Cull primitives whole: those culled are never asked for commands, so they allocate nothing.
-    // The survivors' extent along the view direction is what Auto weighs, before anything updates.
+    // The survivors' spheres are what Automatic weighs on a first frame, before anything updates.
     auto phase = std::chrono::steady_clock::now();
     _survivors.clear();
     double nearest = std::numeric_limits<double>::infinity();
@@ -153,11 +153,30 @@ FrameStatistics Scene::render(Context& context)
         farthest = std::max(farthest, sphere ? centre + sphere->radius : limits.farLimit);
         logarithmicAvailable = logarithmicAvailable && primitive->supportsLogarithmicDepth();
     }
-    const double frameNear = std::clamp(nearest, limits.nearLimit, limits.farLimit);
-    const double frameFar = std::clamp(farthest, frameNear, limits.farLimit);
-    const DepthStrategy strategy = chooseDepthStrategy(context, target, frameNear, frameFar, logarithmicAvailable);
-    const detail::DepthPlan plan = detail::DepthPlan::of(strategy, limits);
-    if (plan.strategy == DepthStrategy::Logarithmic || plan.strategy == DepthStrategy::LogarithmicVertex) {
+    const double tanHalfY = std::tan(0.5 * _camera.fieldOfViewY());
+    const double cosHalfDiagonal = 1.0 / std::sqrt(1.0 + tanHalfY * tanHalfY * (1.0 + aspect * aspect));
+    statistics.updateMilliseconds = millisecondsSince(phase);
+
+    // Automatic decides from the commands' own depth bounds, sharper than the primitives' spheres
+    // (a globe bounds its depth by the eye's height and its horizon). Primitives choose their shader
+    // variants in update(), so the frame starts with last frame's choice (the spheres' on the first)
+    // and updates once more only when the commands call for another: never in a steady view. Any
+    // choice draws correctly meanwhile: multi-frustum adds frustums as the commands need them.
+    const bool automatic = _options.depthStrategy == DepthStrategy::Automatic;
+    const double sphereNear = std::clamp(nearest, limits.nearLimit, limits.farLimit);
+    const double sphereFar = std::clamp(farthest, sphereNear, limits.farLimit);
+    DepthStrategy strategy = chooseDepthStrategy(context, target, sphereNear, sphereFar, logarithmicAvailable);
+    if (automatic && _lastAutomaticDepth) {
+        // Last frame's choice, while this frame can still have it (a primitive added since may not
+        // write logarithmic depth).
+        const bool logarithmic = *_lastAutomaticDepth == DepthStrategy::Logarithmic;
+        const bool complementary = *_lastAutomaticDepth == DepthStrategy::Complementary;
+        if ((!logarithmic || logarithmicAvailable) &&
+            (!complementary || (context.device().info().clipControl && target != nullptr))) {
+            strategy = *_lastAutomaticDepth;
+        }
+    }
+    if (strategy == DepthStrategy::Logarithmic || strategy == DepthStrategy::LogarithmicVertex) {
         for (const Primitive* primitive : _survivors) {
             if (!primitive->supportsLogarithmicDepth()) {
                 throw Error(std::string("Scene: logarithmic depth needs every primitive to write it, and a ") +
@@ -165,29 +184,54 @@ FrameStatistics Scene::render(Context& context)
             }
         }
     }
+
+    FrameState frameState{context,      device,        _camera,
+                          _ellipsoid,   width,         height,
+                          _sunDirection, _timeSeconds, _frameNumber,
+                          cullingVolume, EllipsoidalOccluder(_ellipsoid, eye), strategy};
+    FrameStatistics binning;
+    detail::DepthPlan plan;
+    auto updateAndBin = [&](DepthStrategy chosen) {
+        plan = detail::DepthPlan::of(chosen, limits);
+        frameState.depthStrategy = plan.strategy;
+        auto start = std::chrono::steady_clock::now();
+        _commands.clear();
+        for (Primitive* primitive : _survivors) {
+            primitive->update(frameState, _commands);
+        }
+        statistics.updateMilliseconds += millisecondsSince(start);
+        // Cull, then bin what survives into frustums by its extent along the view direction.
+        start = std::chrono::steady_clock::now();
+        if (_binner.multiFrustum().options() != plan.binning) {
+            _binner.multiFrustum().setOptions(plan.binning);
+        }
+        binning = FrameStatistics();
+        _binner.cullAndBin(_commands, cullingVolume, frameState.occluder, eye, viewDirection, cosHalfDiagonal,
+                           binning);
+        statistics.cullMilliseconds += millisecondsSince(start);
+    };
+    updateAndBin(strategy);
+    if (automatic && !_commands.empty()) {
+        const FrustumRange range = _binner.multiFrustum().desiredRange();
+        const DepthStrategy chosen =
+            chooseDepthStrategy(context, target, range.nearDistance, range.farDistance, logarithmicAvailable);
+        if (chosen != plan.strategy) {
+            updateAndBin(chosen);
+        }
+        _lastAutomaticDepth = plan.strategy;
+    }
+    statistics.primitivesUpdated = _survivors.size();
     statistics.depthStrategy = plan.strategy;
-    statistics.depthStrategyAutomatic = _options.depthStrategy == DepthStrategy::Auto;
-
-    FrameState frameState{context,   device,         _camera,       _ellipsoid,
-                          width,     height,         _sunDirection, _timeSeconds,
-                          _frameNumber, cullingVolume, EllipsoidalOccluder(_ellipsoid, eye), plan.strategy};
-    _commands.clear();
-    for (Primitive* primitive : _survivors) {
-        primitive->update(frameState, _commands);
-        ++statistics.primitivesUpdated;
-    }
-    statistics.updateMilliseconds = millisecondsSince(phase);
-
-    // Cull, then bin what survives into frustums by its extent along the view direction.
-    phase = std::chrono::steady_clock::now();
-    if (_binner.multiFrustum().options() != plan.binning) {
-        _binner.multiFrustum().setOptions(plan.binning);
-    }
-    _binner.cullAndBin(_commands, cullingVolume, frameState.occluder, eye, viewDirection, statistics);
+    statistics.depthStrategyAutomatic = automatic;
+    statistics.commandsSubmitted = binning.commandsSubmitted;
+    statistics.commandsCulledByFrustum = binning.commandsCulledByFrustum;
+    statistics.commandsCulledByHorizon = binning.commandsCulledByHorizon;
+    statistics.frustums = binning.frustums;
+    statistics.frustumsReused = binning.frustumsReused;
+    statistics.commandsExecutedMoreThanOnce = binning.commandsExecutedMoreThanOnce;
     if (plan.fixedRange && !statistics.frustums.empty()) {
         statistics.frustums.front() = {limits.nearLimit, limits.farLimit};
     }
-    statistics.cullMilliseconds = millisecondsSince(phase);
 
     // Draw: back to front, a depth clear per frustum, opaque before translucent.
     phase = std::chrono::steady_clock::now();
@@ -237,6 +281,7 @@ FrameStatistics Scene::render(Context& context)
                 const DrawCommand& command = _commands[visible[binned]];
                 if (command.pass == pass) {
                     context.draw(command, sceneState);
+                    statistics.effects |= command.tags;
                     ++drawn;
                 }
             }
@@ -258,6 +303,7 @@ FrameStatistics Scene::render(Context& context)
         sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
         for (const std::uint32_t index : overlay) {
             context.draw(_commands[index], sceneState);
+            statistics.effects |= _commands[index].tags;
         }
         statistics.commandsExecuted += overlay.size();
         statistics.overlayPasses = 1;

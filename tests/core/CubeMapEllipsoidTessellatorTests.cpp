@@ -104,7 +104,7 @@ TEST_CASE("CubeMapEllipsoidTessellator puts the poles on face centres and the an
     REQUIRE(seamEast == 2 * n - 1);
 }
 
-TEST_CASE("CubeMapEllipsoidTessellator deviation falls as the faces refine; equal angles do better",
+TEST_CASE("CubeMapEllipsoidTessellator deviation falls as the faces refine and equal angles do better",
           "[core][tessellation]")
 {
     double previousUniform = INFINITY;

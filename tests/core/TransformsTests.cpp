@@ -63,3 +63,11 @@ TEST_CASE("Heading, pitch and roll give the expected view directions", "[core][t
     REQUIRE(near(rolled.direction, {0, 0, 1}, 1e-15));
     REQUIRE(near(rolled.up, {0, 1, 0}, 1e-15)); // rolled right: up tips towards east
 }
+
+TEST_CASE("East-north-up above the surface uses the geodetic normal of the point below", "[core][transforms]")
+{
+    // 1,000 km up at 45 degrees, the gradient at the point itself leans by about 0.026 degrees.
+    const Geodetic3D high = Geodetic3D::fromDegrees(30, 45, 1e6);
+    const glm::dmat3 enu = eastNorthUpAxes(kEarth, kEarth.toCartesian(high));
+    REQUIRE(near(enu[2], Ellipsoid::geodeticSurfaceNormal(high), 1e-15 * 4));
+}

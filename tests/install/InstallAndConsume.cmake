@@ -14,7 +14,8 @@ run_step(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WORK_DIR}/build -G ${GE
   -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
 run_step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run_step(${WORK_DIR}/build/consumer)
-if(NOT step_output MATCHES "centre height -6356752" OR NOT step_output MATCHES "library embedded")
+if(NOT step_output MATCHES "centre height -6356752" OR NOT step_output MATCHES "library embedded"
+   OR NOT step_output MATCHES "scene width 320")
   message(FATAL_ERROR "consumer printed an unexpected result:\n${step_output}")
 endif()
 message(STATUS "consumer ran: ${step_output}")

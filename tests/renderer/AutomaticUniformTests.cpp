@@ -121,7 +121,7 @@ TEST_CASE("Matrix uniforms are the double-precision products sent as float", "[r
     CHECK(glm::length(glm::dvec3(modelView[3])) < 1100.0);
 }
 
-TEST_CASE("Relative-to-eye matrices drop the translation; the eye splits into high and low floats",
+TEST_CASE("Relative-to-eye matrices drop the translation and the eye splits into high and low floats",
           "[renderer][uniforms]")
 {
     Evaluator e;

@@ -149,3 +149,25 @@ TEST_CASE("Statistics count draws, primitives by type and clears until reset", "
     CHECK(statistics.primitives == 0);
     CHECK(statistics.glCalls == 0);
 }
+
+TEST_CASE("After resetState the next draw sets every state item and binding again", "[renderer][context][shadowing]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    Framebuffer framebuffer = context.createFramebuffer(8, 8);
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    const DrawCommand command = test::makeCommand(array, program, framebuffer, {0, 1, 0, 1});
+    context.clear(ClearState{}, &framebuffer);
+    context.draw(command);
+
+    context.resetState();
+    context.resetStatistics();
+    context.draw(command);
+    const RenderStatistics statistics = context.statistics();
+    CHECK(statistics.stateChangesMade >= 30);
+    CHECK(statistics.programBinds == 1);
+    CHECK(statistics.vertexArrayBinds == 1);
+    CHECK(statistics.framebufferBinds == 1);
+    CHECK(test::pixelNear(context.readPixels(&framebuffer), 4, 4, {0, 255, 0, 255}));
+}

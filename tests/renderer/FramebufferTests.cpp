@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 using namespace orbis;
 using Catch::Matchers::Contains;
 
@@ -53,7 +55,8 @@ TEST_CASE("A framebuffer writes a PNG that reads back the same", "[renderer][fra
     clear.color = {1.0f, 0.5f, 0.0f, 1.0f};
     context.clear(clear, &framebuffer);
     const Image image = context.readPixels(&framebuffer);
-    const auto path = std::filesystem::temp_directory_path() / "orbis-framebuffer-test.png";
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("orbis-framebuffer-test-" + std::to_string(getpid()) + ".png"); // parallel runs apart
     writePng(image, path);
     const Image back = readImage(path);
     std::filesystem::remove(path);

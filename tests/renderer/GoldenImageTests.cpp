@@ -28,13 +28,22 @@ Image gradient(int width, int height)
     return image;
 }
 
-// One per test process and test: CTest runs tests in parallel, and other checkouts may too.
+// One per test process and test: CTest runs tests in parallel, and other checkouts may too. It
+// holds the golden files and the failure images, and is removed afterwards.
 struct TemporaryDirectory {
     std::filesystem::path path = std::filesystem::temp_directory_path() /
                                  ("orbis-golden-test-" + std::to_string(getpid()) + "-" +
                                   Catch::getResultCapture().getCurrentTestName().substr(0, 12));
-    TemporaryDirectory() { std::filesystem::remove_all(path); }
-    ~TemporaryDirectory() { std::filesystem::remove_all(path); }
+    TemporaryDirectory()
+    {
+        std::filesystem::remove_all(path);
+        setenv("ORBIS_GOLDEN_OUTPUT_DIR", (path / "output").c_str(), 1);
+    }
+    ~TemporaryDirectory()
+    {
+        unsetenv("ORBIS_GOLDEN_OUTPUT_DIR");
+        std::filesystem::remove_all(path);
+    }
 };
 
 } // namespace
@@ -88,6 +97,7 @@ TEST_CASE("The golden comparison allows the stated tolerance and no more", "[ren
     const test::GoldenResult sizes = test::compareWithGolden(gradient(9, 10), "tolerance", {}, directory.path);
     CHECK_FALSE(sizes.passed);
     CHECK_THAT(sizes.message, Contains("9 x 10") && Contains("10 x 10") && Contains("actual image"));
+    CHECK(std::filesystem::exists(directory.path / "output" / "tolerance.actual.png"));
 
     const test::ImageDifference difference = test::compareImages(changed, golden, 2);
     CHECK(difference.sameSize);

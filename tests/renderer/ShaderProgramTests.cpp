@@ -204,3 +204,46 @@ TEST_CASE("A version line in a source is replaced, keeping line numbers", "[rend
     INFO(message);
     CHECK_THAT(message, Contains("v.frag.glsl:3:"));
 }
+
+TEST_CASE("A geometry shader stage turns points into quads", "[renderer][shader]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    ShaderProgramDescription description = test::solidColorDescription();
+    description.name = "point sprites";
+    description.geometry = ShaderSource::fromText("sprite.geom.glsl", R"(
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+uniform float u_halfSize;
+void main()
+{
+    vec4 c = gl_in[0].gl_Position;
+    gl_Position = c + vec4(-u_halfSize, -u_halfSize, 0.0, 0.0); EmitVertex();
+    gl_Position = c + vec4( u_halfSize, -u_halfSize, 0.0, 0.0); EmitVertex();
+    gl_Position = c + vec4(-u_halfSize,  u_halfSize, 0.0, 0.0); EmitVertex();
+    gl_Position = c + vec4( u_halfSize,  u_halfSize, 0.0, 0.0); EmitVertex();
+    EndPrimitive();
+}
+)");
+    ShaderProgram program = device.createShaderProgram(description);
+    CHECK(program.hasUniform("u_halfSize"));
+    Mesh mesh;
+    mesh.primitiveType = PrimitiveType::Points;
+    mesh.positions = {{-0.5, -0.5, 0.0}, {0.5, 0.5, 0.0}};
+    const VertexArray array = context.createVertexArray(mesh, program);
+    Framebuffer framebuffer = context.createFramebuffer(16, 16);
+    DrawCommand command = test::makeCommand(array, program, framebuffer, {0, 1, 1, 1});
+    command.primitiveType = PrimitiveType::Points;
+    command.uniforms.set("u_halfSize", 0.25f);
+    context.clear(ClearState{}, &framebuffer);
+    context.draw(command);
+    const Image image = context.readPixels(&framebuffer);
+    CHECK(test::pixelNear(image, 4, 11, {0, 255, 255, 255})); // around (-0.5, -0.5)
+    CHECK(test::pixelNear(image, 11, 4, {0, 255, 255, 255})); // around (0.5, 0.5)
+    CHECK(test::pixelNear(image, 11, 11, {0, 0, 0, 255}));
+
+    description.geometry->text = "layout(points) in;\nlayout(points, max_vertices = 1) out;\nvoid main() { bad }\n";
+    description.geometry->name = "broken.geom.glsl";
+    REQUIRE_THROWS_WITH(device.createShaderProgram(description),
+                        Contains("geometry shader broken.geom.glsl") && Contains("broken.geom.glsl:3:"));
+}

@@ -343,3 +343,43 @@ TEST_CASE("Under logarithmic depth a triangle reaching behind the eye is clipped
         CHECK(pixelNear(frame.image, 5, 40, {0, 255, 0, 255}));
     }
 }
+
+namespace {
+
+/// Counts update() calls; draws nothing, writes any depth.
+class CountingPrimitive final : public Primitive {
+public:
+    std::optional<BoundingSphere> boundingSphere() const override { return std::nullopt; }
+    void update(FrameState& frameState, CommandList&) override
+    {
+        ++updates;
+        lastStrategy = frameState.depthStrategy;
+    }
+    bool supportsLogarithmicDepth() const override { return true; }
+    int updates = 0;
+    DepthStrategy lastStrategy = DepthStrategy::Automatic;
+};
+
+} // namespace
+
+TEST_CASE("Automatic decides by the commands' depth bounds, updating again only in a frame where the choice changes", "[scene][depth]")
+{
+    // 3 km over the ground looking along it: the globe's sphere spans 1 m to 13,000 km, but its
+    // command bounds its depth by the eye's height and the horizon (2.6 to 940 km): one frustum.
+    Scene scene(kEarth);
+    scene.add(blueGlobe());
+    auto counter = std::make_shared<CountingPrimitive>();
+    scene.add(counter);
+    const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(20, 45, 3000));
+    scene.camera().lookAt(eye, kEarth.toCartesian(Geodetic3D::fromDegrees(20, 45.5, 0)), kEarth.geodeticSurfaceNormal(eye));
+    const FrameStatistics first = renderFrame(scene, 32, 32).statistics;
+    CHECK(first.depthStrategy == DepthStrategy::MultiFrustum);
+    CHECK(first.frustums.size() == 1);
+    CHECK(first.primitivesUpdated == 2);
+    // The spheres asked for more (complementary, or logarithmic without glClipControl): the first
+    // frame updated once with that, once more with the commands' choice.
+    CHECK(counter->updates == 2);
+    CHECK(counter->lastStrategy == DepthStrategy::MultiFrustum);
+    renderFrame(scene, 32, 32);
+    CHECK(counter->updates == 3); // a steady view: one update a frame
+}

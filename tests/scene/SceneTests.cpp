@@ -63,7 +63,20 @@ TEST_CASE("A globe seen from orbit runs one frustum, no translucent pass, and co
     REQUIRE(second.frustumsReused);
 }
 
-TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says; removing it restores one", "[scene][effects][multifrustum]")
+TEST_CASE("A globe seen from 200 km needs one frustum: its near and far come from the eye's height and horizon", "[scene][effects][multifrustum]")
+{
+    Scene scene(kEarth);
+    scene.add(plainGlobe());
+    const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(9, 43, 2e5));
+    scene.camera().lookAt(eye, kEarth.toCartesian(Geodetic3D::fromDegrees(10, 46, 0)), {0, 0, 1});
+    const FrameStatistics statistics = renderFrame(scene, 64, 64).statistics;
+    REQUIRE(statistics.frustums.size() == 1); // the bounding sphere alone would reach down to 1 m: 3 frustums
+    REQUIRE(statistics.frustums.front().nearDistance > 0.8 * 2e5);
+    REQUIRE(statistics.frustums.front().nearDistance <= 2e5);
+    REQUIRE(statistics.frustums.front().farDistance < 2.5e6);
+}
+
+TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says, and removing it restores one", "[scene][effects][multifrustum]")
 {
     Scene scene(kEarth);
     scene.options().depthStrategy = DepthStrategy::MultiFrustum; // Auto would pick one complementary frustum

@@ -67,7 +67,10 @@ Image differenceImage(const Image& actual, const Image& expected)
 
 std::filesystem::path outputPath(std::string_view name, const char* suffix)
 {
-    std::filesystem::path path = std::filesystem::current_path() / "golden-output" / (std::string(name) + suffix);
+    const char* directory = std::getenv("ORBIS_GOLDEN_OUTPUT_DIR");
+    const std::filesystem::path base = directory && *directory ? std::filesystem::path(directory)
+                                                                : std::filesystem::current_path() / "golden-output";
+    std::filesystem::path path = base / (std::string(name) + suffix);
     std::filesystem::create_directories(path.parent_path());
     return path;
 }

@@ -39,7 +39,8 @@ struct GoldenResult {
 std::filesystem::path defaultGoldenDirectory();
 
 /// Compares `image` with <goldenDirectory>/<name>.png. On a mismatch the image and a difference
-/// image are written next to the working directory (golden-output/<name>.actual.png, .diff.png).
+/// image are written to $ORBIS_GOLDEN_OUTPUT_DIR, or golden-output/ in the working directory
+/// (<name>.actual.png, <name>.diff.png).
 GoldenResult compareWithGolden(const Image& image, std::string_view name, const GoldenTolerance& tolerance = {},
                                const std::filesystem::path& goldenDirectory = defaultGoldenDirectory());
 

@@ -54,8 +54,10 @@ float rayCastEllipsoid(vec3 direction)
 }
 #endif
 
-// Longitude and latitude texture coordinates of a unit normal, and their screen derivatives taken
-// from whichever of u and u + 1/2 is continuous here, so the antimeridian shows no seam.
+// Longitude and latitude texture coordinates of a unit normal, and their screen derivatives.
+// The u derivative is taken from whichever of u and u + 1/2 is continuous here, so the
+// antimeridian shows no seam, and scaled by cos(latitude), the width a texel of an
+// equirectangular image really covers, so the converging meridians do not blur the poles.
 vec2 textureCoordinates(vec3 normal, out vec2 dx, out vec2 dy)
 {
     vec2 uv = vec2(atan(normal.y, normal.x) * og_oneOverTwoPi + 0.5, asin(clamp(normal.z, -1.0, 1.0)) * og_oneOverPi + 0.5);
@@ -68,6 +70,9 @@ vec2 textureCoordinates(vec3 normal, out vec2 dx, out vec2 dy)
         dx.x = dxShifted;
         dy.x = dyShifted;
     }
+    float cosLatitude = sqrt(max(1.0 - normal.z * normal.z, 0.0));
+    dx.x *= cosLatitude;
+    dy.x *= cosLatitude;
     return uv;
 }
 

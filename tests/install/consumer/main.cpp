@@ -1,6 +1,7 @@
 // A user's program built against the installed orbis package.
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/EmbeddedShaders.h>
+#include <orbis/scene/SceneFile.h>
 
 #include <cstdio>
 
@@ -11,5 +12,8 @@ int main()
     std::printf("centre height %.0f\n", centre.height);
     // The renderer links too (its shaders are embedded; no GL context is needed for this).
     std::printf("built-in GLSL library %s\n", orbis::embeddedShader("renderer/builtin/constants.glsl") ? "embedded" : "missing");
+    // orbis::scene, with its privately linked dependencies found by the package.
+    const orbis::SceneDescription scene = orbis::parseSceneText(R"({"version": 1, "width": 320})", "consumer", ".");
+    std::printf("scene width %d\n", scene.width);
     return 0;
 }

@@ -8,8 +8,9 @@
 
 namespace orbis {
 
-/// How a Mesh's indices are read.
-enum class PrimitiveType { Points, Lines, LineStrip, Triangles, TriangleStrip };
+/// How a Mesh's indices are read. The adjacency types give a geometry shader each segment with
+/// the vertex before and after it (four per segment, or a strip where each vertex adds one).
+enum class PrimitiveType { Points, Lines, LineStrip, Triangles, TriangleStrip, LinesAdjacency, LineStripAdjacency };
 
 /// Indexed geometry produced by the tessellators: world positions in doubles (metres), with
 /// optional unit normals and texture coordinates (one per position when present).

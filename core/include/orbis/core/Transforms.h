@@ -8,7 +8,7 @@
 namespace orbis {
 
 /// East, north and up unit vectors (the columns) of the local frame at a position, up being the
-/// geodetic surface normal. At the poles, where east is undefined, east is the limit taken along
+/// geodetic surface normal of the point below it (so heights measure along up). At the poles, where east is undefined, east is the limit taken along
 /// the prime meridian: +y at both poles.
 glm::dmat3 eastNorthUpAxes(const Ellipsoid& ellipsoid, const glm::dvec3& origin) noexcept;
 

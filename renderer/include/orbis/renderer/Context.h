@@ -10,6 +10,7 @@
 #include "orbis/renderer/VertexArray.h"
 
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace orbis {
@@ -19,6 +20,8 @@ class ShaderProgram;
 namespace detail {
 class ContextState;
 class BackendContext;
+struct RawGlBaselineAccess;
+struct ErrorSource;
 } // namespace detail
 
 /// Colour and depth formats of Context::createFramebuffer(width, height, ...).
@@ -90,6 +93,10 @@ public:
     void draw(const DrawCommand& command, const SceneState& sceneState);
     /// The same with a default SceneState (identity matrices).
     void draw(const DrawCommand& command);
+    /// Executes commands in order (a command list, as the scene layer produces them per frustum and
+    /// pass). Stops at the first that throws. Commands kept one after another in memory, as here or
+    /// in a vector, draw fastest: each draw fetches the memory of the command two places on.
+    void draw(std::span<const DrawCommand> commands, const SceneState& sceneState);
     /// Runs the command's vertex (and geometry) stage with rasterisation off and returns the
     /// outputs its program captures (ShaderProgramDescription::transformFeedbackVaryings), as
     /// floats interleaved in that order, program->capturedComponents() per vertex, one record per
@@ -107,19 +114,22 @@ public:
     /// Waits until the GPU has executed every queued command.
     void finish();
 
+    /// Forgets what the context knows of the GL state. Call it after code outside Orbis made GL
+    /// calls on this context (another library, a raw-GL baseline): the next clear or draw sets every
+    /// render-state item and binding again. Uniform values kept in ShaderPrograms are not covered.
+    void resetState() noexcept;
+
     /// What the context did since the last reset.
     RenderStatistics statistics() const noexcept;
     void resetStatistics() noexcept;
 
 private:
     friend class Device;
+    friend struct detail::RawGlBaselineAccess;
     Context(Device& device, std::unique_ptr<detail::ContextState> state);
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
-    Framebuffer* bindTarget(Framebuffer* requested, const std::string& where);
+    Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);
     Rectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
-    /// Checks the command, binds and sets everything it needs; returns the element count to draw.
-    std::size_t prepareDraw(const DrawCommand& command, const SceneState& sceneState);
-    void issueDraw(const DrawCommand& command, std::size_t count);
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;

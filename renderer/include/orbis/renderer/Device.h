@@ -8,6 +8,7 @@
 #include "orbis/renderer/ShaderProgram.h"
 #include "orbis/renderer/Texture2D.h"
 #include "orbis/renderer/VertexBuffer.h"
+#include "orbis/renderer/Window.h"
 
 #include <cstdint>
 #include <memory>
@@ -18,8 +19,6 @@
 #include <vector>
 
 namespace orbis {
-
-class Window;
 
 /// Where the GL context comes from.
 enum class GlBackend : std::uint8_t {

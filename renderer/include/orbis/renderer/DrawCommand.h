@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,6 +63,13 @@ struct DrawCommand {
     /// Horizon occlusion point in ellipsoid-scaled space (EllipsoidalOccluder); none: the command is
     /// not horizon-culled.
     std::optional<glm::dvec3> horizonOcclusionPoint;
+    /// Bounds on the distance (metres) from the eye to anything the command draws, where the
+    /// primitive knows better than its sphere (a globe: its height above the ellipsoid, and the
+    /// distance to its horizon). They narrow the frustums; the defaults leave the sphere to decide.
+    double nearestDistance = 0.0;
+    double farthestDistance = std::numeric_limits<double>::infinity();
+    /// A bit set the layer above defines (the scene's Effect); reported, never interpreted here.
+    std::uint32_t tags = 0;
 };
 
 } // namespace orbis

@@ -42,13 +42,14 @@ public:
     const std::shared_ptr<Texture2D>& colorAttachment(int index) const;
     const std::shared_ptr<Texture2D>& depthAttachment() const noexcept { return _depth; }
     /// The size drawn into: the smallest over the attachments; 0 x 0 without attachments.
-    int width() const noexcept;
-    int height() const noexcept;
+    int width() const noexcept { return _width; }
+    int height() const noexcept { return _height; }
     bool valid() const noexcept { return _name != 0; }
 
 private:
     friend class Context;
     Framebuffer(detail::ContextState& owner, unsigned name) noexcept;
+    void updateSize() noexcept;
 
     detail::ContextState* _owner = nullptr;
     unsigned _name = 0;
@@ -56,6 +57,8 @@ private:
     std::array<std::shared_ptr<Texture2D>, kMaxColorAttachments> _colors;
     std::shared_ptr<Texture2D> _depth;
     bool _dirty = true;
+    int _width = 0;
+    int _height = 0;
 };
 
 } // namespace orbis

@@ -129,6 +129,7 @@ private:
         int location = -1;
         UniformType type = UniformType::Unsupported;
         int automatic = -1; ///< an AutomaticUniform, or -1
+        bool settable = false; ///< by the application: not automatic, a single value of a supported type
         bool hasValue = false;
         bool dirty = false;
         alignas(16) unsigned char value[64] = {};

@@ -8,12 +8,17 @@
 #include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
 namespace orbis {
+
+namespace detail {
+struct UniformValuesAccess;
+}
 
 /// The GLSL type of an active uniform, as reflected from a linked program.
 enum class UniformType : std::uint8_t {
@@ -34,32 +39,62 @@ using UniformValue = std::variant<bool, int, glm::ivec2, glm::ivec3, glm::ivec4,
 UniformType uniformTypeOf(const UniformValue& value) noexcept;
 
 /// A small map from uniform name to value, owned by a DrawCommand; insertion order is kept.
+/// Values are stored as GL takes them (ints for bool, column-major floats); the first four inside
+/// the map itself, so that drawing a command reads its uniforms from the command's own memory
+/// rather than chasing a pointer per command. The names are kept apart, read only the first time a
+/// command meets a program.
 class UniformValues {
 public:
-    struct Entry {
-        std::string name;
-        UniformValue value;
-        // Where the last program that drew this entry keeps the uniform (a lookup cache the
-        // Context fills; not part of the value).
-        mutable std::uint64_t cachedProgramSerial = 0;
-        mutable int cachedSlot = -1;
-    };
-
     /// Adds the uniform or replaces its value.
     void set(std::string_view name, const UniformValue& value);
-    /// The value, or null when the map has none for name.
-    const UniformValue* find(std::string_view name) const noexcept;
+    /// The value; empty when the map has none for name.
+    std::optional<UniformValue> find(std::string_view name) const;
     /// Removes the uniform; false when it was absent.
     bool erase(std::string_view name);
-    void clear() noexcept { _entries.clear(); }
+    void clear() noexcept;
 
-    std::size_t size() const noexcept { return _entries.size(); }
-    bool empty() const noexcept { return _entries.empty(); }
-    std::vector<Entry>::const_iterator begin() const noexcept { return _entries.begin(); }
-    std::vector<Entry>::const_iterator end() const noexcept { return _entries.end(); }
+    std::size_t size() const noexcept { return _count; }
+    bool empty() const noexcept { return _count == 0; }
+    /// The name and value of the i-th uniform, in insertion order.
+    const std::string& name(std::size_t i) const { return _names[i]; }
+    UniformValue value(std::size_t i) const;
 
 private:
-    std::vector<Entry> _entries;
+    friend class Context;
+    friend struct detail::UniformValuesAccess;
+
+    struct Entry {
+        // Where the last program that drew this entry keeps the uniform: a lookup cache the
+        // Context fills, not part of the value.
+        mutable std::uint64_t cachedProgramSerial = 0;
+        mutable int cachedSlot = -1;
+        UniformType type = UniformType::Float;
+        std::uint8_t size = 0;     ///< bytes of the value
+        std::uint32_t offset = 0;  ///< into _large when size > kInline
+        alignas(4) unsigned char inlineBytes[16] = {};
+    };
+    static constexpr std::size_t kInline = 16;
+
+    static constexpr std::size_t kInlineEntries = 4;
+
+    const unsigned char* bytes(const Entry& entry) const noexcept
+    {
+        return entry.size > kInline ? _large.data() + entry.offset : entry.inlineBytes;
+    }
+    const Entry& entry(std::size_t i) const noexcept
+    {
+        return i < kInlineEntries ? _inlineEntries[i] : _moreEntries[i - kInlineEntries];
+    }
+    Entry& entry(std::size_t i) noexcept
+    {
+        return i < kInlineEntries ? _inlineEntries[i] : _moreEntries[i - kInlineEntries];
+    }
+
+    std::uint32_t _count = 0;
+    Entry _inlineEntries[kInlineEntries];
+    std::vector<Entry> _moreEntries;    ///< entries beyond the first four
+    std::vector<std::string> _names;    ///< one per entry
+    std::vector<unsigned char> _large;  ///< values larger than kInline (mat3, mat4)
 };
 
 } // namespace orbis

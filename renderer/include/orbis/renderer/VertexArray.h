@@ -18,6 +18,7 @@ namespace orbis {
 namespace detail {
 class ContextState;
 struct VertexArrayAccess;
+struct RawGlBaselineAccess;
 } // namespace detail
 class Context;
 
@@ -104,6 +105,7 @@ public:
 private:
     friend class Context;
     friend struct detail::VertexArrayAccess;
+    friend struct detail::RawGlBaselineAccess;
     VertexArray(detail::ContextState& owner, unsigned name) noexcept;
     detail::ContextState& bindForChange(const char* what);
 

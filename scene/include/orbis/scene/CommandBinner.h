@@ -20,9 +20,11 @@ public:
     explicit CommandBinner(const MultiFrustumOptions& options = {}) : _multiFrustum(options) {}
 
     /// Culls and bins; adds the culling counts, frustums and redundancy to statistics.
+    /// cosHalfDiagonal: the cosine of the angle between the view direction and the frustum's
+    /// corners, which turns a command's nearest distance into a nearest depth.
     void cullAndBin(std::span<const DrawCommand> commands, const Frustum& cullingVolume,
                     const EllipsoidalOccluder& occluder, const glm::dvec3& eye, const glm::dvec3& viewDirection,
-                    FrameStatistics& statistics);
+                    double cosHalfDiagonal, FrameStatistics& statistics);
 
     MultiFrustum& multiFrustum() noexcept { return _multiFrustum; }
     const MultiFrustum& multiFrustum() const noexcept { return _multiFrustum; }

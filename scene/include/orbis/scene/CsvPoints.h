@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,9 +13,15 @@
 namespace orbis {
 
 /// Which columns loadCsvPoints reads; the defaults fit data/geonames/cities.csv (name,lat,lon,country).
+/// The column names scene files accept for coordinates, compared without regard to case.
+inline constexpr std::array<std::string_view, 4> kLongitudeColumnNames = {"lon", "lng", "long", "longitude"};
+inline constexpr std::array<std::string_view, 2> kLatitudeColumnNames = {"lat", "latitude"};
+
 struct CsvPointsOptions {
-    std::string longitudeColumn = "lon"; ///< degrees in [-180, 180]
-    std::string latitudeColumn = "lat";  ///< degrees in [-90, 90]
+    /// Degrees in [-180, 180]; empty: the first column named one of kLongitudeColumnNames.
+    std::string longitudeColumn = "lon";
+    /// Degrees in [-90, 90]; empty: the first column named one of kLatitudeColumnNames.
+    std::string latitudeColumn = "lat";
     std::string heightColumn;            ///< metres; empty: the file has none and heights are 0
     /// Columns kept as properties, in this order. Empty optional: every column except longitude,
     /// latitude and height, in file order.

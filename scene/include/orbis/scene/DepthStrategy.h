@@ -1,12 +1,13 @@
 #pragma once
 
-#include <orbis/renderer/DrawCommand.h>
-#include <orbis/renderer/ShaderProgram.h>
-
 #include <cstdint>
 #include <vector>
 
 namespace orbis {
+
+// Kept free of renderer headers: the scene-file description includes this file.
+enum class Pass : std::uint8_t; // orbis/renderer/DrawCommand.h
+struct ShaderDefine;            // orbis/renderer/ShaderProgram.h
 
 /// How a Scene resolves depth across its view distance (book chapter 6, SIGGRAPH 2013 course
 /// chapter 2). docs/precision.md measures each; FrameStatistics::depthStrategy says which ran.
@@ -16,7 +17,7 @@ enum class DepthStrategy : std::uint8_t {
     /// depth, nothing extra); otherwise Complementary where the device has glClipControl and the
     /// target has texture attachments; otherwise Logarithmic when every primitive supports it;
     /// MultiFrustum otherwise.
-    Auto,
+    Automatic,
     /// Dynamic multiple frustums: far/near at most the ratio in each, overlapping slightly, a depth
     /// clear each, back to front; commands drawn once per frustum they span. Blended draws keep
     /// only the fragments their frustum owns, so none is blended twice where frustums overlap.
@@ -38,10 +39,10 @@ enum class DepthStrategy : std::uint8_t {
     Single,
 };
 
-/// The six strategies, Auto first.
-inline constexpr DepthStrategy kDepthStrategies[] = {DepthStrategy::Auto,          DepthStrategy::MultiFrustum,
-                                                     DepthStrategy::Logarithmic,   DepthStrategy::LogarithmicVertex,
-                                                     DepthStrategy::Complementary, DepthStrategy::Single};
+/// The six strategies, Automatic first.
+inline constexpr DepthStrategy kAllDepthStrategies[] = {DepthStrategy::Automatic,     DepthStrategy::MultiFrustum,
+                                                        DepthStrategy::Logarithmic,   DepthStrategy::LogarithmicVertex,
+                                                        DepthStrategy::Complementary, DepthStrategy::Single};
 
 /// "auto", "multi-frustum", "logarithmic", "logarithmic (vertex)", "complementary", "single".
 const char* depthStrategyName(DepthStrategy strategy) noexcept;

@@ -23,7 +23,7 @@ struct FrameStatistics {
     std::size_t commandsExecuted = 0;          ///< draw calls, counting repeats across frustums
     std::size_t commandsExecutedMoreThanOnce = 0;
     DepthStrategy depthStrategy = DepthStrategy::MultiFrustum; ///< what ran (never Auto)
-    bool depthStrategyAutomatic = false;       ///< chosen by DepthStrategy::Auto
+    bool depthStrategyAutomatic = false;       ///< chosen by DepthStrategy::Automatic
     std::vector<FrustumRange> frustums;        ///< near to far; one for the single-frustum strategies
     std::vector<std::size_t> drawCallsPerFrustum; ///< parallel to frustums
     bool frustumsReused = false;
@@ -31,10 +31,16 @@ struct FrameStatistics {
     std::size_t translucentPasses = 0;
     std::size_t overlayPasses = 0;
     std::uint64_t programsCompiled = 0;        ///< shader variants compiled during this frame
+    std::uint32_t effects = 0;                 ///< Effect bits of the commands drawn
     double updateMilliseconds = 0.0;           ///< primitives' update()
     double cullMilliseconds = 0.0;             ///< culling and binning
     double drawMilliseconds = 0.0;             ///< executing commands, GPU finished
     RenderStatistics renderer;                 ///< the context's own counts for the frame
+
+    /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
+    /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those
+    /// ran: what the frame paid for.
+    std::vector<std::string> effectsRun() const;
 
     /// One readable block of text, as `orbis render` prints it.
     std::string toText() const;

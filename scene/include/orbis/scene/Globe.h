@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
+#include "orbis/scene/GlobeMethod.h"
 
 #include <orbis/core/Tessellation.h>
 
@@ -18,11 +19,6 @@
 namespace orbis {
 
 class ShaderProgram;
-
-enum class GlobeMethod {
-    RayCast,     ///< a bounding box whose fragments cast rays at the ellipsoid (book section 4.3)
-    Tessellated, ///< a cube-map tessellation, relative to the eye on the GPU
-};
 
 /// Which core tessellator a Tessellated globe uses, and what its level means.
 enum class GlobeTessellation {
@@ -60,13 +56,13 @@ public:
     /// Both methods write every DepthStrategy's depth (the ray caster computes it per fragment).
     bool supportsLogarithmicDepth() const override { return true; }
 
-    /// The graticule spacing (radians) for an eye at a height above the surface: the finest of
-    /// 30, 15, 10, 5, 2, 1, 0.5, 0.25, 0.1 degrees whose lines stay at least 60 pixels apart.
     /// The mesh a Tessellated globe draws (with its deviation from the ellipsoid when measured).
     static TessellationResult tessellate(const Ellipsoid& ellipsoid, GlobeTessellation tessellation, int level,
                                          Deviation deviation = Deviation::Skip);
 
-    static double gridSpacing(double heightMeters, double metersPerPixelAtHeight, double radius) noexcept;
+    /// The graticule spacing (radians) given the size of a pixel on the ground below the eye: the
+    /// finest of 0.1, 0.25, 0.5, 1, 2, 5, 10, 15, 30 degrees whose lines stay at least 60 pixels apart.
+    static double gridSpacing(double metersPerPixelOnGround, double radius) noexcept;
 
 private:
     void createResources(FrameState& frameState);

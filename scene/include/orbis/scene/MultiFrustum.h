@@ -50,6 +50,9 @@ public:
     const std::vector<std::vector<std::uint32_t>>& bins() const noexcept { return _bins; }
     /// Whether the last bin() kept the previous frustums (one pass) or recomputed them.
     bool reused() const noexcept { return _reused; }
+    /// The near and far distances the last bin() found the commands to span, clamped to the
+    /// limits (the frustums may be wider when last frame's were reused); 0..0 with no commands.
+    FrustumRange desiredRange() const noexcept { return _desired; }
     /// Commands binned into more than one frustum by the last bin(), each counted once.
     std::size_t commandsInSeveralFrustums() const noexcept { return _commandsInSeveralFrustums; }
 
@@ -68,6 +71,7 @@ private:
     double _far = 0.0;
     bool _reused = false;
     std::size_t _commandsInSeveralFrustums = 0;
+    FrustumRange _desired{0.0, 0.0};
 };
 
 } // namespace orbis

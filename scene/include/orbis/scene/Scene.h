@@ -25,12 +25,12 @@ struct SceneOptions {
     /// The near and far limits of every strategy; the ratio and overlap of MultiFrustum.
     MultiFrustumOptions multiFrustum;
     /// How depth is resolved (docs/precision.md compares them); Auto picks per frame.
-    DepthStrategy depthStrategy = DepthStrategy::Auto;
+    DepthStrategy depthStrategy = DepthStrategy::Automatic;
     glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
 };
 
 /// Primitives, a camera and a sun; render() runs one frame: cull primitives whole, choose the depth
-/// strategy (DepthStrategy::Auto weighs the survivors' bounding spheres), update the survivors, cull
+/// strategy (DepthStrategy::Automatic weighs the survivors' bounding spheres), update the survivors, cull
 /// their commands against the view frustum and the ellipsoid's horizon, bin them into frustums (one,
 /// or the dynamic multi-frustums), draw the frustums back to front (depth cleared for each, opaque
 /// then translucent), then the overlay pass.
@@ -89,6 +89,7 @@ private:
     CommandBinner _binner;
     CommandList _commands; ///< reused across frames
     std::vector<Primitive*> _survivors; ///< reused across frames
+    std::optional<DepthStrategy> _lastAutomaticDepth; ///< Automatic's choice last frame
     std::shared_ptr<Framebuffer> _floatDepthTarget;
     std::shared_ptr<Texture2D> _floatDepth;
     const Context* _floatDepthContext = nullptr;

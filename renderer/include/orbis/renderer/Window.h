@@ -1,0 +1,41 @@
+#pragma once
+
+namespace orbis {
+
+/// The window of a Device created with GlBackend::Window (only in builds with GLFW, and only where
+/// a display exists). Its Context draws into it when no framebuffer is set; swapBuffers shows the
+/// frame. Owned by the Device; used on the thread that created the Device.
+///
+/// ```
+/// DeviceOptions options;
+/// options.backend = GlBackend::Window;
+/// Device device(options);
+/// while (!device.window()->shouldClose()) {
+///     device.context().clear(ClearState{});
+///     device.context().draw(command, scene);
+///     device.window()->swapBuffers();
+///     device.window()->pollEvents();
+/// }
+/// ```
+class Window final {
+public:
+    explicit Window(void* nativeWindow) noexcept : _native(nativeWindow) {}
+    Window(const Window&) = delete;
+    Window& operator=(const Window&) = delete;
+
+    /// True once the user asked to close the window.
+    bool shouldClose() const;
+    /// Handles pending window-system events (input, resizing, closing).
+    void pollEvents();
+    /// Shows what was drawn into the default framebuffer.
+    void swapBuffers();
+    /// The default framebuffer's size in pixels (which may differ from the window's size in
+    /// screen coordinates on high-density displays).
+    int framebufferWidth() const;
+    int framebufferHeight() const;
+
+private:
+    void* _native = nullptr; ///< the GLFWwindow
+};
+
+} // namespace orbis

@@ -1,0 +1,154 @@
+// A window from GLFW (only compiled when GLFW is installed: see renderer/CMakeLists.txt). Its
+// framebuffer 0 is the window; shared contexts are hidden windows sharing objects with it.
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "Backend.h"
+
+#include "orbis/core/Error.h"
+#include "orbis/renderer/Window.h"
+
+#include <cstdlib>
+#include <mutex>
+
+namespace orbis::detail {
+namespace {
+
+std::mutex glfwMutex;
+int glfwUsers = 0;
+std::string glfwLastError;
+
+void recordError(int code, const char* description)
+{
+    glfwLastError = std::string(description) + " (GLFW error " + std::to_string(code) + ")";
+}
+
+GlProc glfwProc(const char* name)
+{
+    return glfwGetProcAddress(name);
+}
+
+class GlfwContext final : public BackendContext {
+public:
+    GlfwContext(GLFWwindow* window, bool visible) noexcept : _window(window), _visible(visible) {}
+    ~GlfwContext() override
+    {
+        if (glfwGetCurrentContext() == _window) {
+            glfwMakeContextCurrent(nullptr);
+        }
+        glfwDestroyWindow(_window);
+    }
+    void makeCurrent() override { glfwMakeContextCurrent(_window); }
+    void releaseCurrent() noexcept override { glfwMakeContextCurrent(nullptr); }
+    bool hasDefaultFramebuffer() const noexcept override { return _visible; }
+    void defaultFramebufferSize(int& width, int& height) const noexcept override
+    {
+        glfwGetFramebufferSize(_window, &width, &height);
+    }
+    GLFWwindow* window() const noexcept { return _window; }
+
+private:
+    GLFWwindow* _window;
+    bool _visible;
+};
+
+class GlfwBackend final : public Backend {
+public:
+    explicit GlfwBackend(const BackendRequest& request) : _request(request) {}
+    ~GlfwBackend() override
+    {
+        std::lock_guard lock(glfwMutex);
+        if (--glfwUsers == 0) {
+            glfwTerminate();
+        }
+    }
+
+    std::unique_ptr<BackendContext> createContext(BackendContext* shareWith) override
+    {
+        glfwDefaultWindowHints();
+        glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, _request.majorVersion);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, _request.minorVersion);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+        glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, _request.debug ? GLFW_TRUE : GLFW_FALSE);
+        const bool visible = shareWith == nullptr;
+        glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+        GLFWwindow* share = shareWith ? static_cast<GlfwContext*>(shareWith)->window() : nullptr;
+        GLFWwindow* window = glfwCreateWindow(visible ? _request.windowWidth : 1, visible ? _request.windowHeight : 1,
+                                              _request.windowTitle.c_str(), nullptr, share);
+        if (!window) {
+            throw Error("window backend: cannot create a window with an OpenGL " +
+                        std::to_string(_request.majorVersion) + "." + std::to_string(_request.minorVersion) +
+                        " core context: " + glfwLastError);
+        }
+        if (visible) {
+            _mainWindow = window;
+        }
+        return std::make_unique<GlfwContext>(window, visible);
+    }
+    GetProcAddressFunction getProcAddress() const noexcept override { return &glfwProc; }
+    std::string description() const override { return std::string("GLFW ") + glfwGetVersionString() + " window"; }
+    void* nativeWindow() const noexcept override { return _mainWindow; }
+
+private:
+    BackendRequest _request;
+    GLFWwindow* _mainWindow = nullptr;
+};
+
+} // namespace
+
+std::unique_ptr<Backend> createGlfwBackend(const BackendRequest& request)
+{
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if ((!display || !*display) && (!wayland || !*wayland)) {
+        throw Error("window backend: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); use the EGL or "
+                    "OSMesa backend to render headless");
+    }
+    std::lock_guard lock(glfwMutex);
+    glfwSetErrorCallback(&recordError);
+    if (glfwUsers == 0 && !glfwInit()) {
+        throw Error("window backend: glfwInit failed: " + glfwLastError);
+    }
+    ++glfwUsers;
+    return std::make_unique<GlfwBackend>(request);
+}
+
+} // namespace orbis::detail
+
+namespace orbis {
+
+bool Window::shouldClose() const
+{
+    return glfwWindowShouldClose(static_cast<GLFWwindow*>(_native)) != 0;
+}
+
+void Window::pollEvents()
+{
+    glfwPollEvents();
+}
+
+void Window::swapBuffers()
+{
+    glfwSwapBuffers(static_cast<GLFWwindow*>(_native));
+}
+
+int Window::framebufferWidth() const
+{
+    int width = 0;
+    int height = 0;
+    glfwGetFramebufferSize(static_cast<GLFWwindow*>(_native), &width, &height);
+    return width;
+}
+
+int Window::framebufferHeight() const
+{
+    int width = 0;
+    int height = 0;
+    glfwGetFramebufferSize(static_cast<GLFWwindow*>(_native), &width, &height);
+    return height;
+}
+
+} // namespace orbis

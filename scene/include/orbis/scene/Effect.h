@@ -1,0 +1,41 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace orbis {
+
+/// The visual effects a frame can contain. Primitives tag their draw commands with the effects
+/// they draw (DrawCommand::tags), and FrameStatistics reports those that ran, so tests can prove
+/// that a scene pays only for what it asks for.
+enum class Effect : std::uint32_t {
+    Globe = 1u << 0,
+    Lighting = 1u << 1,
+    NightLights = 1u << 2,
+    Grid = 1u << 3,
+    Meshes = 1u << 4,
+    Billboards = 1u << 5,
+    Labels = 1u << 6,
+    Polylines = 1u << 7,
+    Polygons = 1u << 8,
+    Models = 1u << 9,
+};
+
+constexpr std::uint32_t operator|(Effect a, Effect b) noexcept
+{
+    return static_cast<std::uint32_t>(a) | static_cast<std::uint32_t>(b);
+}
+constexpr std::uint32_t operator|(std::uint32_t a, Effect b) noexcept
+{
+    return a | static_cast<std::uint32_t>(b);
+}
+constexpr bool hasEffect(std::uint32_t effects, Effect effect) noexcept
+{
+    return (effects & static_cast<std::uint32_t>(effect)) != 0;
+}
+
+/// "globe", "lighting", "night lights", ... for each effect in the set, in declaration order.
+std::vector<std::string> effectNames(std::uint32_t effects);
+
+} // namespace orbis

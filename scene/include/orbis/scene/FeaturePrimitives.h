@@ -1,0 +1,55 @@
+#pragma once
+
+#include "orbis/scene/Feature.h"
+#include "orbis/scene/PolygonCollection.h"
+#include "orbis/scene/PolylineCollection.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace orbis {
+
+class Scene;
+
+/// How buildFeaturePrimitives draws features.
+struct FeatureStyle {
+    bool fill = true;                          ///< fill Polygon and MultiPolygon geometries
+    glm::vec4 fillColor{1.0f, 1.0f, 1.0f, 0.5f};
+    /// A colour per feature (by its properties, say); when set it replaces fillColor.
+    std::function<glm::vec4(const Feature&)> fillColorOf;
+    bool borders = true;                       ///< draw polygon rings and LineStrings as polylines
+    PolylineStyle border{glm::vec4(1.0f), 1.5f, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), 0.0f, true};
+    double granularityRadians = toRadians(1.0); ///< of both the fills and the borders
+    CurveType curve = CurveType::PlaneSection;  ///< of the borders (fills follow plane sections)
+    VertexEncoding encoding = VertexEncoding::RelativeToEye;
+    /// Data cut at the antimeridian (a polygon split in two along 180 degrees) has ring edges along
+    /// that meridian which are no border: leave them out of the borders. Edges from one longitude of
+    /// +-180 degrees to another, at different latitudes, are such edges.
+    bool skipAntimeridianEdges = true;
+    /// false: a polygon that cannot be triangulated throws. true: it is left out and described in
+    /// FeaturePrimitives::warnings (its borders are still drawn).
+    bool skipInvalidPolygons = false;
+};
+
+/// What buildFeaturePrimitives made: null for what there was nothing of.
+struct FeaturePrimitives {
+    std::shared_ptr<PolygonCollection> fills;
+    std::shared_ptr<PolylineCollection> borders;
+    std::vector<std::string> warnings; ///< one line per polygon left out
+
+    /// Adds the fills, then the borders (so borders draw over the fills).
+    void addTo(Scene& scene) const;
+};
+
+/// Polylines and filled polygons for a FeatureCollection (loadGeoJson): fills from every Polygon and
+/// MultiPolygon, borders from their rings (holes included) and from every LineString and
+/// MultiLineString, inside GeometryCollections too; points are ignored. Each polygon of a
+/// MultiPolygon is one PolygonCollection entry, named for messages as `name` property, feature
+/// index and part ("Fiji (feature 0, polygon 1)"). Throws orbis::Error for a polygon the
+/// triangulation rejects unless style.skipInvalidPolygons.
+FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const FeatureCollection& features,
+                                         const FeatureStyle& style = {});
+
+} // namespace orbis

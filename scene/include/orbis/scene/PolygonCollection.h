@@ -1,0 +1,102 @@
+#pragma once
+
+#include "orbis/scene/Feature.h"
+#include "orbis/scene/PolylineCollection.h"
+
+#include <orbis/core/Mesh.h>
+
+#include <string>
+#include <string_view>
+
+namespace orbis {
+
+struct PolygonCollectionOptions {
+    /// Largest angle at the centre subtended by a triangle's edge (triangulatePolygon's
+    /// subdivision), clamped to at least 1e-6.
+    double granularityRadians = toRadians(1.0);
+    VertexEncoding encoding = VertexEncoding::RelativeToEye;
+    /// The z-fighting technique of shaders/scene/vector/vector.vert.glsl. Off only to show what it
+    /// prevents.
+    bool depthOffset = true;
+};
+
+/// Filled polygons on the ellipsoid, book chapter 8: each polygon (an outer ring and holes) is ear
+/// clipped on the ellipsoid and subdivided to the granularity (core triangulatePolygon: any polygon
+/// smaller than a hemisphere, across the antimeridian or around a pole), and all of them share one
+/// mesh with a colour per polygon. Polygons with alpha below 1 are drawn in the translucent pass.
+///
+/// Each polygon is lifted along the surface normal by how far its flat triangles would otherwise
+/// dip below the ellipsoid (about a (a / b)^2 g^2 / 6 for granularity g: 324 m at 1 degree), so
+/// the globe never shows through; drawn after the globe without fighting it (see
+/// shaders/scene/vector/vector.vert.glsl). Triangulation happens in add(), so bad polygons throw
+/// there; nothing is allocated on the GPU before the first update(); setColor() later rewrites only
+/// that polygon's vertices. Drawn in groups by region like PolylineCollection.
+///
+/// ```
+/// auto fills = std::make_shared<PolygonCollection>(Ellipsoid::wgs84());
+/// if (const Polygon* polygon = std::get_if<Polygon>(&feature.geometry->value)) {
+///     fills->add(*polygon, {1, 0.5f, 0, 0.6f}, "Chad"); // translucent orange
+/// }
+/// scene.add(fills);
+/// ```
+class PolygonCollection final : public Primitive {
+public:
+    explicit PolygonCollection(const Ellipsoid& ellipsoid, const PolygonCollectionOptions& options = {});
+    ~PolygonCollection() override;
+    PolygonCollection(const PolygonCollection&) = delete;
+    PolygonCollection& operator=(const PolygonCollection&) = delete;
+
+    const Ellipsoid& ellipsoid() const noexcept { return _ellipsoid; }
+    const PolygonCollectionOptions& options() const noexcept { return _options; }
+
+    /// Adds a polygon: rings[0] the outer boundary, the others holes, world positions (moved to the
+    /// surface), edges along plane sections through the centre, either winding. Returns its index.
+    /// A polygon with no area keeps its index and draws nothing. Throws orbis::Error naming `name`
+    /// for what triangulatePolygon rejects (self-crossing rings, a ring cutting the ellipsoid in
+    /// halves, non-finite positions).
+    std::size_t add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
+                    std::string_view name = "polygon");
+    /// The same for a GeoJSON polygon (radians; heights ignored).
+    std::size_t add(const Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon");
+
+    std::size_t size() const noexcept;
+    bool empty() const noexcept { return size() == 0; }
+
+    /// The colour of polygon `index` (< size(), asserted).
+    const glm::vec4& color(std::size_t index) const;
+    /// Changes a polygon's colour; the next update rewrites only its vertices (and regroups the
+    /// commands when it becomes translucent or opaque).
+    void setColor(std::size_t index, const glm::vec4& color);
+
+    /// The triangles drawn for polygon `index`: world positions lifted above the surface, indices
+    /// counter-clockwise seen from outside.
+    const Mesh& mesh(std::size_t index) const;
+    /// How far polygon `index` is lifted along the surface normal (metres).
+    double liftMeters(std::size_t index) const;
+
+    std::size_t vertexCount() const noexcept { return _vertexCount; }
+    std::size_t triangleCount() const noexcept { return _triangleCount; }
+
+    /// The sphere around every drawn position; none while no polygon has triangles.
+    std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
+    void update(FrameState& frameState, CommandList& commands) override;
+
+private:
+    struct Item;
+    struct Gpu;
+    void build(FrameState& frameState);
+    void buildIndices(Device& device);
+
+    Ellipsoid _ellipsoid;
+    PolygonCollectionOptions _options;
+    std::vector<Item> _polygons;
+    std::size_t _vertexCount = 0;
+    std::size_t _triangleCount = 0;
+    std::optional<BoundingSphere> _boundingSphere;
+    std::unique_ptr<Gpu> _gpu;
+    bool _geometryDirty = true;
+    bool _indicesDirty = true;
+    std::vector<std::size_t> _colorDirty;
+};
+
+} // namespace orbis

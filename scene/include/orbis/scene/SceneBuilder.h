@@ -1,0 +1,14 @@
+#pragma once
+
+#include "orbis/scene/Scene.h"
+#include "orbis/scene/SceneDescription.h"
+
+namespace orbis {
+
+/// Fills a Scene from a scene file's description: camera, Sun, background, globe and layers,
+/// creating only what the description asks for (GPU resources follow on the first render).
+/// Throws orbis::Error naming the layer ("/layers/2") for a kind of layer or a depth strategy this
+/// build cannot draw yet.
+void populateScene(const SceneDescription& description, Scene& scene);
+
+} // namespace orbis

@@ -1,0 +1,189 @@
+#pragma once
+
+#include "orbis/scene/Camera.h"
+#include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/GlobeMethod.h"
+
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/core/Geodetic.h>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace orbis {
+
+// What a scene file (docs/scene-format.md) describes, as plain values: angles in radians, heights
+// in metres, sizes in pixels, colours as non-premultiplied RGBA in 0..1, paths absolute. A scene
+// file is read into these by parseSceneFile (SceneFile.h); the renderer turns them into objects.
+
+/// Heading (clockwise from north), pitch (up from the horizontal) and roll (clockwise about the
+/// view direction), radians.
+struct HeadingPitchRoll {
+    double heading = 0.0;
+    double pitch = 0.0;
+    double roll = 0.0;
+
+    friend bool operator==(const HeadingPitchRoll&, const HeadingPitchRoll&) = default;
+};
+
+/// Where the camera is and where it looks: at a target point, or along a heading, pitch and roll.
+struct CameraDescription {
+    Geodetic3D position = Geodetic3D::fromDegrees(10.0, 30.0, 20'000'000.0);
+    /// A target position, or the orientation at the camera's position. Default: straight down.
+    std::variant<Geodetic3D, HeadingPitchRoll> aim = HeadingPitchRoll{0.0, -kHalfPi, 0.0};
+    double fieldOfViewY = toRadians(45.0); ///< radians, in (0, pi)
+
+    friend bool operator==(const CameraDescription&, const CameraDescription&) = default;
+};
+
+/// The camera a description asks for on an ellipsoid: up is the local vertical, or north where
+/// the view is vertical; a heading-pitch-roll aim puts the target ahead of the eye, as far as
+/// the eye is from the centre.
+Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipsoid);
+
+/// What placed the Sun.
+enum class SunSource {
+    Camera,   ///< nothing in the file: no lighting; the direction points from the camera
+    Position, ///< "sun": the point where the Sun is overhead
+    Time,     ///< "time": computed from a UTC time
+};
+
+/// The Sun, always resolved to a direction whatever the file gave.
+struct SunDescription {
+    SunSource source = SunSource::Camera;
+    Geodetic2D subsolarPoint;                        ///< where the Sun is overhead, radians
+    std::optional<std::chrono::sys_seconds> time;    ///< only for SunSource::Time
+    glm::dvec3 directionEarthFixed{1.0, 0.0, 0.0};   ///< unit, from the Earth's centre to the Sun
+
+    friend bool operator==(const SunDescription&, const SunDescription&) = default;
+};
+
+/// A day texture: one image file, or a TMS tile folder (a folder with tilemapresource.xml).
+struct GlobeTexture {
+    enum class Kind { Image, TileMapService };
+    std::filesystem::path path;
+    Kind kind = Kind::Image;
+
+    friend bool operator==(const GlobeTexture&, const GlobeTexture&) = default;
+};
+
+struct GlobeDescription {
+    GlobeMethod method = GlobeMethod::RayCast;
+    std::optional<GlobeTexture> texture;                 ///< empty: an untextured globe
+    std::optional<std::filesystem::path> nightTexture;   ///< empty: no night lights
+    bool grid = false;                                   ///< latitude-longitude grid lines
+
+    friend bool operator==(const GlobeDescription&, const GlobeDescription&) = default;
+};
+
+/// Lines: GeoJSON (multi)line strings and polygon outlines.
+struct StrokeStyle {
+    glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
+    double widthPixels = 1.0;                    ///< > 0
+    glm::vec4 outlineColor{0.0f, 0.0f, 0.0f, 1.0f};
+    double outlineWidthPixels = 0.0;             ///< on each side; 0: no outline
+
+    friend bool operator==(const StrokeStyle&, const StrokeStyle&) = default;
+};
+
+/// Polygon interiors.
+struct FillStyle {
+    glm::vec4 color{1.0f, 1.0f, 1.0f, 0.5f};
+
+    friend bool operator==(const FillStyle&, const FillStyle&) = default;
+};
+
+/// Which point of a billboard or label sits on its position.
+enum class Origin { Center, Top, Bottom, Left, Right, TopLeft, TopRight, BottomLeft, BottomRight };
+
+struct BillboardStyle {
+    std::optional<std::filesystem::path> image;   ///< empty: a round dot
+    double sizePixels = 8.0;                      ///< > 0, the larger side of the image
+    glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};      ///< multiplies the image
+    Origin origin = Origin::Center;
+    glm::dvec2 offsetPixels{0.0, 0.0};            ///< x right, y down
+
+    friend bool operator==(const BillboardStyle&, const BillboardStyle&) = default;
+};
+
+struct LabelStyle {
+    std::string field;                           ///< the CSV column or GeoJSON property shown
+    double fontSizePixels = 14.0;                ///< > 0
+    glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
+    glm::vec4 outlineColor{0.0f, 0.0f, 0.0f, 1.0f};
+    double outlineWidthPixels = 1.0;             ///< 0: no outline
+
+    friend bool operator==(const LabelStyle&, const LabelStyle&) = default;
+};
+
+/// Lines and polygons from a GeoJSON file. With neither style given, lines are stroked with
+/// the default StrokeStyle and polygons are outlined with it.
+struct GeoJsonLayer {
+    std::filesystem::path source;
+    std::optional<StrokeStyle> stroke;
+    std::optional<FillStyle> fill;
+
+    friend bool operator==(const GeoJsonLayer&, const GeoJsonLayer&) = default;
+};
+
+/// Points from a CSV file (a header row with lon and lat columns) or a GeoJSON file, drawn as
+/// billboards with optional labels.
+struct PointsLayer {
+    enum class Format { Csv, GeoJson };
+    std::filesystem::path source;
+    Format format = Format::Csv;
+    BillboardStyle billboard;
+    std::optional<LabelStyle> label;
+
+    friend bool operator==(const PointsLayer&, const PointsLayer&) = default;
+};
+
+/// A polyline through positions given in the file (at least two).
+struct PolylineLayer {
+    std::vector<Geodetic3D> positions; ///< radians, metres
+    double widthPixels = 2.0;          ///< > 0
+    glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
+
+    friend bool operator==(const PolylineLayer&, const PolylineLayer&) = default;
+};
+
+/// A glTF model placed at a position, its +x east, +y north and +z up before the heading,
+/// pitch and roll turn it.
+struct ModelLayer {
+    enum class Format { Gltf, Glb };
+    std::filesystem::path source;
+    Format format = Format::Gltf;
+    Geodetic3D position;              ///< radians, metres
+    double scale = 1.0;               ///< > 0
+    HeadingPitchRoll orientation;     ///< radians
+
+    friend bool operator==(const ModelLayer&, const ModelLayer&) = default;
+};
+
+/// One entry of "layers", drawn in file order.
+using LayerDescription = std::variant<GeoJsonLayer, PointsLayer, PolylineLayer, ModelLayer>;
+
+/// Everything a scene file says. Members a file leaves out hold the documented defaults.
+struct SceneDescription {
+    int version = 1;
+    int width = 1280;   ///< pixels, 1..16384
+    int height = 720;   ///< pixels, 1..16384
+    glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
+    CameraDescription camera;
+    SunDescription sun;
+    DepthStrategy depth = DepthStrategy::Automatic;
+    std::optional<GlobeDescription> globe;   ///< empty: no globe is drawn
+    std::vector<LayerDescription> layers;
+
+    friend bool operator==(const SceneDescription&, const SceneDescription&) = default;
+};
+
+} // namespace orbis

@@ -1,0 +1,75 @@
+#pragma once
+
+#include "orbis/scene/CameraControllers.h"
+#include "orbis/scene/SceneDescription.h"
+
+#include <orbis/core/Error.h>
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace orbis {
+
+/// The scene-file version this build reads; files with a higher "version" are refused.
+inline constexpr int kSceneFileVersion = 1;
+
+/// A scene file that cannot be read, is not JSON, or says something invalid. what() is
+/// "origin:line:column: /json/pointer: reason", line and column omitted when unknown (0) and the
+/// pointer omitted for errors that are not about one value (unreadable file, invalid JSON).
+class SceneFileError : public Error {
+public:
+    SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
+                   std::string reason);
+
+    /// The file name as the caller gave it, or the origin name passed to parseSceneText.
+    const std::string& origin() const noexcept { return _origin; }
+    /// JSON pointer (RFC 6901) of the offending key or value: "" for the whole document, and
+    /// for errors that are not about one value.
+    const std::string& pointer() const noexcept { return _pointer; }
+    /// 1-based line and column (in characters) of the offending key or value; 0 when unknown.
+    std::size_t line() const noexcept { return _line; }
+    std::size_t column() const noexcept { return _column; }
+    /// What is wrong, without the location.
+    const std::string& reason() const noexcept { return _reason; }
+
+private:
+    std::string _origin;
+    std::string _pointer;
+    std::size_t _line;
+    std::size_t _column;
+    std::string _reason;
+};
+
+struct SceneParseOptions {
+    /// Check that every file the scene names exists (and that a CSV source has lon and lat
+    /// columns). Off: paths are only resolved, and a texture is a TMS folder when the path has
+    /// no extension.
+    bool checkFiles = true;
+};
+
+/// Reads and validates a scene file; relative paths in it resolve against the file's folder.
+/// Throws SceneFileError naming the file, the JSON pointer, the line and the column.
+SceneDescription parseSceneFile(const std::filesystem::path& path, const SceneParseOptions& options = {});
+
+/// Parses scene-file text. originName names it in messages; relative paths resolve against
+/// baseDirectory (made absolute against the current directory if relative). Throws SceneFileError.
+SceneDescription parseSceneText(std::string_view text, std::string_view originName,
+                                const std::filesystem::path& baseDirectory, const SceneParseOptions& options = {});
+
+/// Reads a camera path file for `orbis render --path` (docs/scene-format.md): {"version": 1,
+/// "keyframes": [{"time": s, "position": {lon, lat, height}, "target": {...}}, ...]}, at least two
+/// keyframes in increasing time. Throws SceneFileError like parseSceneFile.
+std::vector<CameraPath::Keyframe> parseCameraPathFile(const std::filesystem::path& path);
+std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName);
+
+/// The text of data/scenes/default.json, embedded in the library at build time.
+std::string_view defaultSceneText() noexcept;
+
+/// The built-in default scene (defaultSceneText parsed, origin "<default scene>", relative paths
+/// against the current directory). Throws SceneFileError when a file it names is missing.
+SceneDescription parseDefaultScene(const SceneParseOptions& options = {});
+
+} // namespace orbis

@@ -1,0 +1,11 @@
+#include "orbis/scene/SceneFile.h"
+
+namespace orbis {
+
+SceneDescription parseDefaultScene(const SceneParseOptions& options)
+{
+    // Its text is generated from data/scenes/default.json (DefaultSceneText.cpp.in).
+    return parseSceneText(defaultSceneText(), "<default scene>", std::filesystem::path("."), options);
+}
+
+} // namespace orbis

@@ -1,0 +1,18 @@
+#include "orbis/scene/Effect.h"
+
+namespace orbis {
+
+std::vector<std::string> effectNames(std::uint32_t effects)
+{
+    static constexpr const char* kNames[] = {"globe",      "lighting", "night lights", "grid",     "meshes",
+                                             "billboards", "labels",   "polylines",    "polygons", "models"};
+    std::vector<std::string> names;
+    for (std::uint32_t bit = 0; bit < std::size(kNames); ++bit) {
+        if (effects & (1u << bit)) {
+            names.emplace_back(kNames[bit]);
+        }
+    }
+    return names;
+}
+
+} // namespace orbis

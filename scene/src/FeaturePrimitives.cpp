@@ -1,0 +1,178 @@
+#include "orbis/scene/FeaturePrimitives.h"
+
+#include "orbis/scene/Scene.h"
+
+#include <orbis/core/Error.h>
+
+#include <cmath>
+#include <variant>
+
+namespace orbis {
+
+namespace {
+
+bool onAntimeridian(const Geodetic3D& g) noexcept
+{
+    return std::abs(std::abs(g.longitude) - kPi) < 1e-12;
+}
+
+class Builder {
+public:
+    Builder(const Ellipsoid& ellipsoid, const FeatureStyle& style, FeaturePrimitives& out)
+        : _ellipsoid(ellipsoid)
+        , _style(style)
+        , _out(out)
+    {
+    }
+
+    void feature(const Feature& feature)
+    {
+        _feature = &feature;
+        _part = 0;
+        if (feature.geometry) {
+            geometry(*feature.geometry);
+        }
+    }
+
+private:
+    void geometry(const Geometry& geometry)
+    {
+        std::visit([this](const auto& value) { visit(value); }, geometry.value);
+    }
+
+    void visit(const Point&) {}
+    void visit(const MultiPoint&) {}
+    void visit(const LineString& line) { border(line.positions, false); }
+    void visit(const MultiLineString& lines)
+    {
+        for (const LineString& line : lines.lines) {
+            border(line.positions, false);
+        }
+    }
+    void visit(const Polygon& polygon)
+    {
+        fill(polygon);
+        for (const LinearRing& ring : polygon.rings) {
+            ringBorder(ring);
+        }
+    }
+    void visit(const MultiPolygon& polygons)
+    {
+        for (const Polygon& polygon : polygons.polygons) {
+            visit(polygon);
+        }
+    }
+    void visit(const GeometryCollection& collection)
+    {
+        for (const Geometry& geometry : collection.geometries) {
+            this->geometry(geometry);
+        }
+    }
+
+    void fill(const Polygon& polygon)
+    {
+        const std::size_t part = _part++;
+        if (!_style.fill) {
+            return;
+        }
+        if (!_out.fills) {
+            PolygonCollectionOptions options;
+            options.granularityRadians = _style.granularityRadians;
+            options.encoding = _style.encoding;
+            _out.fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
+        }
+        const std::string name = _feature->stringProperty("name").value_or("feature") + " (feature " +
+                                 std::to_string(_feature->index) + ", polygon " + std::to_string(part) + ")";
+        const glm::vec4 color = _style.fillColorOf ? _style.fillColorOf(*_feature) : _style.fillColor;
+        try {
+            _out.fills->add(polygon, color, name);
+        } catch (const Error& error) {
+            if (!_style.skipInvalidPolygons) {
+                throw;
+            }
+            _out.warnings.push_back(std::string("left out: ") + error.what());
+        }
+    }
+
+    /// A ring as one loop, or as open pieces between the antimeridian edges that are left out.
+    void ringBorder(const LinearRing& ring)
+    {
+        if (!_style.borders || ring.size() < 2) {
+            return;
+        }
+        const std::size_t n = ring.size() - 1; // GeoJSON repeats the first position at the end
+        auto cut = [&](std::size_t i) {
+            const Geodetic3D& a = ring[i];
+            const Geodetic3D& b = ring[i + 1];
+            return _style.skipAntimeridianEdges && onAntimeridian(a) && onAntimeridian(b) && a.latitude != b.latitude;
+        };
+        std::size_t start = n;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (cut(i)) {
+                start = i;
+                break;
+            }
+        }
+        if (start == n) {
+            border(ring, true);
+            return;
+        }
+        // Walk once around from just after a cut edge, emitting the runs between cut edges.
+        std::vector<Geodetic3D> piece;
+        for (std::size_t step = 1; step <= n; ++step) {
+            const std::size_t i = (start + step) % n;
+            if (piece.empty()) {
+                piece.push_back(ring[i]);
+            }
+            if (cut(i)) {
+                border(piece, false);
+                piece.clear();
+            } else {
+                piece.push_back(ring[i + 1]);
+            }
+        }
+        border(piece, false);
+    }
+
+    void border(const std::vector<Geodetic3D>& positions, bool loop)
+    {
+        if (!_style.borders || positions.size() < 2) {
+            return;
+        }
+        if (!_out.borders) {
+            PolylineCollectionOptions options;
+            options.granularityRadians = _style.granularityRadians;
+            options.curve = _style.curve;
+            options.encoding = _style.encoding;
+            _out.borders = std::make_shared<PolylineCollection>(_ellipsoid, options);
+        }
+        _out.borders->add(std::span<const Geodetic3D>(positions), _style.border, loop);
+    }
+
+    const Ellipsoid& _ellipsoid;
+    const FeatureStyle& _style;
+    FeaturePrimitives& _out;
+    const Feature* _feature = nullptr;
+    std::size_t _part = 0;
+};
+
+} // namespace
+
+void FeaturePrimitives::addTo(Scene& scene) const
+{
+    scene.add(fills);
+    scene.add(borders);
+}
+
+FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const FeatureCollection& features,
+                                         const FeatureStyle& style)
+{
+    FeaturePrimitives out;
+    Builder builder(ellipsoid, style, out);
+    for (const Feature& feature : features.features) {
+        builder.feature(feature);
+    }
+    return out;
+}
+
+} // namespace orbis

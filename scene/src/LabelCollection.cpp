@@ -1,0 +1,282 @@
+#include "orbis/scene/LabelCollection.h"
+
+#include "orbis/scene/Effect.h"
+
+#include "BillboardBatch.h"
+
+#include <orbis/renderer/Font.h>
+
+#include <algorithm>
+
+namespace orbis {
+
+struct LabelCollection::SizeBatch {
+    SizeBatch(std::shared_ptr<const Font> font, const GlyphAtlasOptions& options) : glyphs(std::move(font), options) {}
+
+    GlyphAtlas glyphs;
+    detail::AtlasTexture texture;
+    detail::BillboardBatch<detail::GlyphVertex> batch;
+    std::vector<std::size_t> labels; ///< indices of the labels of this size, ascending
+    bool rebuild = false;            ///< vertex runs to assign again before the next upload
+};
+
+namespace {
+
+/// floor(fraction x size) for an origin: 0, half (rounded down) or all of the size.
+int originShift(int origin, int size)
+{
+    return origin == 0 ? 0 : origin == 1 ? size / 2 : size;
+}
+
+} // namespace
+
+LabelCollection::LabelCollection(const LabelCollectionOptions& options)
+    : _options(options)
+    , _font(std::make_shared<Font>(options.fontPath))
+    , _bounds(std::make_unique<detail::BillboardBounds>())
+{
+}
+
+LabelCollection::~LabelCollection() = default;
+
+LabelCollection::SizeBatch& LabelCollection::sizeBatch(float fontSizePixels)
+{
+    std::unique_ptr<SizeBatch>& batch = _sizes[fontSizePixels];
+    if (!batch) {
+        GlyphAtlasOptions options;
+        options.sizePixels = fontSizePixels;
+        options.outlinePixels = std::max(_options.haloPixels, 0);
+        batch = std::make_unique<SizeBatch>(_font, options);
+    }
+    return *batch;
+}
+
+const GlyphAtlas& LabelCollection::glyphAtlas(float fontSizePixels)
+{
+    return sizeBatch(fontSizePixels).glyphs;
+}
+
+void LabelCollection::layOut(Record& record)
+{
+    SizeBatch& batch = sizeBatch(record.label.fontSizePixels);
+    const TextureAtlas::AddResult added = batch.glyphs.addCharacters(record.label.text);
+    batch.texture.noteChange(added);
+    if (added.repacked) {
+        batch.rebuild = true; // every glyph moved in the atlas
+    }
+    record.layout = batch.glyphs.layout(record.label.text);
+}
+
+PixelRectangle LabelCollection::placement(std::size_t index) const
+{
+    const Record& record = _labels.at(index);
+    const PixelRectangle& box = record.layout.bounds;
+    // The origin's side sits on the anchor: its bottom edge for Bottom, so the top is a box
+    // height above (y down: negative).
+    return {record.label.pixelOffset.x - originShift(static_cast<int>(record.label.horizontalOrigin), box.width),
+            record.label.pixelOffset.y + originShift(static_cast<int>(record.label.verticalOrigin), box.height) -
+                box.height,
+            box.width, box.height};
+}
+
+void LabelCollection::writeVertices(std::size_t index, bool mark)
+{
+    const Record& record = _labels[index];
+    SizeBatch& batch = *_sizes.at(record.label.fontSizePixels);
+    const Label& label = record.label;
+    const PixelRectangle place = placement(index);
+    // The layout's box (y down from the baseline) moved so that its top-left is `place`; each
+    // glyph is a billboard whose top-left corner sits at its offset.
+    const int shiftX = place.x - record.layout.bounds.x;
+    const int shiftY = place.y - record.layout.bounds.y;
+    detail::GlyphVertex common{};
+    detail::setPosition(common, label.position);
+    detail::packColor(label.fillColor, common.color);
+    detail::packColor(label.haloColor, common.haloColor);
+    common.scaleOriginVisibility =
+        detail::packScaleOriginVisibility(1.0f, HorizontalOrigin::Left, VerticalOrigin::Top, label.visible);
+    std::vector<detail::GlyphVertex>& vertices = batch.batch.vertices();
+    for (std::size_t q = 0; q < record.layout.quads.size(); ++q) {
+        const GlyphQuad& quad = record.layout.quads[q];
+        detail::GlyphVertex& v = vertices[record.firstVertex + q];
+        v = common;
+        v.pixelOffset[0] = detail::clampToShort(shiftX + quad.x);
+        v.pixelOffset[1] = detail::clampToShort(shiftY + quad.y);
+        detail::setTextureRectangle(v, batch.glyphs.atlas().rectangle(quad.atlasIndex));
+        if (mark) {
+            batch.batch.mark(record.firstVertex + q);
+        }
+    }
+}
+
+void LabelCollection::rebuild(SizeBatch& batch)
+{
+    std::vector<detail::GlyphVertex>& vertices = batch.batch.vertices();
+    vertices.clear();
+    for (const std::size_t index : batch.labels) {
+        Record& record = _labels[index];
+        record.firstVertex = vertices.size();
+        vertices.resize(vertices.size() + record.layout.quads.size());
+        writeVertices(index, false);
+    }
+    batch.batch.markAll();
+    batch.rebuild = false;
+}
+
+std::size_t LabelCollection::add(const Label& label)
+{
+    const std::size_t index = _labels.size();
+    _labels.push_back({label, {}, 0});
+    Record& record = _labels.back();
+    layOut(record);
+    SizeBatch& batch = *_sizes.at(label.fontSizePixels);
+    batch.labels.push_back(index);
+    if (!batch.rebuild) {
+        record.firstVertex = batch.batch.vertices().size();
+        batch.batch.vertices().resize(record.firstVertex + record.layout.quads.size());
+        writeVertices(index, false);
+        batch.batch.markAll(); // the buffer grows: written whole
+    }
+    _bounds->add(label.position);
+    return index;
+}
+
+void LabelCollection::clear()
+{
+    _labels.clear();
+    for (auto& [size, batch] : _sizes) {
+        batch->labels.clear();
+        batch->batch.vertices().clear();
+        batch->batch.markAll();
+    }
+    _bounds->clear();
+}
+
+void LabelCollection::set(std::size_t index, const Label& label)
+{
+    assert(index < _labels.size());
+    Record& record = _labels[index];
+    const Label old = record.label;
+    record.label = label;
+    if (old.position != label.position) {
+        _bounds->move(label.position);
+    }
+    if (old.fontSizePixels != label.fontSizePixels) {
+        SizeBatch& from = *_sizes.at(old.fontSizePixels);
+        std::erase(from.labels, index);
+        from.rebuild = true;
+        layOut(record);
+        SizeBatch& to = *_sizes.at(label.fontSizePixels);
+        to.labels.insert(std::lower_bound(to.labels.begin(), to.labels.end(), index), index);
+        to.rebuild = true;
+        return;
+    }
+    if (old.text != label.text) {
+        const std::size_t glyphsBefore = record.layout.quads.size();
+        layOut(record);
+        SizeBatch& batch = *_sizes.at(label.fontSizePixels);
+        if (record.layout.quads.size() != glyphsBefore) {
+            batch.rebuild = true;
+        }
+        if (batch.rebuild) {
+            return;
+        }
+    }
+    if (!_sizes.at(label.fontSizePixels)->rebuild) {
+        writeVertices(index, true);
+    }
+}
+
+void LabelCollection::setPosition(std::size_t index, const glm::dvec3& position)
+{
+    Label label = this->label(index);
+    label.position = position;
+    set(index, label);
+}
+
+void LabelCollection::setText(std::size_t index, const std::string& text)
+{
+    Label label = this->label(index);
+    label.text = text;
+    set(index, label);
+}
+
+void LabelCollection::setColors(std::size_t index, const glm::vec4& fillColor, const glm::vec4& haloColor)
+{
+    Label label = this->label(index);
+    label.fillColor = fillColor;
+    label.haloColor = haloColor;
+    set(index, label);
+}
+
+void LabelCollection::setPixelOffset(std::size_t index, const glm::ivec2& pixelOffset)
+{
+    Label label = this->label(index);
+    label.pixelOffset = pixelOffset;
+    set(index, label);
+}
+
+void LabelCollection::setOrigin(std::size_t index, HorizontalOrigin horizontal, VerticalOrigin vertical)
+{
+    Label label = this->label(index);
+    label.horizontalOrigin = horizontal;
+    label.verticalOrigin = vertical;
+    set(index, label);
+}
+
+void LabelCollection::setVisible(std::size_t index, bool visible)
+{
+    Label label = this->label(index);
+    label.visible = visible;
+    set(index, label);
+}
+
+std::optional<BoundingSphere> LabelCollection::boundingSphere() const
+{
+    return _bounds->sphere();
+}
+
+void LabelCollection::update(FrameState& frameState, CommandList& commands)
+{
+    _lastUpload = {};
+    _lastDrawCalls = 0;
+    if (_labels.empty()) {
+        return;
+    }
+    std::vector<glm::dvec3> positions;
+    if (_bounds->needsPositions(frameState.ellipsoid)) {
+        positions.reserve(_labels.size());
+        for (const Record& record : _labels) {
+            positions.push_back(record.label.position);
+        }
+    }
+    const std::optional<glm::dvec3> occlusionPoint = _bounds->refresh(frameState.ellipsoid, positions);
+    for (auto& [size, batch] : _sizes) {
+        if (batch->rebuild) {
+            rebuild(*batch);
+        }
+        if (batch->batch.vertices().empty()) {
+            continue;
+        }
+        if (!_program) {
+            _program = detail::billboardProgram(frameState.device, true);
+        }
+        _lastUpload.textureBytesUploaded += batch->texture.synchronize(frameState.device, batch->glyphs.atlas());
+        batch->batch.upload(frameState, *_program, _lastUpload);
+
+        DrawCommand command;
+        command.debugName = "labels";
+        command.tags = static_cast<std::uint32_t>(Effect::Labels);
+        command.horizonOcclusionPoint = occlusionPoint;
+        command.boundingSphere = _bounds->sphere();
+        command.vertexArray = batch->batch.vertexArray();
+        command.shaderProgram = _program.get();
+        command.count = batch->batch.vertices().size();
+        command.textures.push_back({0, batch->texture.texture(), nullptr});
+        detail::prepareBillboardCommand(command, frameState, _options.depth, batch->glyphs.atlas());
+        commands.push_back(std::move(command));
+        ++_lastDrawCalls;
+    }
+}
+
+} // namespace orbis

@@ -1,0 +1,232 @@
+#include "orbis/scene/SceneBuilder.h"
+
+#include "orbis/scene/BillboardCollection.h"
+#include "orbis/scene/CsvPoints.h"
+#include "orbis/scene/FeaturePrimitives.h"
+#include "orbis/scene/GeoJson.h"
+#include "orbis/scene/Globe.h"
+#include "orbis/scene/LabelCollection.h"
+
+#include <orbis/core/Error.h>
+
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <variant>
+
+namespace orbis {
+
+namespace {
+
+PolylineStyle polylineStyle(const StrokeStyle& stroke)
+{
+    PolylineStyle style;
+    style.color = stroke.color;
+    style.widthPixels = static_cast<float>(stroke.widthPixels);
+    style.outlineColor = stroke.outlineColor;
+    style.outlineWidthPixels = static_cast<float>(stroke.outlineWidthPixels);
+    return style;
+}
+
+/// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
+/// default stroke.
+void addGeoJsonLayer(const GeoJsonLayer& layer, Scene& scene)
+{
+    FeatureStyle style;
+    style.borders = layer.stroke.has_value() || !layer.fill.has_value();
+    style.border = polylineStyle(layer.stroke.value_or(StrokeStyle{}));
+    style.fill = layer.fill.has_value();
+    if (layer.fill) {
+        style.fillColor = layer.fill->color;
+    }
+    buildFeaturePrimitives(scene.ellipsoid(), loadGeoJson(layer.source), style).addTo(scene);
+}
+
+void addPolylineLayer(const PolylineLayer& layer, Scene& scene)
+{
+    StrokeStyle stroke;
+    stroke.color = layer.color;
+    stroke.widthPixels = layer.widthPixels;
+    auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid());
+    lines->add(std::span<const Geodetic3D>(layer.positions), polylineStyle(stroke));
+    scene.add(std::move(lines));
+}
+
+/// A white disc with a soft edge, `size` pixels across: the default billboard (its colour comes
+/// from the style), drawn at scale 1 so it stays crisp.
+Image roundDot(int size)
+{
+    Image image(size, size, 4);
+    const double radius = 0.5 * size;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            const double distance = std::hypot(x + 0.5 - radius, y + 0.5 - radius);
+            const double coverage = std::clamp(radius - distance + 0.5, 0.0, 1.0);
+            std::uint8_t* p = image.pixel(x, y);
+            p[0] = p[1] = p[2] = 255;
+            p[3] = static_cast<std::uint8_t>(std::lround(255.0 * coverage));
+        }
+    }
+    return image;
+}
+
+std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(Origin origin)
+{
+    switch (origin) {
+    case Origin::Center: return {HorizontalOrigin::Center, VerticalOrigin::Center};
+    case Origin::Top: return {HorizontalOrigin::Center, VerticalOrigin::Top};
+    case Origin::Bottom: return {HorizontalOrigin::Center, VerticalOrigin::Bottom};
+    case Origin::Left: return {HorizontalOrigin::Left, VerticalOrigin::Center};
+    case Origin::Right: return {HorizontalOrigin::Right, VerticalOrigin::Center};
+    case Origin::TopLeft: return {HorizontalOrigin::Left, VerticalOrigin::Top};
+    case Origin::TopRight: return {HorizontalOrigin::Right, VerticalOrigin::Top};
+    case Origin::BottomLeft: return {HorizontalOrigin::Left, VerticalOrigin::Bottom};
+    case Origin::BottomRight: return {HorizontalOrigin::Right, VerticalOrigin::Bottom};
+    }
+    return {HorizontalOrigin::Center, VerticalOrigin::Center};
+}
+
+/// Positions and, when a label field is given, their texts.
+struct Points {
+    std::vector<Geodetic3D> positions;
+    std::vector<std::string> texts;
+};
+
+Points readPoints(const PointsLayer& layer)
+{
+    Points points;
+    const std::string field = layer.label ? layer.label->field : std::string();
+    if (layer.format == PointsLayer::Format::Csv) {
+        CsvPointsOptions options;
+        options.longitudeColumn.clear(); // any accepted name
+        options.latitudeColumn.clear();
+        CsvPoints csv = loadCsvPoints(layer.source, options);
+        points.positions = std::move(csv.positions);
+        if (!field.empty()) {
+            const std::vector<std::string>* texts = csv.column(field);
+            if (!texts) {
+                throw Error("label field: " + layer.source.string() + " has no column \"" + field + "\"");
+            }
+            points.texts = *texts;
+        }
+        return points;
+    }
+    for (const Feature& feature : loadGeoJson(layer.source).features) {
+        if (!feature.geometry) {
+            continue;
+        }
+        std::vector<Geodetic3D> positions;
+        if (const auto* point = std::get_if<Point>(&feature.geometry->value)) {
+            positions.push_back(point->position);
+        } else if (const auto* multi = std::get_if<MultiPoint>(&feature.geometry->value)) {
+            positions = multi->positions;
+        }
+        const std::string text = field.empty() ? std::string() : feature.stringProperty(field).value_or("");
+        for (const Geodetic3D& position : positions) {
+            points.positions.push_back(position);
+            if (!field.empty()) {
+                points.texts.push_back(text);
+            }
+        }
+    }
+    return points;
+}
+
+/// A billboard for every point, and a label when the layer asks for one.
+void addPointsLayer(const PointsLayer& layer, Scene& scene)
+{
+    const Points points = readPoints(layer);
+    const Ellipsoid& ellipsoid = scene.ellipsoid();
+    const BillboardStyle& style = layer.billboard;
+    const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
+
+    auto billboards = std::make_shared<BillboardCollection>();
+    Image image = style.image ? readImage(*style.image) : roundDot(size);
+    const float scale = static_cast<float>(style.sizePixels / std::max(image.width, image.height));
+    const std::size_t imageIndex = billboards->addImage(image);
+    const auto [horizontal, vertical] = splitOrigin(style.origin);
+    const glm::ivec2 offset(static_cast<int>(std::lround(style.offsetPixels.x)),
+                            static_cast<int>(std::lround(style.offsetPixels.y)));
+    billboards->reserve(points.positions.size());
+    for (const Geodetic3D& position : points.positions) {
+        Billboard billboard;
+        billboard.position = ellipsoid.toCartesian(position);
+        billboard.image = imageIndex;
+        billboard.pixelOffset = offset;
+        billboard.horizontalOrigin = horizontal;
+        billboard.verticalOrigin = vertical;
+        billboard.color = style.color;
+        billboard.scale = style.image ? scale : 1.0f;
+        billboards->add(billboard);
+    }
+    scene.add(billboards);
+
+    if (!layer.label) {
+        return;
+    }
+    LabelCollectionOptions options;
+    options.haloPixels = static_cast<int>(std::lround(layer.label->outlineWidthPixels));
+    auto labels = std::make_shared<LabelCollection>(options);
+    for (std::size_t i = 0; i < points.positions.size(); ++i) {
+        if (points.texts[i].empty()) {
+            continue;
+        }
+        Label label;
+        label.position = ellipsoid.toCartesian(points.positions[i]);
+        label.text = points.texts[i];
+        label.fontSizePixels = static_cast<float>(layer.label->fontSizePixels);
+        label.fillColor = layer.label->color;
+        label.haloColor = layer.label->outlineColor;
+        // Centred above the marker, clear of it.
+        label.pixelOffset = {offset.x, offset.y - (size + 1) / 2 - 2};
+        labels->add(label);
+    }
+    scene.add(labels);
+}
+
+} // namespace
+
+void populateScene(const SceneDescription& description, Scene& scene)
+{
+    scene.options().depthStrategy = description.depth;
+    scene.camera() = makeCamera(description.camera, scene.ellipsoid());
+    scene.setSunDirection(description.sun.directionEarthFixed);
+    scene.options().background = description.background;
+
+    if (description.globe) {
+        GlobeOptions options;
+        options.method = description.globe->method;
+        if (description.globe->texture) {
+            options.dayTexture = description.globe->texture->path;
+        }
+        if (description.globe->nightTexture) {
+            options.nightTexture = *description.globe->nightTexture;
+        }
+        options.grid = description.globe->grid;
+        // Lighting costs only when the file places the Sun.
+        options.lighting = description.sun.source != SunSource::Camera;
+        scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
+    }
+    for (std::size_t i = 0; i < description.layers.size(); ++i) {
+        try {
+            std::visit(
+                [&](const auto& layer) {
+                    using Layer = std::decay_t<decltype(layer)>;
+                    if constexpr (std::is_same_v<Layer, GeoJsonLayer>) {
+                        addGeoJsonLayer(layer, scene);
+                    } else if constexpr (std::is_same_v<Layer, PolylineLayer>) {
+                        addPolylineLayer(layer, scene);
+                    } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
+                        addPointsLayer(layer, scene);
+                    } else {
+                        throw Error("model layers are not drawn by this build yet");
+                    }
+                },
+                description.layers[i]);
+        } catch (const Error& error) {
+            throw Error("/layers/" + std::to_string(i) + ": " + error.what());
+        }
+    }
+}
+
+} // namespace orbis

@@ -1,0 +1,1201 @@
+#include "orbis/scene/SceneFile.h"
+
+#include "orbis/scene/CsvPoints.h"
+
+#include "JsonLocator.h"
+
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/core/SunPosition.h>
+
+#include <nlohmann/json.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <span>
+#include <sstream>
+#include <system_error>
+
+namespace orbis {
+
+SceneFileError::SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
+                               std::string reason)
+    : Error([&] {
+          std::string message = origin;
+          if (line > 0) {
+              message += ':' + std::to_string(line) + ':' + std::to_string(column);
+          }
+          message += ": ";
+          if (!pointer.empty()) {
+              message += pointer + ": ";
+          }
+          return message + reason;
+      }()),
+      _origin(std::move(origin)), _pointer(std::move(pointer)), _line(line), _column(column), _reason(std::move(reason))
+{
+}
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+using Keys = std::span<const std::string_view>;
+
+/// No scene file needs more; deeper documents are refused before they cost memory.
+constexpr int kMaxDepth = 64;
+/// A CSV header longer than this is not a header.
+constexpr std::size_t kMaxCsvHeaderBytes = 64 * 1024;
+/// Sizes in pixels beyond this are typing errors.
+constexpr double kMaxPixels = 1024.0;
+
+struct DepthExceeded {};
+
+// ---------------------------------------------------------------------------------------------
+// Text helpers
+
+std::string lowercase(std::string_view s)
+{
+    std::string out(s);
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return out;
+}
+
+/// Whole numbers below 1e15 in full ("1000000", not "1e+06"), others as short as they round-trip.
+std::string formatNumber(double value)
+{
+    std::array<char, 64> buffer{};
+    const bool whole = std::abs(value) < 1e15 && std::trunc(value) == value;
+    const auto result = whole ? std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                                              std::chars_format::fixed, 0)
+                              : std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    return std::string(buffer.data(), result.ptr);
+}
+
+/// A string as JSON would write it, cut after 60 bytes.
+std::string quote(std::string_view s)
+{
+    constexpr std::size_t kMaxBytes = 60;
+    const bool cut = s.size() > kMaxBytes;
+    std::string quoted = Json(std::string(s.substr(0, kMaxBytes))).dump(-1, ' ', false, Json::error_handler_t::replace);
+    if (cut) {
+        quoted.insert(quoted.size() - 1, "...");
+    }
+    return quoted;
+}
+
+std::string quoteList(Keys words)
+{
+    std::string list;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        list += (i == 0 ? "" : ", ") + quote(words[i]);
+    }
+    return list;
+}
+
+/// What a value is, for "expected X, got Y".
+std::string describe(const Json& value)
+{
+    switch (value.type()) {
+    case Json::value_t::null: return "null";
+    case Json::value_t::boolean: return value.get<bool>() ? "true" : "false";
+    case Json::value_t::string: return quote(value.get_ref<const std::string&>());
+    case Json::value_t::number_integer: return std::to_string(value.get<std::int64_t>());
+    case Json::value_t::number_unsigned: return std::to_string(value.get<std::uint64_t>());
+    case Json::value_t::number_float: {
+        const double number = value.get<double>();
+        if (!std::isfinite(number)) {
+            return "a number too large for a double";
+        }
+        // A whole number written with a fraction stays recognisable as one: "1.0", not "1".
+        const std::string text = formatNumber(number);
+        return text.find_first_of(".e") == std::string::npos ? text + ".0" : text;
+    }
+    case Json::value_t::array:
+        return value.empty() ? "an empty array"
+                             : "an array of " + std::to_string(value.size()) + (value.size() == 1 ? " element" : " elements");
+    case Json::value_t::object: return value.empty() ? "an empty object" : "an object";
+    default: return "an unsupported value";
+    }
+}
+
+/// Optimal string alignment distance: edits, with swapping two neighbours counted as one.
+std::size_t editDistance(std::string_view a, std::string_view b)
+{
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) {
+        d[i][0] = i;
+    }
+    for (std::size_t j = 0; j <= b.size(); ++j) {
+        d[0][j] = j;
+    }
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    return d[a.size()][b.size()];
+}
+
+/// The candidate closest to word (ignoring case) when it is within two edits and shorter than
+/// both words, so "x" suggests nothing.
+std::optional<std::string_view> closestWord(std::string_view word, Keys candidates)
+{
+    // Longer words than any key are not misspellings of one; skip the quadratic table for them.
+    constexpr std::size_t kMaxCompared = 64;
+    if (word.size() > kMaxCompared) {
+        return std::nullopt;
+    }
+    const std::string lowerWord = lowercase(word);
+    std::optional<std::string_view> best;
+    std::size_t bestDistance = 3;
+    for (const std::string_view candidate : candidates) {
+        // The distance is at least the difference in length.
+        if (candidate.size() > word.size() + 2 || word.size() > candidate.size() + 2) {
+            continue;
+        }
+        const std::size_t distance = editDistance(lowerWord, lowercase(candidate));
+        if (distance < bestDistance && distance < std::min(word.size(), candidate.size())) {
+            best = candidate;
+            bestDistance = distance;
+        }
+    }
+    return best;
+}
+
+/// " (did you mean "color"?)", or "; expected one of ..." when nothing is close.
+std::string suggestion(std::string_view word, Keys candidates)
+{
+    if (const auto closest = closestWord(word, candidates)) {
+        return " (did you mean " + quote(*closest) + "?)";
+    }
+    return "; expected " + std::string(candidates.size() == 1 ? "" : "one of ") + quoteList(candidates);
+}
+
+/// The first columns, quoted, for a message.
+std::string joinColumns(const std::vector<std::string>& columns)
+{
+    constexpr std::size_t kMaxListed = 20;
+    std::string list;
+    for (std::size_t i = 0; i < columns.size() && i < kMaxListed; ++i) {
+        list += (i == 0 ? "" : ", ") + quote(columns[i]);
+    }
+    if (columns.size() > kMaxListed) {
+        list += " and " + std::to_string(columns.size() - kMaxListed) + " more";
+    }
+    return list;
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV header
+
+/// The columns of a CSV file's first line (quotes and a byte-order mark removed, blanks trimmed);
+/// an error message instead when the file cannot be read or has no header.
+std::variant<std::vector<std::string>, std::string> readCsvHeader(const fs::path& path)
+{
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        return std::string("cannot be opened");
+    }
+    std::string line;
+    char c = 0;
+    bool ended = false;
+    while (line.size() < kMaxCsvHeaderBytes && file.get(c)) {
+        if (c == '\n') {
+            ended = true;
+            break;
+        }
+        line += c;
+    }
+    if (!ended && line.size() >= kMaxCsvHeaderBytes) {
+        return std::string("has a first line longer than 64 KiB; expected a header row");
+    }
+    if (line.starts_with("\xEF\xBB\xBF")) {
+        line.erase(0, 3);
+    }
+    if (!line.empty() && line.back() == '\r') {
+        line.pop_back();
+    }
+    if (line.find_first_not_of(" \t") == std::string::npos) {
+        return std::string("has no header row");
+    }
+    std::vector<std::string> columns;
+    std::string column;
+    bool quoted = false;
+    for (std::size_t i = 0; i <= line.size(); ++i) {
+        if (i == line.size() || (line[i] == ',' && !quoted)) {
+            const std::size_t first = column.find_first_not_of(" \t");
+            const std::size_t last = column.find_last_not_of(" \t");
+            columns.push_back(first == std::string::npos ? std::string() : column.substr(first, last - first + 1));
+            column.clear();
+        } else if (line[i] == '"') {
+            if (quoted && i + 1 < line.size() && line[i + 1] == '"') {
+                column += '"';
+                ++i;
+            } else {
+                quoted = !quoted;
+            }
+        } else {
+            column += line[i];
+        }
+    }
+    return columns;
+}
+
+constexpr auto kLongitudeColumns = kLongitudeColumnNames;
+constexpr auto kLatitudeColumns = kLatitudeColumnNames;
+
+bool hasColumn(const std::vector<std::string>& columns, Keys names)
+{
+    return std::any_of(columns.begin(), columns.end(), [&](const std::string& column) {
+        const std::string lower = lowercase(column);
+        return std::find(names.begin(), names.end(), lower) != names.end();
+    });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Key tables
+
+constexpr std::array<std::string_view, 10> kRootKeys = {"version", "width",  "height", "background", "camera",
+                                                        "sun",     "time",   "depth",  "globe",      "layers"};
+constexpr std::array<std::string_view, 6> kCameraKeys = {"position", "target", "heading", "pitch", "roll", "fovY"};
+constexpr std::array<std::string_view, 3> kPositionKeys = {"lon", "lat", "height"};
+constexpr std::array<std::string_view, 2> kCameraPathKeys = {"version", "keyframes"};
+constexpr std::array<std::string_view, 3> kKeyframeKeys = {"time", "position", "target"};
+constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
+constexpr std::array<std::string_view, 4> kGlobeKeys = {"method", "texture", "nightTexture", "grid"};
+constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
+constexpr std::array<std::string_view, 4> kGeoJsonKeys = {"type", "source", "stroke", "fill"};
+constexpr std::array<std::string_view, 4> kPointsKeys = {"type", "source", "billboard", "label"};
+constexpr std::array<std::string_view, 4> kPolylineKeys = {"type", "positions", "width", "color"};
+constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "position", "scale",
+                                                        "heading", "pitch", "roll"};
+constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
+constexpr std::array<std::string_view, 1> kFillKeys = {"color"};
+constexpr std::array<std::string_view, 5> kBillboardKeys = {"image", "size", "color", "origin", "offset"};
+constexpr std::array<std::string_view, 5> kLabelKeys = {"field", "size", "color", "outlineColor", "outlineWidth"};
+
+template <class T>
+struct Named {
+    std::string_view name;
+    T value;
+};
+
+constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
+    {"auto", DepthStrategy::Automatic},
+    {"multifrustum", DepthStrategy::MultiFrustum},
+    {"logarithmic", DepthStrategy::Logarithmic},
+    {"complementary", DepthStrategy::Complementary},
+    {"single", DepthStrategy::Single},
+}};
+constexpr std::array<Named<GlobeMethod>, 2> kGlobeMethods = {{
+    {"raycast", GlobeMethod::RayCast},
+    {"tessellated", GlobeMethod::Tessellated},
+}};
+constexpr std::array<Named<Origin>, 9> kOrigins = {{
+    {"center", Origin::Center},
+    {"top", Origin::Top},
+    {"bottom", Origin::Bottom},
+    {"left", Origin::Left},
+    {"right", Origin::Right},
+    {"top-left", Origin::TopLeft},
+    {"top-right", Origin::TopRight},
+    {"bottom-left", Origin::BottomLeft},
+    {"bottom-right", Origin::BottomRight},
+}};
+
+/// A closed, open or half-open interval of accepted numbers (infinite ends are unbounded).
+struct Range {
+    double minimum = -std::numeric_limits<double>::infinity();
+    double maximum = std::numeric_limits<double>::infinity();
+    bool minimumOpen = false;
+    bool maximumOpen = false;
+
+    bool contains(double v) const noexcept
+    {
+        return (minimumOpen ? v > minimum : v >= minimum) && (maximumOpen ? v < maximum : v <= maximum);
+    }
+
+    std::string text() const
+    {
+        if (std::isinf(maximum)) {
+            return std::string(minimumOpen ? "(expected > " : "(expected >= ") + formatNumber(minimum) + ")";
+        }
+        return std::string(minimumOpen ? "(" : "[") + formatNumber(minimum) + ", " + formatNumber(maximum) +
+               (maximumOpen ? ")" : "]");
+    }
+};
+
+constexpr Range kLongitudeRange{-180.0, 180.0};
+constexpr Range kLatitudeRange{-90.0, 90.0};
+constexpr Range kPositivePixels{0.0, kMaxPixels, true, false};
+constexpr Range kNonNegativePixels{0.0, kMaxPixels};
+/// From 1,000 km underground to a billion kilometres out: anything else is a typing error (and
+/// would lose all precision, or overflow when squared).
+constexpr Range kHeightRange{-1.0e6, 1.0e12};
+constexpr Range kPixelOffsetRange{-16384.0, 16384.0};
+
+// ---------------------------------------------------------------------------------------------
+// The reader: one scene's text, origin and folder; every value checked where it is read.
+
+class SceneReader {
+public:
+    SceneReader(std::string_view text, std::string origin, fs::path baseDirectory, const SceneParseOptions& options)
+        : _text(text), _origin(std::move(origin)), _baseDirectory(std::move(baseDirectory)), _options(options)
+    {
+    }
+
+    SceneDescription read(const Json& root) const
+    {
+        if (!root.is_object()) {
+            fail("", "expected a JSON object at the top of the file, got " + describe(root));
+        }
+        SceneDescription scene;
+        scene.version = readVersion(root);
+        checkKeys(root, "", kRootKeys);
+
+        if (const Json* width = member(root, "width")) {
+            scene.width = readInteger(*width, "/width", 1, 16384, "a positive integer");
+        }
+        if (const Json* height = member(root, "height")) {
+            scene.height = readInteger(*height, "/height", 1, 16384, "a positive integer");
+        }
+        if (const Json* background = member(root, "background")) {
+            scene.background = readColor(*background, "/background");
+        }
+        if (const Json* camera = member(root, "camera")) {
+            scene.camera = readCamera(*camera, "/camera");
+        }
+        scene.sun = readSun(root, scene.camera);
+        if (const Json* depth = member(root, "depth")) {
+            scene.depth = readEnum(*depth, "/depth", kDepthStrategies);
+        }
+        if (const Json* globe = member(root, "globe")) {
+            scene.globe = readGlobe(*globe, "/globe");
+        }
+        if (const Json* layers = member(root, "layers")) {
+            if (!layers->is_array()) {
+                fail("/layers", "expected an array of layers, got " + describe(*layers));
+            }
+            for (std::size_t i = 0; i < layers->size(); ++i) {
+                scene.layers.push_back(readLayer((*layers)[i], "/layers/" + std::to_string(i)));
+            }
+        }
+        return scene;
+    }
+
+    std::vector<CameraPath::Keyframe> readCameraPath(const Json& root) const
+    {
+        if (!root.is_object()) {
+            fail("", "expected a JSON object at the top of the file, got " + describe(root));
+        }
+        readVersion(root);
+        checkKeys(root, "", kCameraPathKeys);
+        const Json& keyframes = required(root, "", "keyframes");
+        if (!keyframes.is_array() || keyframes.size() < 2) {
+            fail("/keyframes", "expected an array of at least two keyframes, got " + describe(keyframes));
+        }
+        std::vector<CameraPath::Keyframe> path;
+        for (std::size_t i = 0; i < keyframes.size(); ++i) {
+            const std::string pointer = "/keyframes/" + std::to_string(i);
+            const Json& keyframe = keyframes[i];
+            expectObject(keyframe, pointer);
+            checkKeys(keyframe, pointer, kKeyframeKeys);
+            const double seconds = readNumber(required(keyframe, pointer, "time"), pointer + "/time", {0.0, 1e9});
+            if (!path.empty() && !(seconds > path.back().seconds)) {
+                fail(pointer + "/time", formatNumber(seconds) + " is not after the previous keyframe's time (" +
+                                            formatNumber(path.back().seconds) + ")");
+            }
+            path.push_back({seconds, readPosition(required(keyframe, pointer, "position"), pointer + "/position"),
+                            readPosition(required(keyframe, pointer, "target"), pointer + "/target")});
+        }
+        return path;
+    }
+
+private:
+    enum class At { Value, Key };
+
+    [[noreturn]] void fail(const std::string& pointer, std::string reason, At at = At::Value) const
+    {
+        std::size_t line = 0;
+        std::size_t column = 0;
+        if (const auto offset = detail::locateInJson(_text, pointer, at == At::Key)) {
+            const detail::TextPosition position = detail::textPositionOf(_text, *offset);
+            line = position.line;
+            column = position.column;
+        }
+        throw SceneFileError(_origin, pointer, line, column, std::move(reason));
+    }
+
+    static const Json* member(const Json& object, std::string_view key)
+    {
+        const auto it = object.find(key);
+        return it == object.end() ? nullptr : &*it;
+    }
+
+    const Json& required(const Json& object, const std::string& pointer, std::string_view key,
+                         std::string_view hint = {}) const
+    {
+        if (const Json* value = member(object, key)) {
+            return *value;
+        }
+        fail(pointer, "missing required key " + quote(key) + std::string(hint));
+    }
+
+    void expectObject(const Json& value, const std::string& pointer) const
+    {
+        if (!value.is_object()) {
+            fail(pointer, "expected an object, got " + describe(value));
+        }
+    }
+
+    /// Fails on the first key (in file order) that is not one of known.
+    void checkKeys(const Json& object, const std::string& pointer, Keys known) const
+    {
+        for (const auto& item : object.items()) {
+            if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
+                fail(detail::appendToPointer(pointer, item.key()),
+                     "unknown key " + quote(item.key()) + suggestion(item.key(), known), At::Key);
+            }
+        }
+    }
+
+    int readVersion(const Json& root) const
+    {
+        const Json& version = required(root, "", "version", " (this orbis reads version 1)");
+        if (!version.is_number_integer()) {
+            fail("/version", "expected an integer, got " + describe(version));
+        }
+        constexpr auto kNewest = static_cast<std::int64_t>(kSceneFileVersion);
+        if (version.is_number_unsigned() ? version.get<std::uint64_t>() > static_cast<std::uint64_t>(kNewest)
+                                         : version.get<std::int64_t>() > kNewest) {
+            fail("/version", "version " + describe(version) + " is newer than this orbis understands (it reads version " +
+                                 std::to_string(kSceneFileVersion) + ")");
+        }
+        if (version.get<std::int64_t>() < 1) {
+            fail("/version", describe(version) + " is not a version; versions start at 1");
+        }
+        return static_cast<int>(version.get<std::int64_t>());
+    }
+
+    int readInteger(const Json& value, const std::string& pointer, int minimum, int maximum,
+                    std::string_view expected) const
+    {
+        if (!value.is_number_integer()) {
+            fail(pointer, "expected " + std::string(expected) + ", got " + describe(value));
+        }
+        // nlohmann reads non-negative integers as unsigned, and those beyond int64 only as unsigned.
+        bool inRange = false;
+        if (value.is_number_unsigned()) {
+            const std::uint64_t number = value.get<std::uint64_t>();
+            inRange = number <= static_cast<std::uint64_t>(maximum) &&
+                      (minimum <= 0 || number >= static_cast<std::uint64_t>(minimum));
+        } else {
+            const std::int64_t number = value.get<std::int64_t>();
+            inRange = number >= minimum && number <= maximum;
+        }
+        if (!inRange) {
+            fail(pointer, describe(value) + " is out of range [" + std::to_string(minimum) + ", " +
+                              std::to_string(maximum) + "]");
+        }
+        return static_cast<int>(value.get<std::int64_t>());
+    }
+
+    double readNumber(const Json& value, const std::string& pointer, const Range& range = {}) const
+    {
+        if (!value.is_number()) {
+            fail(pointer, "expected a number, got " + describe(value));
+        }
+        const double number = value.get<double>();
+        if (!std::isfinite(number)) {
+            fail(pointer, "expected a finite number, got " + describe(value));
+        }
+        if (!range.contains(number)) {
+            fail(pointer, describe(value) + " is out of range " + range.text());
+        }
+        return number;
+    }
+
+    double readDegrees(const Json& value, const std::string& pointer, const Range& range) const
+    {
+        return toRadians(readNumber(value, pointer, range));
+    }
+
+    bool readBoolean(const Json& value, const std::string& pointer) const
+    {
+        if (!value.is_boolean()) {
+            fail(pointer, "expected true or false, got " + describe(value));
+        }
+        return value.get<bool>();
+    }
+
+    const std::string& readString(const Json& value, const std::string& pointer, std::string_view expected) const
+    {
+        if (!value.is_string()) {
+            fail(pointer, "expected " + std::string(expected) + ", got " + describe(value));
+        }
+        return value.get_ref<const std::string&>();
+    }
+
+    template <class T, std::size_t N>
+    T readEnum(const Json& value, const std::string& pointer, const std::array<Named<T>, N>& table) const
+    {
+        std::vector<std::string_view> names;
+        for (const Named<T>& entry : table) {
+            names.push_back(entry.name);
+        }
+        const std::string& text = readString(value, pointer, "one of " + quoteList(names));
+        for (const Named<T>& entry : table) {
+            if (entry.name == text) {
+                return entry.value;
+            }
+        }
+        fail(pointer, "unknown value " + quote(text) + suggestion(text, names));
+    }
+
+    glm::vec4 readColor(const Json& value, const std::string& pointer) const
+    {
+        constexpr std::string_view kExpected = "a color \"#rrggbb\" or \"#rrggbbaa\"";
+        const std::string& text = readString(value, pointer, kExpected);
+        const bool hex = std::all_of(text.begin() + (text.empty() ? 0 : 1), text.end(),
+                                     [](unsigned char c) { return std::isxdigit(c) != 0; });
+        if (!text.starts_with('#') || (text.size() != 7 && text.size() != 9) || !hex) {
+            fail(pointer, "expected " + std::string(kExpected) + ", got " + quote(text));
+        }
+        std::array<float, 4> channels{0.0f, 0.0f, 0.0f, 1.0f};
+        for (std::size_t i = 0; 1 + 2 * i < text.size(); ++i) {
+            unsigned byte = 0;
+            std::from_chars(text.data() + 1 + 2 * i, text.data() + 3 + 2 * i, byte, 16);
+            channels[i] = static_cast<float>(byte) / 255.0f;
+        }
+        return {channels[0], channels[1], channels[2], channels[3]};
+    }
+
+    glm::dvec2 readPixelOffset(const Json& value, const std::string& pointer) const
+    {
+        if (!value.is_array() || value.size() != 2) {
+            fail(pointer, "expected [x, y] in pixels, got " + describe(value));
+        }
+        return {readNumber(value[0], pointer + "/0", kPixelOffsetRange),
+                readNumber(value[1], pointer + "/1", kPixelOffsetRange)};
+    }
+
+    /// {"lon": deg, "lat": deg, "height": m}; height optional (0) when withHeight.
+    Geodetic3D readPosition(const Json& value, const std::string& pointer, bool withHeight = true) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, withHeight ? Keys(kPositionKeys) : Keys(kSunKeys));
+        Geodetic3D position;
+        position.longitude = readDegrees(required(value, pointer, "lon"), pointer + "/lon", kLongitudeRange);
+        position.latitude = readDegrees(required(value, pointer, "lat"), pointer + "/lat", kLatitudeRange);
+        if (const Json* height = withHeight ? member(value, "height") : nullptr) {
+            position.height = readNumber(*height, pointer + "/height", kHeightRange);
+        }
+        return position;
+    }
+
+    // ------------------------------------------------------------------------------------------
+    // Paths
+
+    /// A path string resolved against the scene's folder, lexically normalised.
+    fs::path readPath(const Json& value, const std::string& pointer) const
+    {
+        const std::string& text = readString(value, pointer, "a path");
+        if (text.empty()) {
+            fail(pointer, "expected a path, got an empty string");
+        }
+        if (text.find('\0') != std::string::npos) {
+            fail(pointer, "a path cannot contain a NUL character");
+        }
+        const fs::path path(text);
+        return (path.is_absolute() ? path : _baseDirectory / path).lexically_normal();
+    }
+
+    /// "file "x" not found (looked for /abs/x)"; the resolved path only when it adds something.
+    std::string notFound(const Json& value, const fs::path& resolved, std::string_view what = "file") const
+    {
+        const std::string& written = value.get_ref<const std::string&>();
+        std::string reason = std::string(what) + " " + quote(written) + " not found";
+        if (fs::path(written) != resolved) {
+            reason += " (looked for " + quote(resolved.string()) + ")";
+        }
+        return reason;
+    }
+
+    /// Fails unless resolved is a regular file (when files are checked).
+    void requireFile(const Json& value, const std::string& pointer, const fs::path& resolved) const
+    {
+        if (!_options.checkFiles) {
+            return;
+        }
+        std::error_code error;
+        const fs::file_status status = fs::status(resolved, error);
+        if (status.type() == fs::file_type::not_found) {
+            fail(pointer, notFound(value, resolved));
+        }
+        if (error) {
+            fail(pointer, quote(value.get_ref<const std::string&>()) + " cannot be accessed: " + error.message());
+        }
+        if (status.type() == fs::file_type::directory) {
+            fail(pointer, quote(value.get_ref<const std::string&>()) + " is a folder; expected a file");
+        }
+        if (status.type() != fs::file_type::regular) {
+            fail(pointer, quote(value.get_ref<const std::string&>()) + " is not a regular file");
+        }
+    }
+
+    /// Fails unless the path ends in one of the extensions (compared ignoring case).
+    void requireExtension(const std::string& pointer, const fs::path& resolved, Keys extensions,
+                          std::string_view expected) const
+    {
+        const std::string extension = lowercase(resolved.extension().string());
+        if (std::find(extensions.begin(), extensions.end(), extension) == extensions.end()) {
+            fail(pointer, "expected " + std::string(expected) + ", got " + quote(resolved.filename().string()));
+        }
+    }
+
+    // ------------------------------------------------------------------------------------------
+    // Camera and Sun
+
+    CameraDescription readCamera(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kCameraKeys);
+        CameraDescription camera;
+        if (const Json* position = member(value, "position")) {
+            camera.position = readPosition(*position, pointer + "/position");
+        }
+        const Json* target = member(value, "target");
+        const bool hasOrientation = member(value, "heading") || member(value, "pitch") || member(value, "roll");
+        if (target != nullptr && hasOrientation) {
+            const std::string_view key = member(value, "heading") ? "heading" : member(value, "pitch") ? "pitch" : "roll";
+            fail(detail::appendToPointer(pointer, key),
+                 "\"target\" and \"heading\"/\"pitch\"/\"roll\" both aim the camera; give one or the other", At::Key);
+        }
+        if (target != nullptr) {
+            const Geodetic3D targetPosition = readPosition(*target, pointer + "/target");
+            const Ellipsoid earth = Ellipsoid::wgs84();
+            if (glm::distance(earth.toCartesian(targetPosition), earth.toCartesian(camera.position)) < 1e-3) {
+                fail(pointer + "/target", "the target is the camera's position; the camera would look nowhere");
+            }
+            camera.aim = targetPosition;
+        } else {
+            camera.aim = readOrientation(value, pointer, HeadingPitchRoll{0.0, -kHalfPi, 0.0});
+        }
+        if (const Json* fieldOfView = member(value, "fovY")) {
+            camera.fieldOfViewY = readDegrees(*fieldOfView, pointer + "/fovY", Range{0.0, 180.0, true, true});
+        }
+        return camera;
+    }
+
+    /// heading, pitch and roll keys of an object, in degrees; absent ones keep the defaults.
+    HeadingPitchRoll readOrientation(const Json& object, const std::string& pointer, HeadingPitchRoll defaults) const
+    {
+        HeadingPitchRoll orientation = defaults;
+        if (const Json* heading = member(object, "heading")) {
+            orientation.heading = readDegrees(*heading, pointer + "/heading", Range{-360.0, 360.0});
+        }
+        if (const Json* pitch = member(object, "pitch")) {
+            orientation.pitch = readDegrees(*pitch, pointer + "/pitch", Range{-90.0, 90.0});
+        }
+        if (const Json* roll = member(object, "roll")) {
+            orientation.roll = readDegrees(*roll, pointer + "/roll", Range{-180.0, 180.0});
+        }
+        return orientation;
+    }
+
+    SunDescription readSun(const Json& root, const CameraDescription& camera) const
+    {
+        const Json* sun = member(root, "sun");
+        const Json* time = member(root, "time");
+        SunDescription result;
+        if (sun != nullptr && time != nullptr) {
+            fail("/time", "\"sun\" and \"time\" both place the Sun; give one or the other", At::Key);
+        }
+        if (sun != nullptr) {
+            const Geodetic3D point = readPosition(*sun, "/sun", false);
+            result.source = SunSource::Position;
+            result.subsolarPoint = point.toGeodetic2D();
+            result.directionEarthFixed = Ellipsoid::geodeticSurfaceNormal(result.subsolarPoint);
+            return result;
+        }
+        glm::dvec3 direction;
+        if (time != nullptr) {
+            constexpr std::string_view kExpected = "a UTC time \"YYYY-MM-DDTHH:MM:SSZ\"";
+            const std::string& text = readString(*time, "/time", kExpected);
+            const std::optional<std::chrono::sys_seconds> utc = parseUtcTime(text);
+            if (!utc) {
+                fail("/time", "expected " + std::string(kExpected) + ", got " + quote(text));
+            }
+            result.source = SunSource::Time;
+            result.time = *utc;
+            direction = sunDirectionEarthFixed(*utc);
+        } else {
+            result.source = SunSource::Camera;
+            direction = Ellipsoid::wgs84().toCartesian(camera.position);
+        }
+        const double length = glm::length(direction);
+        result.directionEarthFixed = length > 0.0 ? direction / length : glm::dvec3(1.0, 0.0, 0.0);
+        const glm::dvec3& d = result.directionEarthFixed;
+        result.subsolarPoint = {std::atan2(d.y, d.x), std::asin(std::clamp(d.z, -1.0, 1.0))};
+        return result;
+    }
+
+    // ------------------------------------------------------------------------------------------
+    // Globe
+
+    GlobeDescription readGlobe(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kGlobeKeys);
+        GlobeDescription globe;
+        if (const Json* method = member(value, "method")) {
+            globe.method = readEnum(*method, pointer + "/method", kGlobeMethods);
+        }
+        if (const Json* texture = member(value, "texture")) {
+            globe.texture = readGlobeTexture(*texture, pointer + "/texture");
+        }
+        if (const Json* night = member(value, "nightTexture")) {
+            const fs::path path = readPath(*night, pointer + "/nightTexture");
+            requireFile(*night, pointer + "/nightTexture", path);
+            globe.nightTexture = path;
+        }
+        if (const Json* grid = member(value, "grid")) {
+            globe.grid = readBoolean(*grid, pointer + "/grid");
+        }
+        return globe;
+    }
+
+    GlobeTexture readGlobeTexture(const Json& value, const std::string& pointer) const
+    {
+        GlobeTexture texture{readPath(value, pointer), GlobeTexture::Kind::Image};
+        if (!_options.checkFiles) {
+            texture.kind = texture.path.has_extension() ? GlobeTexture::Kind::Image : GlobeTexture::Kind::TileMapService;
+            return texture;
+        }
+        std::error_code error;
+        if (fs::is_directory(texture.path, error)) {
+            if (!fs::is_regular_file(texture.path / "tilemapresource.xml", error)) {
+                fail(pointer, "the folder " + quote(value.get_ref<const std::string&>()) +
+                                  " is not a TMS tile set: it has no tilemapresource.xml");
+            }
+            texture.kind = GlobeTexture::Kind::TileMapService;
+            return texture;
+        }
+        requireFile(value, pointer, texture.path);
+        return texture;
+    }
+
+    // ------------------------------------------------------------------------------------------
+    // Layers
+
+    LayerDescription readLayer(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        const Json& type = required(value, pointer, "type", " (one of " + quoteList(kLayerTypes) + ")");
+        const std::string& name = readString(type, pointer + "/type", "one of " + quoteList(kLayerTypes));
+        if (name == "geojson") {
+            return readGeoJsonLayer(value, pointer);
+        }
+        if (name == "points") {
+            return readPointsLayer(value, pointer);
+        }
+        if (name == "polyline") {
+            return readPolylineLayer(value, pointer);
+        }
+        if (name == "model") {
+            return readModelLayer(value, pointer);
+        }
+        fail(pointer + "/type", "unknown layer type " + quote(name) + suggestion(name, kLayerTypes));
+    }
+
+    GeoJsonLayer readGeoJsonLayer(const Json& value, const std::string& pointer) const
+    {
+        checkKeys(value, pointer, kGeoJsonKeys);
+        GeoJsonLayer layer;
+        const Json& source = required(value, pointer, "source");
+        layer.source = readPath(source, pointer + "/source");
+        requireExtension(pointer + "/source", layer.source, std::array<std::string_view, 2>{".geojson", ".json"},
+                         "a .geojson or .json file");
+        requireFile(source, pointer + "/source", layer.source);
+        if (const Json* stroke = member(value, "stroke")) {
+            layer.stroke = readStroke(*stroke, pointer + "/stroke");
+        }
+        if (const Json* fill = member(value, "fill")) {
+            const std::string fillPointer = pointer + "/fill";
+            expectObject(*fill, fillPointer);
+            checkKeys(*fill, fillPointer, kFillKeys);
+            layer.fill = FillStyle{};
+            if (const Json* color = member(*fill, "color")) {
+                layer.fill->color = readColor(*color, fillPointer + "/color");
+            }
+        }
+        if (!layer.stroke && !layer.fill) {
+            layer.stroke = StrokeStyle{};
+        }
+        return layer;
+    }
+
+    StrokeStyle readStroke(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kStrokeKeys);
+        StrokeStyle stroke;
+        if (const Json* color = member(value, "color")) {
+            stroke.color = readColor(*color, pointer + "/color");
+        }
+        if (const Json* width = member(value, "width")) {
+            stroke.widthPixels = readNumber(*width, pointer + "/width", kPositivePixels);
+        }
+        if (const Json* color = member(value, "outlineColor")) {
+            stroke.outlineColor = readColor(*color, pointer + "/outlineColor");
+        }
+        if (const Json* width = member(value, "outlineWidth")) {
+            stroke.outlineWidthPixels = readNumber(*width, pointer + "/outlineWidth", kNonNegativePixels);
+        }
+        return stroke;
+    }
+
+    PointsLayer readPointsLayer(const Json& value, const std::string& pointer) const
+    {
+        checkKeys(value, pointer, kPointsKeys);
+        PointsLayer layer;
+        const std::string sourcePointer = pointer + "/source";
+        const Json& source = required(value, pointer, "source");
+        layer.source = readPath(source, sourcePointer);
+        requireExtension(sourcePointer, layer.source, std::array<std::string_view, 3>{".csv", ".geojson", ".json"},
+                         "a .csv, .geojson or .json file");
+        layer.format = lowercase(layer.source.extension().string()) == ".csv" ? PointsLayer::Format::Csv
+                                                                               : PointsLayer::Format::GeoJson;
+        requireFile(source, sourcePointer, layer.source);
+        if (const Json* billboard = member(value, "billboard")) {
+            layer.billboard = readBillboard(*billboard, pointer + "/billboard");
+        }
+        if (const Json* label = member(value, "label")) {
+            layer.label = readLabel(*label, pointer + "/label");
+        }
+        if (_options.checkFiles && layer.format == PointsLayer::Format::Csv) {
+            checkCsvColumns(source, sourcePointer, layer, pointer + "/label/field");
+        }
+        return layer;
+    }
+
+    /// The CSV must name its longitude and latitude columns, and the label's field.
+    void checkCsvColumns(const Json& source, const std::string& sourcePointer, const PointsLayer& layer,
+                         const std::string& fieldPointer) const
+    {
+        const std::string written = quote(source.get_ref<const std::string&>());
+        auto header = readCsvHeader(layer.source);
+        if (const auto* problem = std::get_if<std::string>(&header)) {
+            fail(sourcePointer, written + " " + *problem);
+        }
+        const auto& columns = std::get<std::vector<std::string>>(header);
+        if (!hasColumn(columns, kLongitudeColumns)) {
+            fail(sourcePointer, written + " has no longitude column (one of " + quoteList(kLongitudeColumns) +
+                                    "); its columns are " + joinColumns(columns));
+        }
+        if (!hasColumn(columns, kLatitudeColumns)) {
+            fail(sourcePointer, written + " has no latitude column (one of " + quoteList(kLatitudeColumns) +
+                                    "); its columns are " + joinColumns(columns));
+        }
+        if (layer.label && std::find(columns.begin(), columns.end(), layer.label->field) == columns.end()) {
+            std::vector<std::string_view> names(columns.begin(), columns.end());
+            const auto closest = closestWord(layer.label->field, names);
+            fail(fieldPointer, "no column " + quote(layer.label->field) + " in " + written +
+                                   (closest ? " (did you mean " + quote(*closest) + "?)"
+                                            : "; its columns are " + joinColumns(columns)));
+        }
+    }
+
+    BillboardStyle readBillboard(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kBillboardKeys);
+        BillboardStyle billboard;
+        if (const Json* image = member(value, "image")) {
+            const fs::path path = readPath(*image, pointer + "/image");
+            requireFile(*image, pointer + "/image", path);
+            billboard.image = path;
+        }
+        if (const Json* size = member(value, "size")) {
+            billboard.sizePixels = readNumber(*size, pointer + "/size", kPositivePixels);
+        }
+        if (const Json* color = member(value, "color")) {
+            billboard.color = readColor(*color, pointer + "/color");
+        }
+        if (const Json* origin = member(value, "origin")) {
+            billboard.origin = readEnum(*origin, pointer + "/origin", kOrigins);
+        }
+        if (const Json* offset = member(value, "offset")) {
+            billboard.offsetPixels = readPixelOffset(*offset, pointer + "/offset");
+        }
+        return billboard;
+    }
+
+    LabelStyle readLabel(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kLabelKeys);
+        LabelStyle label;
+        label.field = readString(required(value, pointer, "field"), pointer + "/field", "a column or property name");
+        if (label.field.empty()) {
+            fail(pointer + "/field", "expected a column or property name, got an empty string");
+        }
+        if (const Json* size = member(value, "size")) {
+            label.fontSizePixels = readNumber(*size, pointer + "/size", kPositivePixels);
+        }
+        if (const Json* color = member(value, "color")) {
+            label.color = readColor(*color, pointer + "/color");
+        }
+        if (const Json* color = member(value, "outlineColor")) {
+            label.outlineColor = readColor(*color, pointer + "/outlineColor");
+        }
+        if (const Json* width = member(value, "outlineWidth")) {
+            label.outlineWidthPixels = readNumber(*width, pointer + "/outlineWidth", kNonNegativePixels);
+        }
+        return label;
+    }
+
+    PolylineLayer readPolylineLayer(const Json& value, const std::string& pointer) const
+    {
+        checkKeys(value, pointer, kPolylineKeys);
+        PolylineLayer layer;
+        const std::string positionsPointer = pointer + "/positions";
+        const Json& positions = required(value, pointer, "positions");
+        if (!positions.is_array() || positions.size() < 2) {
+            fail(positionsPointer, "expected an array of at least two [lon, lat] or [lon, lat, height], got " +
+                                       describe(positions));
+        }
+        for (std::size_t i = 0; i < positions.size(); ++i) {
+            const Json& position = positions[i];
+            const std::string positionPointer = positionsPointer + "/" + std::to_string(i);
+            if (!position.is_array() || position.size() < 2 || position.size() > 3) {
+                fail(positionPointer, "expected [lon, lat] or [lon, lat, height], got " + describe(position));
+            }
+            Geodetic3D geodetic;
+            geodetic.longitude = readDegrees(position[0], positionPointer + "/0", kLongitudeRange);
+            geodetic.latitude = readDegrees(position[1], positionPointer + "/1", kLatitudeRange);
+            if (position.size() == 3) {
+                geodetic.height = readNumber(position[2], positionPointer + "/2", kHeightRange);
+            }
+            layer.positions.push_back(geodetic);
+        }
+        if (const Json* width = member(value, "width")) {
+            layer.widthPixels = readNumber(*width, pointer + "/width", kPositivePixels);
+        }
+        if (const Json* color = member(value, "color")) {
+            layer.color = readColor(*color, pointer + "/color");
+        }
+        return layer;
+    }
+
+    ModelLayer readModelLayer(const Json& value, const std::string& pointer) const
+    {
+        checkKeys(value, pointer, kModelKeys);
+        ModelLayer layer;
+        const Json& source = required(value, pointer, "source");
+        layer.source = readPath(source, pointer + "/source");
+        requireExtension(pointer + "/source", layer.source, std::array<std::string_view, 2>{".gltf", ".glb"},
+                         "a .gltf or .glb file");
+        layer.format = lowercase(layer.source.extension().string()) == ".glb" ? ModelLayer::Format::Glb
+                                                                               : ModelLayer::Format::Gltf;
+        requireFile(source, pointer + "/source", layer.source);
+        layer.position = readPosition(required(value, pointer, "position"), pointer + "/position");
+        if (const Json* scale = member(value, "scale")) {
+            layer.scale = readNumber(*scale, pointer + "/scale", Range{0.0, std::numeric_limits<double>::infinity(), true});
+        }
+        layer.orientation = readOrientation(value, pointer, HeadingPitchRoll{});
+        return layer;
+    }
+
+    std::string_view _text;
+    std::string _origin;
+    fs::path _baseDirectory;
+    SceneParseOptions _options;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Syntax errors
+
+/// nlohmann's reason without its "[json.exception.parse_error.101] parse error at line 1,
+/// column 2: " prefix (our own location replaces it).
+std::string syntaxReason(const std::string& what)
+{
+    const std::size_t parseError = what.find("parse error");
+    const std::size_t colon = parseError == std::string::npos ? std::string::npos : what.find(": ", parseError);
+    return colon == std::string::npos ? what : what.substr(colon + 2);
+}
+
+/// A hint for the mistakes JSON does not forgive, looking at the text around the error.
+std::string syntaxHint(std::string_view text, std::size_t offset)
+{
+    if (offset >= text.size()) {
+        return {};
+    }
+    std::size_t start = offset;
+    const auto isWordCharacter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '-' || c == '+'; };
+    while (start > 0 && isWordCharacter(text[start - 1])) {
+        --start;
+    }
+    std::size_t end = offset;
+    while (end < text.size() && isWordCharacter(text[end])) {
+        ++end;
+    }
+    std::string word = lowercase(text.substr(start, end - start));
+    while (!word.empty() && (word.front() == '-' || word.front() == '+')) {
+        word.erase(0, 1);
+    }
+    if (word.starts_with("nan") || word.starts_with("inf")) {
+        return " (JSON has no NaN or Infinity; write a finite number)";
+    }
+    if (text[offset] == '/' || text[offset] == '#') {
+        return " (JSON has no comments)";
+    }
+    if (text[offset] == '\'') {
+        return " (JSON strings take double quotes)";
+    }
+    std::size_t previous = offset;
+    while (previous > 0 && std::isspace(static_cast<unsigned char>(text[previous - 1]))) {
+        --previous;
+    }
+    if ((text[offset] == '}' || text[offset] == ']') && previous > 0 && text[previous - 1] == ',') {
+        return " (a comma before a closing bracket?)";
+    }
+    return {};
+}
+
+[[noreturn]] void throwSyntaxError(std::string_view text, const std::string& origin, const Json::parse_error& error)
+{
+    if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+        throw SceneFileError(origin, "", 0, 0, "the file is empty; expected a JSON object");
+    }
+    const std::size_t offset = error.byte > 0 ? std::min<std::size_t>(error.byte - 1, text.size()) : text.size();
+    const detail::TextPosition position = detail::textPositionOf(text, offset);
+    throw SceneFileError(origin, "", position.line, position.column,
+                         "invalid JSON: " + syntaxReason(error.what()) + syntaxHint(text, offset));
+}
+
+/// nlohmann refuses numbers beyond double's range ("number overflow parsing '1e999'") without
+/// a position; the number's first occurrence in the text stands in for it.
+[[noreturn]] void throwNumberOverflow(std::string_view text, const std::string& origin, const Json::out_of_range& error)
+{
+    const std::string what = error.what();
+    const std::size_t open = what.find('\'');
+    const std::size_t close = open == std::string::npos ? std::string::npos : what.find('\'', open + 1);
+    const std::string number = close == std::string::npos ? std::string() : what.substr(open + 1, close - open - 1);
+    const std::size_t offset = number.empty() ? std::string_view::npos : text.find(number);
+    if (offset == std::string_view::npos) {
+        throw SceneFileError(origin, "", 0, 0, "invalid JSON: a number too large for a double");
+    }
+    const detail::TextPosition position = detail::textPositionOf(text, offset);
+    throw SceneFileError(origin, "", position.line, position.column,
+                         "invalid JSON: " + number + " is too large for a double");
+}
+
+fs::path absoluteDirectory(const fs::path& directory)
+{
+    if (directory.is_absolute()) {
+        return directory.lexically_normal();
+    }
+    std::error_code error;
+    fs::path absolute = fs::absolute(directory.empty() ? fs::path(".") : directory, error);
+    return error ? directory : absolute.lexically_normal();
+}
+
+} // namespace
+
+namespace {
+
+/// Parses JSON text (bounded nesting, no duplicate keys), throwing SceneFileError with the origin,
+/// line and column for what is not JSON.
+Json parseJsonDocument(std::string_view text, const std::string& origin)
+{
+    Json root;
+    try {
+        const Json::parser_callback_t limitDepth = [](int depth, Json::parse_event_t, Json&) {
+            if (depth > kMaxDepth) {
+                throw DepthExceeded{};
+            }
+            return true;
+        };
+        root = Json::parse(text.begin(), text.end(), limitDepth);
+    } catch (const Json::parse_error& error) {
+        throwSyntaxError(text, origin, error);
+    } catch (const Json::out_of_range& error) {
+        throwNumberOverflow(text, origin, error);
+    } catch (const DepthExceeded&) {
+        throw SceneFileError(origin, "", 0, 0,
+                             "invalid scene: nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    }
+    if (const auto duplicate = detail::findDuplicateKey(text)) {
+        const detail::TextPosition position = detail::textPositionOf(text, duplicate->offset);
+        const detail::TextPosition first = detail::textPositionOf(text, duplicate->firstOffset);
+        const std::vector<std::string> tokens = detail::splitPointer(duplicate->pointer);
+        throw SceneFileError(origin, duplicate->pointer, position.line, position.column,
+                             "duplicate key " + quote(tokens.empty() ? std::string() : tokens.back()) +
+                                 " (first given at line " + std::to_string(first.line) + ")");
+    }
+    return root;
+}
+
+/// The text of a file, or a SceneFileError naming it.
+std::string readDocument(const fs::path& path, std::string_view what)
+{
+    const std::string origin = path.string();
+    std::error_code error;
+    if (fs::is_directory(path, error)) {
+        throw SceneFileError(origin, "", 0, 0, "is a folder; expected " + std::string(what));
+    }
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        const bool missing = !fs::exists(path, error);
+        throw SceneFileError(origin, "", 0, 0, missing ? "no such file" : "cannot be opened");
+    }
+    std::ostringstream contents;
+    contents << file.rdbuf();
+    if (file.bad()) {
+        throw SceneFileError(origin, "", 0, 0, "cannot be read");
+    }
+    return contents.str();
+}
+
+} // namespace
+
+SceneDescription parseSceneText(std::string_view text, std::string_view originName, const fs::path& baseDirectory,
+                                const SceneParseOptions& options)
+{
+    const std::string origin(originName);
+    const Json root = parseJsonDocument(text, origin);
+    return SceneReader(text, origin, absoluteDirectory(baseDirectory), options).read(root);
+}
+
+std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName)
+{
+    const std::string origin(originName);
+    const Json root = parseJsonDocument(text, origin);
+    return SceneReader(text, origin, fs::path("."), SceneParseOptions{false}).readCameraPath(root);
+}
+
+std::vector<CameraPath::Keyframe> parseCameraPathFile(const fs::path& path)
+{
+    return parseCameraPathText(readDocument(path, "a camera path file"), path.string());
+}
+
+SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& options)
+{
+    const std::string text = readDocument(path, "a scene file");
+    const fs::path parent = path.parent_path();
+    return parseSceneText(text, path.string(), parent.empty() ? fs::path(".") : parent, options);
+}
+
+} // namespace orbis

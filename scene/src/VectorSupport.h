@@ -1,0 +1,83 @@
+#pragma once
+
+// What PolylineCollection and PolygonCollection share: how far straight chords and flat triangles
+// between surface points sag below the ellipsoid, the culling groups a collection is drawn in,
+// vertex encoding, and the depth offset both shaders apply. Private.
+
+#include <orbis/core/BoundingSphere.h>
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/renderer/DrawCommand.h>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace orbis::detail {
+
+/// Angle at the centre between two positions (radians, 0..pi); 0 when either is the centre.
+double centralAngle(const glm::dvec3& a, const glm::dvec3& b) noexcept;
+
+/// An upper bound (metres) on how far the straight chord between two surface points `angle`
+/// apart at the centre dips below the ellipsoid. On a sphere of radius R the chord's midpoint lies
+/// R (1 - cos(angle / 2)) below; on an ellipsoid the curve the chord cuts is most curved where the
+/// radius of curvature is smallest, b^2 / a (the meridian at the equator of an oblate one), while
+/// the angle maps to an arc of at most a * angle: the sag is at most a (a / b)^2 (1 - cos(angle / 2)).
+/// One percent more covers the higher-order terms (the tests sample chords to check it).
+double chordSagBound(const Ellipsoid& ellipsoid, double angle) noexcept;
+
+/// The same for a flat triangle whose edges subtend at most `angle`: its deepest point is the foot
+/// of the centre's perpendicular, the circumcentre, at most chord / sqrt(3) from the corners for an
+/// acute triangle (an obtuse one dips deepest on its longest edge, less), so on a sphere the depth is
+/// at most R (1 - sqrt(1 - (4/3) sin^2(angle / 2))); scaled for the ellipsoid as chordSagBound.
+double triangleSagBound(const Ellipsoid& ellipsoid, double angle) noexcept;
+
+/// Items (lines, polygons) put into groups by where they lie, so that each group is drawn by
+/// one command the scene can cull by its own bounding sphere and horizon occlusion point. A
+/// collection smaller than a quarter of the globe's radius is one group; otherwise items fall into
+/// 24 cells (a cube around the ellipsoid, each face cut in four) by their centre's direction, and
+/// items larger than that (Russia, Antarctica) into six more groups, so that they do not spoil the
+/// small items' horizon culling. Groups are returned non-empty, in a fixed order.
+std::vector<std::vector<std::uint32_t>> groupByRegion(const Ellipsoid& ellipsoid, std::span<const BoundingSphere> items);
+
+/// A group's culling volume: the sphere about its positions and, when one exists, their horizon
+/// occlusion point towards the sphere's centre.
+struct GroupBounds {
+    BoundingSphere sphere;
+    std::optional<glm::dvec3> occlusionPoint;
+};
+GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> positions);
+
+/// Sets a command's nearestDistance and farthestDistance for geometry no higher than maxHeight
+/// above the ellipsoid, seen from `eye` (nothing when the eye is not above the ellipsoid): nothing
+/// is nearer than the eye's height less maxHeight, and nothing visible is farther than the tangent
+/// from the eye to the inscribed sphere (radius b: a sight line through it meets the ellipsoid)
+/// continued to the sphere of radius a + maxHeight. Far tighter than a group's sphere, which a
+/// low eye is often inside, so low views need fewer frustums.
+void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+                double maxHeight) noexcept;
+
+/// Appends a position as the vertex shader reads it: positionHigh, positionLow (relative to the
+/// eye on the GPU) or a float offset from `centre` (relative to centre).
+void appendPosition(std::vector<float>& out, const glm::dvec3& position, bool relativeToEye, const glm::dvec3& centre);
+
+/// A colour as four normalised bytes, red first (what the "color" attributes read).
+std::array<std::uint8_t, 4> packColor(const glm::vec4& color) noexcept;
+
+/// u_depthOffset for the vector shaders: x, depth-buffer steps; y, the least offset as a fraction
+/// of the distance; z, metres more; w, the ellipsoid's largest radius (for a cap). Zero offsets
+/// when not enabled. See shaders/scene/vector/vector.vert.glsl for the technique.
+glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double steps, double fractionOfDistance,
+                             double meters) noexcept;
+
+/// The render state of a vector command: depth tested; blended over what is there when asked
+/// (always for translucent commands): alpha "over" in both colour and alpha, so an opaque background
+/// stays opaque; translucent commands do not write depth.
+RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept;
+
+} // namespace orbis::detail

@@ -1,0 +1,67 @@
+#!/bin/sh
+# Fuzzes the scene-file parser: builds tests/fuzz/SceneParserFuzz.cpp with clang (libFuzzer,
+# AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time, seeded with
+# data/scenes/*.json. Exit status: 0 no crash, 1 a crash (input saved in the build folder),
+# 77 no usable clang here (CTest reports the test as skipped).
+# Usage: scripts/fuzz.sh [--build-dir DIR] [--seconds N] [more libFuzzer options]
+# Environment: ORBIS_FUZZ_CXX (default clang++-14, else clang++).
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="$root/build/fuzz"
+seconds=30
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build="$2"; shift 2 ;;
+    --seconds) seconds="$2"; shift 2 ;;
+    *) break ;;
+  esac
+done
+
+cxx="${ORBIS_FUZZ_CXX:-}"
+if [ -z "$cxx" ]; then
+  for candidate in clang++-14 clang++; do
+    if command -v "$candidate" >/dev/null 2>&1; then cxx="$candidate"; break; fi
+  done
+fi
+if [ -z "$cxx" ]; then
+  echo "fuzz: no clang++ found (scripts/install-deps.sh installs clang-14); skipped"
+  exit 77
+fi
+
+# The parser and what it uses from core; nothing that needs OpenGL or GeographicLib.
+sources="tests/fuzz/SceneParserFuzz.cpp scene/src/SceneFile.cpp scene/src/JsonLocator.cpp
+  scene/src/SceneDescription.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
+  core/src/Transforms.cpp scene/src/Camera.cpp"
+flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+  -I$root/core/include -I$root/scene/include"
+launcher=""
+command -v ccache >/dev/null 2>&1 && launcher=ccache
+
+mkdir -p "$build/objects" "$build/corpus"
+binary="$build/scene_parser_fuzz"
+objects=""
+for source in $sources; do
+  object="$build/objects/$(echo "$source" | tr / _).o"
+  objects="$objects $object"
+  # Recompile when the source or any header it may include changed.
+  if [ ! -f "$object" ] || [ -n "$(find "$root/$source" "$root/core/include" "$root/scene/include" "$root/scene/src" \
+       -newer "$object" -type f 2>/dev/null | head -n 1)" ]; then
+    # shellcheck disable=SC2086
+    if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object"; then
+      echo "fuzz: compiling $source with $cxx failed"
+      exit 1
+    fi
+  fi
+done
+# shellcheck disable=SC2086
+if ! "$cxx" $flags $objects -o "$binary"; then
+  echo "fuzz: linking failed (is libclang-rt-14-dev installed?)"
+  exit 1
+fi
+
+cp "$root"/data/scenes/*.json "$build/corpus/"
+cd "$root/data/scenes"
+echo "fuzz: running $binary for $seconds s"
+# shellcheck disable=SC2086
+exec "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  -dict="$root/tests/fuzz/scene.dict" -artifact_prefix="$build/" "$@" "$build/corpus"

@@ -1,0 +1,92 @@
+// Vertices of polylines (POLYLINE: a geometry shader widens them) and filled polygons on the globe.
+// Positions arrive relative to the eye as two floats each (GPU RTE, book section 5.4), or with
+// RELATIVE_TO_CENTER as float offsets from a centre that the model matrix carries (RTC, 5.2);
+// never as world floats.
+//
+// Against z-fighting with the globe (book section 7.2), each vertex is moved towards the eye along
+// its view ray, by a distance rather than by a depth-buffer bias:
+//  * The geometry is already lifted on the CPU so that no chord or flat triangle dips below the
+//    ellipsoid; what is left to fight over is rounding: the depth buffer's step and float
+//    round-off in this shader and in the ray-cast globe's depth. The step of a perspective depth
+//    buffer at distance z is z^2 (f - n) / (n f 2^24), different in each multi-frustum, so the
+//    offset is u_depthOffset.x steps of the frustum being drawn, and at least u_depthOffset.y of the
+//    distance (float round-off is relative).
+//  * A line is widened in screen space at its centre's depth, but the surface under its sides is
+//    nearer or farther: at a grazing angle a (between view ray and surface) the surface changes
+//    depth by metersPerPixel / tan(a) per pixel across. The offset adds that for the line's half
+//    width, so a wide line is not half-buried on a globe seen obliquely. glPolygonOffset's slope
+//    term cannot do it: the widened quad is flat in depth across its width.
+//  * u_depthOffset.z adds metres: lines drawn over polygons add the depth a polygon of their
+//    granularity may stand above its border's chords.
+//  * Moving along the view ray leaves the vertex where it was on the screen, and it works with any
+//    depth encoding (a logarithmic or reversed buffer steps less, never more, than the one assumed).
+// Two caps keep the offset harmless. A point hidden behind the limb shows through only when the
+// ellipsoid hides it along less than the offset d of its view ray: such rays pass at most
+// d^2 / (8 R) below the surface, a band d^2 / (8 R D) wide at distance D. Capping d at
+// sqrt(4 R D radiansPerPixel) keeps that band under half a pixel (750 km at 20,000 km away at
+// 1280x720, 100 km at 60 km away in a 128-pixel view). And a vertex is never moved in front of the
+// near plane of the frustum being drawn, where it would be clipped. The scene also culls whole
+// groups below the horizon.
+
+#ifdef RELATIVE_TO_CENTER
+in vec3 position;
+uniform mat4 og_modelViewMatrix;
+#else
+in vec3 positionHigh;
+in vec3 positionLow;
+uniform vec3 og_cameraEyeHigh;
+uniform vec3 og_cameraEyeLow;
+uniform mat4 og_modelViewMatrixRelativeToEye;
+#endif
+in vec4 color;
+out vec4 v_color;
+#ifdef POLYLINE
+in vec4 outlineColor;
+in vec2 widths; // line width, outline width on each side: pixels
+out vec4 v_outlineColor;
+out vec2 v_widths;
+#endif
+
+uniform mat4 og_viewMatrix;
+uniform mat4 og_projectionMatrix;
+uniform float og_nearDistance;
+uniform float og_farDistance;
+uniform vec4 og_viewport;
+// Steps of the depth buffer, least fraction of the distance, metres, and the ellipsoid's largest radius.
+uniform vec4 u_depthOffset;
+
+void main()
+{
+#ifdef RELATIVE_TO_CENTER
+    vec3 positionEye = (og_modelViewMatrix * vec4(position, 1.0)).xyz;
+#else
+    vec3 relativeToEye = og_emulatedDoubleSubtract(positionHigh, positionLow, og_cameraEyeHigh, og_cameraEyeLow);
+    vec3 positionEye = (og_modelViewMatrixRelativeToEye * vec4(relativeToEye, 1.0)).xyz;
+#endif
+    float distance = length(positionEye);
+    if (distance > 0.0) {
+        float stepMeters = distance * (distance / og_nearDistance) * (1.0 - og_nearDistance / og_farDistance) / 16777216.0;
+        float offset = max(u_depthOffset.x * stepMeters, u_depthOffset.y * distance) + u_depthOffset.z;
+        float radiansPerPixel = 2.0 / (og_projectionMatrix[1][1] * og_viewport.w);
+#ifdef POLYLINE
+        if (u_depthOffset.x > 0.0) {
+            // Up at the vertex, from the ellipsoid's centre (og_viewMatrix[3] in eye coordinates).
+            vec3 up = normalize(positionEye - og_viewMatrix[3].xyz);
+            float sine = clamp(dot(up, -positionEye / distance), 0.05, 1.0);
+            float halfWidth = 0.5 * widths.x + widths.y + 1.0;
+            offset += halfWidth * distance * radiansPerPixel * sqrt(1.0 - sine * sine) / sine;
+        }
+#endif
+        // Caps: the band behind the limb where hidden points could show stays under half a pixel,
+        // and the vertex stays beyond this frustum's near plane.
+        float limbCap = sqrt(4.0 * u_depthOffset.w * distance * radiansPerPixel);
+        float nearCap = distance * max(0.0, 1.0 - 1.001 * og_nearDistance / max(-positionEye.z, 1e-30));
+        positionEye *= 1.0 - min(offset, min(limbCap, nearCap)) / distance;
+    }
+    gl_Position = og_projectionMatrix * vec4(positionEye, 1.0);
+    v_color = color;
+#ifdef POLYLINE
+    v_outlineColor = outlineColor;
+    v_widths = widths;
+#endif
+}

@@ -1,0 +1,80 @@
+// libFuzzer target for the scene-file parser: any input either parses into a description that
+// keeps the documented invariants or throws orbis::SceneFileError with a well-formed message.
+// Any other exception, a crash, a sanitizer report or a broken invariant is a bug.
+// Built and run by scripts/fuzz.sh (clang, -fsanitize=fuzzer,address,undefined).
+#include <orbis/scene/SceneFile.h>
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <string_view>
+
+namespace {
+
+void require(bool condition)
+{
+    if (!condition) {
+        std::abort();
+    }
+}
+
+bool isFiniteAngle(double radians)
+{
+    return std::isfinite(radians) && std::abs(radians) <= 2.0 * orbis::kPi;
+}
+
+void checkDescription(const orbis::SceneDescription& scene)
+{
+    require(scene.version == orbis::kSceneFileVersion);
+    require(scene.width >= 1 && scene.width <= 16384 && scene.height >= 1 && scene.height <= 16384);
+    require(scene.camera.fieldOfViewY > 0.0 && scene.camera.fieldOfViewY < orbis::kPi);
+    require(isFiniteAngle(scene.camera.position.latitude) && std::isfinite(scene.camera.position.height));
+    require(std::abs(glm::length(scene.sun.directionEarthFixed) - 1.0) < 1e-12);
+    require(isFiniteAngle(scene.sun.subsolarPoint.longitude) && isFiniteAngle(scene.sun.subsolarPoint.latitude));
+    const orbis::Camera camera = orbis::makeCamera(scene.camera, orbis::Ellipsoid::wgs84());
+    require(orbis::isFinite(camera.direction()) && orbis::isFinite(camera.up()) && orbis::isFinite(camera.right()));
+    for (const orbis::LayerDescription& layer : scene.layers) {
+        if (const auto* polyline = std::get_if<orbis::PolylineLayer>(&layer)) {
+            require(polyline->positions.size() >= 2 && polyline->widthPixels > 0.0);
+        } else if (const auto* model = std::get_if<orbis::ModelLayer>(&layer)) {
+            require(model->scale > 0.0 && std::isfinite(model->scale) && model->source.is_absolute());
+        } else if (const auto* points = std::get_if<orbis::PointsLayer>(&layer)) {
+            require(points->source.is_absolute() && points->billboard.sizePixels > 0.0);
+        } else if (const auto* geojson = std::get_if<orbis::GeoJsonLayer>(&layer)) {
+            require(geojson->source.is_absolute() && (geojson->stroke || geojson->fill));
+        }
+    }
+}
+
+void checkError(const orbis::SceneFileError& error, std::string_view origin)
+{
+    const std::string_view what = error.what();
+    require(what.starts_with(origin) && !error.reason().empty());
+    require((error.line() == 0) == (error.column() == 0));
+    require(error.pointer().empty() || error.pointer().front() == '/');
+}
+
+void parseOnce(std::string_view text, bool checkFiles)
+{
+    // Relative paths resolve against the folder the fuzzer runs in (scripts/fuzz.sh: data/scenes).
+    static const std::filesystem::path base = std::filesystem::current_path();
+    constexpr std::string_view kOrigin = "fuzz.json";
+    try {
+        checkDescription(orbis::parseSceneText(text, kOrigin, base, orbis::SceneParseOptions{checkFiles}));
+    } catch (const orbis::SceneFileError& error) {
+        checkError(error, kOrigin);
+    }
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
+{
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    parseOnce(text, true);
+    parseOnce(text, false);
+    return 0;
+}

@@ -1,0 +1,50 @@
+// The optional window backend (GLFW). Headless machines, and builds without GLFW, must say so
+// clearly; with GLFW and a display, a window device draws into its window.
+#include "RendererTestSupport.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/renderer/Device.h>
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+
+using namespace orbis;
+using Catch::Matchers::Contains;
+
+TEST_CASE("A window device draws into its window, or says clearly why there is none", "[renderer][window]")
+{
+    DeviceOptions options;
+    options.backend = GlBackend::Window;
+    options.windowWidth = 32;
+    options.windowHeight = 32;
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    const bool hasDisplay = (display && *display) || (wayland && *wayland);
+#ifdef ORBIS_TEST_HAVE_GLFW
+    if (!hasDisplay) {
+        REQUIRE_THROWS_WITH(Device(options), Contains("window backend: no display"));
+        return;
+    }
+    Device device(options);
+    REQUIRE(device.window());
+    Context& context = device.context();
+    context.setFramebuffer(nullptr); // the window
+    ClearState clear;
+    clear.color = {0.0f, 1.0f, 0.0f, 1.0f};
+    context.clear(clear);
+    const Image image = context.readPixels();
+    CHECK(image.width == device.window()->framebufferWidth());
+    CHECK(test::pixelNear(image, 0, 0, {0, 255, 0, 255}));
+    device.window()->swapBuffers();
+    device.window()->pollEvents();
+#else
+    (void)hasDisplay;
+    REQUIRE_THROWS_WITH(Device(options), Contains("window backend") && Contains("no GLFW"));
+#endif
+}
+
+TEST_CASE("Headless devices have no window", "[renderer][window]")
+{
+    CHECK(test::sharedDevice().window() == nullptr);
+}

@@ -1,0 +1,73 @@
+// Each chapter example and `orbis render`, run as a user runs them (small, for speed), against a
+// golden image. Built only with the examples (ORBIS_EXAMPLE_DIR).
+#ifdef ORBIS_EXAMPLE_DIR
+
+#include "GoldenImage.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+using namespace orbis;
+
+namespace {
+
+Image runExample(const std::string& command, const std::string& name)
+{
+    const std::filesystem::path output = std::filesystem::temp_directory_path() /
+                                         ("orbis-" + name + "-" + std::to_string(::getpid()) + ".png");
+    const std::string line = std::string(ORBIS_EXAMPLE_DIR) + "/" + command + " --out " + output.string() +
+                             " --width 160 --height 120 > /dev/null";
+    INFO(line);
+    REQUIRE(std::system(line.c_str()) == 0);
+    Image image = readImage(output);
+    std::filesystem::remove(output);
+    return image;
+}
+
+// llvmpipe renders the same pixels every run; a GPU may differ at edges and in filtering.
+const test::GoldenTolerance kTolerance{4, 0.01};
+
+} // namespace
+
+TEST_CASE("The chapter 4 examples render their golden images", "[scene][golden][examples]")
+{
+    for (const char* example :
+         {"ch04_subdivision_sphere", "ch04_globe_ray_casting", "ch04_night_lights", "ch04_latitude_longitude_grid"}) {
+        INFO(example);
+        ORBIS_REQUIRE_GOLDEN(runExample(example, example), std::string("scene/") + example, kTolerance);
+    }
+}
+
+TEST_CASE("The chapter 5 and 6 examples render their golden images", "[scene][golden][examples]")
+{
+    // Six tiles of 160 x 120 each: every vertex transform, every depth strategy.
+    for (const char* example : {"ch05_jitter", "ch06_depth_buffer_precision"}) {
+        INFO(example);
+        ORBIS_REQUIRE_GOLDEN(runExample(example, example), std::string("scene/") + example, kTolerance);
+    }
+}
+
+TEST_CASE("The chapter 7 and 8 examples render their golden images", "[scene][golden][examples]")
+{
+    for (const char* example : {"ch07_vector_data", "ch08_polygons"}) {
+        INFO(example);
+        ORBIS_REQUIRE_GOLDEN(runExample(example, example), std::string("scene/") + example, kTolerance);
+    }
+}
+
+TEST_CASE("The chapter 9 example renders its golden image", "[scene][golden][examples]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch09_billboards", "ch09_billboards"), "scene/ch09_billboards", kTolerance);
+}
+
+TEST_CASE("orbis render draws the default Earth as its golden image", "[scene][golden][examples]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("orbis render", "render-default"), "scene/orbis_render_default", kTolerance);
+}
+
+#endif

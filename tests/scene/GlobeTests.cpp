@@ -1,0 +1,118 @@
+#include "SceneTestSupport.h"
+
+#include "RendererTestSupport.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/scene/Globe.h>
+#include <orbis/scene/TileMapService.h>
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include <unistd.h>
+
+using namespace orbis;
+using namespace orbis::test;
+using Catch::Matchers::Contains;
+
+namespace {
+
+const Ellipsoid kEarth = Ellipsoid::wgs84();
+
+/// 256 x 128: green within 10% of the antimeridian and in the top five rows (the cap north of
+/// 83 degrees), magenta elsewhere. A seam, or a pole blurred by the converging meridians, shows
+/// as the mixture: the coarse mipmap levels are mostly magenta.
+std::filesystem::path writeSeamTexture()
+{
+    Image image(256, 128, 4);
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const bool green = x < 26 || x >= 230 || y < 5;
+            std::uint8_t* p = image.pixel(x, y);
+            p[0] = green ? 0 : 255;
+            p[1] = green ? 255 : 0;
+            p[2] = green ? 0 : 255;
+            p[3] = 255;
+        }
+    }
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                       ("orbis-seam-" + std::to_string(::getpid()) + ".png");
+    writePng(image, path);
+    return path;
+}
+
+Image renderGlobeFrom(const Geodetic3D& eye, const std::filesystem::path& texture, int size)
+{
+    GlobeOptions options;
+    options.dayTexture = texture;
+    options.lighting = false;
+    Scene scene(kEarth);
+    scene.add(std::make_shared<Globe>(kEarth, options));
+    scene.camera().lookAt(kEarth.toCartesian(eye), glm::dvec3(0.0), std::abs(eye.latitude) > 1.5 ? glm::dvec3(1, 0, 0)
+                                                                                                  : glm::dvec3(0, 0, 1));
+    return renderFrame(scene, size, size).image;
+}
+
+} // namespace
+
+TEST_CASE("The globe's texture shows no seam at the antimeridian and stays sharp at the pole", "[scene][globe]")
+{
+    const std::filesystem::path texture = writeSeamTexture();
+    const int size = 128;
+    // Looking at the antimeridian, stepped by quarter pixels so that some 2x2 pixel quad (where
+    // the GPU takes derivatives) straddles it: the centre columns show longitude 180.
+    for (const double offsetDegrees : {0.0, 0.3, 0.6, 0.9}) {
+        const Image seam = renderGlobeFrom(Geodetic3D::fromDegrees(180 - offsetDegrees, 0, 2e7), texture, size);
+        for (int y = size / 2 - 20; y <= size / 2 + 20; ++y) {
+            for (int x = size / 2 - 3; x <= size / 2 + 3; ++x) {
+                INFO("offset " << offsetDegrees << " pixel " << describePixel(seam, x, y));
+                REQUIRE(pixelNear(seam, x, y, {0, 255, 0, 255}, 24));
+            }
+        }
+    }
+
+    // Straight down on the north pole: its surroundings (the green cap) stay green.
+    const Image pole = renderGlobeFrom(Geodetic3D::fromDegrees(0, 90, 2e7), texture, size);
+    for (int y = size / 2 - 1; y <= size / 2 + 1; ++y) {
+        for (int x = size / 2 - 1; x <= size / 2 + 1; ++x) {
+            INFO("pixel " << describePixel(pole, x, y));
+            REQUIRE(pixelNear(pole, x, y, {0, 255, 0, 255}, 24));
+        }
+    }
+    std::filesystem::remove(texture);
+}
+
+TEST_CASE("The Natural Earth TMS pyramid joins into a north-up equirectangular image", "[scene][tms]")
+{
+    const std::filesystem::path folder = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/imagery/NaturalEarthII";
+    const TileMapDescription description = readTileMapDescription(folder);
+    REQUIRE(description.levelCount == 3);
+    REQUIRE(description.tileWidth == 256);
+
+    const Image mosaic = readTileMapMosaic(folder);
+    REQUIRE(mosaic.width == 2048);
+    REQUIRE(mosaic.height == 1024);
+    auto at = [&](double longitudeDegrees, double latitudeDegrees) {
+        const int x = static_cast<int>((longitudeDegrees + 180.0) / 360.0 * mosaic.width);
+        const int y = static_cast<int>((90.0 - latitudeDegrees) / 180.0 * mosaic.height);
+        return glm::ivec3(mosaic.pixel(x, y)[0], mosaic.pixel(x, y)[1], mosaic.pixel(x, y)[2]);
+    };
+    const glm::ivec3 sahara = at(10, 23);
+    const glm::ivec3 pacific = at(-150, 0);
+    const glm::ivec3 antarctica = at(40, -80);
+    INFO("sahara " << sahara.x << "," << sahara.y << "," << sahara.z << " pacific " << pacific.x << "," << pacific.y
+                   << "," << pacific.z);
+    REQUIRE(sahara.x > sahara.z + 20);   // pale sand: red over blue
+    REQUIRE(pacific.z > pacific.x + 40); // ocean: blue over red
+    REQUIRE(antarctica.x > 180);         // ice, at the bottom: the rows are not upside down
+    REQUIRE(readTileMapMosaic(folder, 0).width == 512);
+}
+
+TEST_CASE("A bad TMS folder is reported with the file and the problem", "[scene][tms]")
+{
+    REQUIRE_THROWS_WITH(readTileMapMosaic("/nonexistent/pyramid"), Contains("/nonexistent/pyramid/tilemapresource.xml") &&
+                                                                       Contains("cannot open"));
+    const std::filesystem::path folder = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/imagery/NaturalEarthII";
+    REQUIRE_THROWS_WITH(readTileMapMosaic(folder, 7), Contains("level 7 is not in the pyramid (0..2)"));
+}

@@ -1,0 +1,521 @@
+#include <orbis/scene/SceneFile.h>
+
+#include <orbis/core/SunPosition.h>
+
+#include <glm/geometric.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+
+using namespace orbis;
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSourceDirectory = ORBIS_SOURCE_DIR;
+const fs::path kScenes = kSourceDirectory / "data" / "scenes";
+
+// Angles go through degrees-to-radians once; a few ulps of pi/180 is all they can be off.
+constexpr double kAngleTolerance = 1e-15;
+
+std::string readText(const fs::path& path)
+{
+    std::ifstream file(path, std::ios::binary);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+}
+
+void writeText(const fs::path& path, std::string_view text)
+{
+    fs::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+/// A fresh folder under the system's temporary folder, removed with the object.
+class TemporaryFolder {
+public:
+    TemporaryFolder()
+    {
+        std::random_device random;
+        _path = fs::temp_directory_path() / ("orbis-scene-test-" + std::to_string(random()));
+        fs::create_directories(_path);
+    }
+    ~TemporaryFolder()
+    {
+        std::error_code ignored;
+        fs::remove_all(_path, ignored);
+    }
+    TemporaryFolder(const TemporaryFolder&) = delete;
+    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+    const fs::path& path() const { return _path; }
+
+private:
+    fs::path _path;
+};
+
+/// The error parsing text throws ("no error" if none), the files it names not checked unless asked.
+std::string errorOf(std::string_view text, bool checkFiles = false, const fs::path& base = kScenes)
+{
+    try {
+        parseSceneText(text, "test.json", base, SceneParseOptions{checkFiles});
+    } catch (const SceneFileError& error) {
+        return error.what();
+    }
+    return "no error";
+}
+
+SceneDescription parse(std::string_view text, bool checkFiles = false, const fs::path& base = kScenes)
+{
+    return parseSceneText(text, "test.json", base, SceneParseOptions{checkFiles});
+}
+
+/// One layer in an otherwise empty scene.
+std::string withLayer(std::string_view layer)
+{
+    return R"({"version": 1, "layers": [)" + std::string(layer) + "]}";
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Files that must work
+
+TEST_CASE("Every example scene in data/scenes parses, with its files present", "[scene][scenefile]")
+{
+    std::size_t count = 0;
+    for (const fs::directory_entry& entry : fs::directory_iterator(kScenes)) {
+        if (entry.path().extension() != ".json") {
+            continue;
+        }
+        INFO(entry.path());
+        const SceneDescription scene = parseSceneFile(entry.path());
+        REQUIRE(scene.version == 1);
+        ++count;
+    }
+    REQUIRE(count >= 4);
+}
+
+TEST_CASE("The built-in default scene is data/scenes/default.json", "[scene][scenefile]")
+{
+    REQUIRE(defaultSceneText() == readText(kScenes / "default.json"));
+    const SceneDescription builtIn = parseDefaultScene();
+    REQUIRE(builtIn == parseSceneFile(kScenes / "default.json"));
+
+    // The default Earth: day and night on a ray-cast globe, the Sun from a fixed time, 20,000 km up.
+    REQUIRE(builtIn.globe.has_value());
+    REQUIRE(builtIn.globe->method == GlobeMethod::RayCast);
+    REQUIRE(builtIn.globe->texture == GlobeTexture{"/usr/share/xplanet/images/earth.jpg", GlobeTexture::Kind::Image});
+    REQUIRE(builtIn.globe->nightTexture == fs::path("/usr/share/xplanet/images/night.jpg"));
+    REQUIRE(builtIn.sun.source == SunSource::Time);
+    REQUIRE(builtIn.depth == DepthStrategy::Automatic);
+    REQUIRE_THAT(builtIn.camera.position.height, WithinAbs(20'000'000.0, 0.0));
+    REQUIRE(builtIn.layers.empty());
+}
+
+TEST_CASE("A scene of only a version takes the documented defaults", "[scene][scenefile]")
+{
+    const SceneDescription scene = parse(R"({"version": 1})");
+    REQUIRE(scene.width == 1280);
+    REQUIRE(scene.height == 720);
+    REQUIRE(scene.background == glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+    REQUIRE(scene.depth == DepthStrategy::Automatic);
+    REQUIRE_FALSE(scene.globe.has_value());
+    REQUIRE(scene.layers.empty());
+    REQUIRE(scene.camera == CameraDescription{});
+    REQUIRE(std::holds_alternative<HeadingPitchRoll>(scene.camera.aim));
+    REQUIRE_THAT(std::get<HeadingPitchRoll>(scene.camera.aim).pitch, WithinAbs(-kHalfPi, 0.0));
+    // No sun and no time: the Sun is behind the camera.
+    REQUIRE(scene.sun.source == SunSource::Camera);
+    const glm::dvec3 eye = Ellipsoid::wgs84().toCartesian(scene.camera.position);
+    REQUIRE_THAT(glm::dot(scene.sun.directionEarthFixed, glm::normalize(eye)), WithinAbs(1.0, 1e-15));
+}
+
+TEST_CASE("Every key reads into the description, degrees to radians", "[scene][scenefile]")
+{
+    const SceneDescription scene = parse(R"({
+        "version": 1, "width": 640, "height": 480, "background": "#336699cc",
+        "camera": {"position": {"lon": -10, "lat": 45, "height": 1000}, "target": {"lon": -9, "lat": 46}, "fovY": 60},
+        "sun": {"lon": 30, "lat": -20},
+        "depth": "complementary",
+        "globe": {"method": "tessellated", "texture": "tiles", "nightTexture": "night.png", "grid": true},
+        "layers": [
+          {"type": "geojson", "source": "a.geojson", "fill": {"color": "#ff000080"}},
+          {"type": "points", "source": "p.geojson",
+           "billboard": {"image": "dot.png", "size": 12, "color": "#00ff00", "origin": "bottom-left", "offset": [2, -3]},
+           "label": {"field": "name", "size": 11, "color": "#ffffff", "outlineColor": "#000000", "outlineWidth": 0}},
+          {"type": "polyline", "positions": [[0, 0], [10, 20, 300]], "width": 4, "color": "#0000ff"},
+          {"type": "model", "source": "m.glb", "position": {"lon": 1, "lat": 2, "height": 3}, "scale": 2.5,
+           "heading": 90, "pitch": 10, "roll": -5}
+        ]})");
+    REQUIRE(scene.width == 640);
+    REQUIRE(scene.height == 480);
+    REQUIRE(scene.background == glm::vec4(0x33 / 255.0f, 0x66 / 255.0f, 0x99 / 255.0f, 0xcc / 255.0f));
+
+    REQUIRE(scene.camera.position == Geodetic3D::fromDegrees(-10.0, 45.0, 1000.0));
+    REQUIRE(std::get<Geodetic3D>(scene.camera.aim) == Geodetic3D::fromDegrees(-9.0, 46.0, 0.0));
+    REQUIRE_THAT(scene.camera.fieldOfViewY, WithinAbs(toRadians(60.0), kAngleTolerance));
+
+    REQUIRE(scene.sun.source == SunSource::Position);
+    REQUIRE(scene.sun.subsolarPoint == Geodetic2D::fromDegrees(30.0, -20.0));
+    REQUIRE(glm::length(scene.sun.directionEarthFixed - Ellipsoid::geodeticSurfaceNormal(scene.sun.subsolarPoint)) == 0.0);
+
+    REQUIRE(scene.depth == DepthStrategy::Complementary);
+    REQUIRE(scene.globe->method == GlobeMethod::Tessellated);
+    // Files unchecked: a path without extension is taken for a TMS folder.
+    REQUIRE(scene.globe->texture == GlobeTexture{kScenes / "tiles", GlobeTexture::Kind::TileMapService});
+    REQUIRE(scene.globe->nightTexture == kScenes / "night.png");
+    REQUIRE(scene.globe->grid);
+
+    REQUIRE(scene.layers.size() == 4);
+    const auto& geojson = std::get<GeoJsonLayer>(scene.layers[0]);
+    REQUIRE(geojson.source == kScenes / "a.geojson");
+    REQUIRE_FALSE(geojson.stroke.has_value()); // a fill alone: no default stroke
+    REQUIRE(geojson.fill->color == glm::vec4(1.0f, 0.0f, 0.0f, 128 / 255.0f));
+
+    const auto& points = std::get<PointsLayer>(scene.layers[1]);
+    REQUIRE(points.format == PointsLayer::Format::GeoJson);
+    REQUIRE(points.billboard.image == kScenes / "dot.png");
+    REQUIRE(points.billboard.sizePixels == 12.0);
+    REQUIRE(points.billboard.color == glm::vec4(0.0f, 1.0f, 0.0f, 1.0f));
+    REQUIRE(points.billboard.origin == Origin::BottomLeft);
+    REQUIRE(points.billboard.offsetPixels == glm::dvec2(2.0, -3.0));
+    REQUIRE(points.label->field == "name");
+    REQUIRE(points.label->fontSizePixels == 11.0);
+    REQUIRE(points.label->outlineWidthPixels == 0.0);
+
+    const auto& polyline = std::get<PolylineLayer>(scene.layers[2]);
+    REQUIRE(polyline.positions == std::vector<Geodetic3D>{Geodetic3D::fromDegrees(0.0, 0.0, 0.0),
+                                                          Geodetic3D::fromDegrees(10.0, 20.0, 300.0)});
+    REQUIRE(polyline.widthPixels == 4.0);
+    REQUIRE(polyline.color == glm::vec4(0.0f, 0.0f, 1.0f, 1.0f));
+
+    const auto& model = std::get<ModelLayer>(scene.layers[3]);
+    REQUIRE(model.source == kScenes / "m.glb");
+    REQUIRE(model.format == ModelLayer::Format::Glb);
+    REQUIRE(model.position == Geodetic3D::fromDegrees(1.0, 2.0, 3.0));
+    REQUIRE(model.scale == 2.5);
+    REQUIRE_THAT(model.orientation.heading, WithinAbs(toRadians(90.0), kAngleTolerance));
+    REQUIRE_THAT(model.orientation.pitch, WithinAbs(toRadians(10.0), kAngleTolerance));
+    REQUIRE_THAT(model.orientation.roll, WithinAbs(toRadians(-5.0), kAngleTolerance));
+}
+
+TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[scene][scenefile]")
+{
+    const auto layer = std::get<GeoJsonLayer>(parse(withLayer(R"({"type": "geojson", "source": "a.json"})")).layers[0]);
+    REQUIRE(layer.stroke == StrokeStyle{});
+    REQUIRE_FALSE(layer.fill.has_value());
+}
+
+TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[scene][scenefile]")
+{
+    const SceneDescription scene = parse(R"({"version": 1, "time": "2026-06-21T12:00:00Z"})");
+    const auto utc = parseUtcTime("2026-06-21T12:00:00Z");
+    REQUIRE(scene.sun.source == SunSource::Time);
+    REQUIRE(scene.sun.time == utc);
+    const glm::dvec3 expected = sunDirectionEarthFixed(*utc);
+    REQUIRE(glm::length(scene.sun.directionEarthFixed - expected) < 1e-15);
+    // Near the June solstice at noon UTC the Sun stands over the Tropic of Cancer, close to Greenwich
+    // (equation of time: under 2 degrees of longitude; the formulas: about 0.01 degrees).
+    REQUIRE_THAT(toDegrees(scene.sun.subsolarPoint.latitude), WithinAbs(23.44, 0.05));
+    REQUIRE_THAT(toDegrees(scene.sun.subsolarPoint.longitude), WithinAbs(0.0, 2.0));
+}
+
+TEST_CASE("Relative paths resolve against the scene file's folder", "[scene][scenefile]")
+{
+    const TemporaryFolder folder;
+    writeText(folder.path() / "data" / "countries.geojson", "{}");
+    writeText(folder.path() / "scenes" / "cities.csv", "name,lat,lon\nA,1,2\n");
+    writeText(folder.path() / "scenes" / "tiles" / "tilemapresource.xml", "<TileMap/>");
+    writeText(folder.path() / "scenes" / "model.gltf", "{}");
+    const std::string text = R"({"version": 1,
+        "globe": {"texture": "tiles"},
+        "layers": [
+          {"type": "geojson", "source": "../data/countries.geojson"},
+          {"type": "points", "source": "cities.csv", "label": {"field": "name"}},
+          {"type": "model", "source": "./model.gltf", "position": {"lon": 0, "lat": 0}}
+        ]})";
+    writeText(folder.path() / "scenes" / "scene.json", text);
+
+    const SceneDescription scene = parseSceneFile(folder.path() / "scenes" / "scene.json");
+    REQUIRE(scene.globe->texture == GlobeTexture{folder.path() / "scenes" / "tiles", GlobeTexture::Kind::TileMapService});
+    REQUIRE(std::get<GeoJsonLayer>(scene.layers[0]).source == folder.path() / "data" / "countries.geojson");
+    REQUIRE(std::get<PointsLayer>(scene.layers[1]).source == folder.path() / "scenes" / "cities.csv");
+    REQUIRE(std::get<PointsLayer>(scene.layers[1]).format == PointsLayer::Format::Csv);
+    REQUIRE(std::get<ModelLayer>(scene.layers[2]).source == folder.path() / "scenes" / "model.gltf");
+    REQUIRE(std::get<ModelLayer>(scene.layers[2]).format == ModelLayer::Format::Gltf);
+
+    // The same text with its folder given explicitly, and a relative scene path from the current folder.
+    REQUIRE(parseSceneText(text, "scene.json", folder.path() / "scenes") == scene);
+    const fs::path previous = fs::current_path();
+    fs::current_path(folder.path());
+    const SceneDescription relative = parseSceneFile("scenes/scene.json");
+    fs::current_path(previous);
+    REQUIRE(relative == scene);
+}
+
+TEST_CASE("makeCamera looks at the target, or along heading and pitch", "[scene][scenefile][camera]")
+{
+    const Ellipsoid earth = Ellipsoid::wgs84();
+    CameraDescription description;
+    description.position = Geodetic3D::fromDegrees(10.0, 50.0, 1e6);
+    description.aim = Geodetic3D::fromDegrees(10.0, 50.0, 0.0);
+    const Camera down = makeCamera(description, earth);
+    const glm::dvec3 normal = earth.geodeticSurfaceNormal(description.position);
+    REQUIRE_THAT(glm::dot(down.direction(), -normal), WithinAbs(1.0, 1e-12));
+    // Looking straight down, up is north: perpendicular to the view and pointing to the pole.
+    REQUIRE_THAT(glm::dot(down.up(), down.direction()), WithinAbs(0.0, 1e-12));
+    REQUIRE(down.up().z > 0.5);
+    REQUIRE_THAT(down.fieldOfViewY(), WithinAbs(toRadians(45.0), kAngleTolerance));
+
+    description.aim = HeadingPitchRoll{0.0, -kHalfPi, 0.0};
+    REQUIRE_THAT(glm::dot(makeCamera(description, earth).direction(), -normal), WithinAbs(1.0, 1e-12));
+    description.aim = HeadingPitchRoll{0.0, 0.0, 0.0}; // level, facing north
+    const Camera level = makeCamera(description, earth);
+    REQUIRE_THAT(glm::dot(level.direction(), normal), WithinAbs(0.0, 1e-12));
+    REQUIRE(level.direction().z > 0.5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors: each names the file, line and column, the JSON pointer, and what was expected
+
+TEST_CASE("Scene file errors carry the origin, pointer, line, column and reason", "[scene][scenefile][errors]")
+{
+    try {
+        parseSceneText("{\n  \"version\": 1,\n  \"width\": \"wide\"\n}", "scenes/bad.json", kScenes);
+        FAIL("no error");
+    } catch (const SceneFileError& error) {
+        REQUIRE(std::string(error.what()) == "scenes/bad.json:3:12: /width: expected a positive integer, got \"wide\"");
+        REQUIRE(error.origin() == "scenes/bad.json");
+        REQUIRE(error.pointer() == "/width");
+        REQUIRE(error.line() == 3);
+        REQUIRE(error.column() == 12);
+        REQUIRE(error.reason() == "expected a positive integer, got \"wide\"");
+    }
+}
+
+TEST_CASE("Unknown keys are errors with their path and a suggestion", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "colour": "#ff0000"})")) ==
+            R"(test.json:1:79: /layers/0/colour: unknown key "colour" (did you mean "color"?))");
+    CHECK(errorOf(R"({"version": 1, "camera": {"FovY": 30}})") ==
+            R"(test.json:1:27: /camera/FovY: unknown key "FovY" (did you mean "fovY"?))");
+    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 0, "hieght": 1}}})") ==
+            R"(test.json:1:60: /camera/position/hieght: unknown key "hieght" (did you mean "height"?))");
+    // Nothing close: the keys that are known.
+    CHECK(errorOf(R"({"version": 1, "sun": {"lon": 0, "lat": 0, "elevation": 3}})") ==
+            R"(test.json:1:44: /sun/elevation: unknown key "elevation"; expected one of "lon", "lat")");
+    // A key that belongs to another layer type.
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "positions": []})")) ==
+            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill")");
+    // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
+    CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
+            R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "globe", "layers")");
+}
+
+TEST_CASE("Out-of-range values are errors naming the range", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 95}}})") ==
+            "test.json:1:57: /camera/position/lat: 95 is out of range [-90, 90]");
+    CHECK(errorOf(R"({"version": 1, "sun": {"lon": -180.5, "lat": 0}})") ==
+            "test.json:1:31: /sun/lon: -180.5 is out of range [-180, 180]");
+    CHECK(errorOf(R"({"version": 1, "width": 0})") == "test.json:1:25: /width: 0 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 1, "height": 16385})") == "test.json:1:26: /height: 16385 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 1, "height": -720})") == "test.json:1:26: /height: -720 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 1, "width": 18446744073709551615})") ==
+            "test.json:1:25: /width: 18446744073709551615 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": 180}})") == "test.json:1:35: /camera/fovY: 180 is out of range (0, 180)");
+    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": 0}})") == "test.json:1:35: /camera/fovY: 0 is out of range (0, 180)");
+    CHECK(errorOf(R"({"version": 1, "camera": {"pitch": -91}})") == "test.json:1:36: /camera/pitch: -91 is out of range [-90, 90]");
+    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 0, "height": 1e13}}})") ==
+            "test.json:1:70: /camera/position/height: 10000000000000.0 is out of range [-1000000, 1000000000000]");
+    // Negative sizes.
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "stroke": {"width": -1}})")) ==
+            "test.json:1:87: /layers/0/stroke/width: -1 is out of range (0, 1024]");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.json", "label": {"field": "n", "outlineWidth": -0.5}})")) ==
+            "test.json:1:106: /layers/0/label/outlineWidth: -0.5 is out of range [0, 1024]");
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "width": 0})")) ==
+            "test.json:1:88: /layers/0/width: 0 is out of range (0, 1024]");
+    CHECK(errorOf(withLayer(R"({"type": "model", "source": "m.glb", "position": {"lon": 0, "lat": 0}, "scale": -2})")) ==
+            "test.json:1:107: /layers/0/scale: -2 is out of range (expected > 0)");
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 91]]})")) ==
+            "test.json:1:74: /layers/0/positions/1/1: 91 is out of range [-90, 90]");
+}
+
+TEST_CASE("Wrong types are errors saying what was expected and what came", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"version": 1, "width": 12.5})") == "test.json:1:25: /width: expected a positive integer, got 12.5");
+    CHECK(errorOf(R"({"version": 1, "camera": []})") == "test.json:1:26: /camera: expected an object, got an empty array");
+    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": "45"}})") ==
+            R"(test.json:1:35: /camera/fovY: expected a number, got "45")");
+    CHECK(errorOf(R"({"version": 1, "layers": {}})") ==
+            "test.json:1:26: /layers: expected an array of layers, got an empty object");
+    CHECK(errorOf(R"({"version": 1, "globe": {"grid": "yes"}})") ==
+            R"(test.json:1:34: /globe/grid: expected true or false, got "yes")");
+    CHECK(errorOf(R"({"version": 1, "background": "black"})") ==
+            R"(test.json:1:30: /background: expected a color "#rrggbb" or "#rrggbbaa", got "black")");
+    CHECK(errorOf(R"({"version": 1, "background": "#12345g"})") ==
+            R"(test.json:1:30: /background: expected a color "#rrggbb" or "#rrggbbaa", got "#12345g")");
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0]]})")) ==
+            "test.json:1:61: /layers/0/positions: expected an array of at least two [lon, lat] or [lon, lat, height], "
+            "got an array of 1 element");
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 2, 3, 4]]})")) ==
+            "test.json:1:70: /layers/0/positions/1: expected [lon, lat] or [lon, lat, height], got an array of 4 elements");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"offset": [1]}})")) ==
+            "test.json:1:89: /layers/0/billboard/offset: expected [x, y] in pixels, got an array of 1 element");
+    CHECK(errorOf(R"({"version": 1, "depth": 3})") ==
+          R"(test.json:1:25: /depth: expected one of "auto", "multifrustum", "logarithmic", "complementary", "single", got 3)");
+    CHECK(errorOf(withLayer(R"({"type": ["points"]})")) ==
+          R"(test.json:1:36: /layers/0/type: expected one of "geojson", "points", "polyline", "model", got an array of 1 element)");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": ""}})")) ==
+          "test.json:1:84: /layers/0/label/field: expected a column or property name, got an empty string");
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a\u0000b.json"})")) ==
+          "test.json:1:57: /layers/0/source: a path cannot contain a NUL character");
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": ""})")) ==
+            "test.json:1:57: /layers/0/source: expected a path, got an empty string");
+    CHECK(errorOf("[1, 2]") == "test.json:1:1: expected a JSON object at the top of the file, got an array of 2 elements");
+    // Long strings are cut in messages.
+    CHECK(errorOf(R"({"version": 1, "depth": ")" + std::string(100, 'x') + "\"}") ==
+            R"(test.json:1:25: /depth: unknown value ")" + std::string(60, 'x') +
+                R"(..."; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+}
+
+TEST_CASE("Unknown enumeration values are errors with a suggestion", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"version": 1, "depth": "logarithmc"})") ==
+            R"(test.json:1:25: /depth: unknown value "logarithmc" (did you mean "logarithmic"?))");
+    CHECK(errorOf(R"({"version": 1, "depth": "fast"})") ==
+            R"(test.json:1:25: /depth: unknown value "fast"; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+    CHECK(errorOf(R"({"version": 1, "globe": {"method": "ray-cast"}})") ==
+            R"(test.json:1:36: /globe/method: unknown value "ray-cast" (did you mean "raycast"?))");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"origin": "centre"}})")) ==
+            R"(test.json:1:89: /layers/0/billboard/origin: unknown value "centre" (did you mean "center"?))");
+    CHECK(errorOf(withLayer(R"({"type": "polylines"})")) ==
+            R"(test.json:1:36: /layers/0/type: unknown layer type "polylines" (did you mean "polyline"?))");
+    CHECK(errorOf(withLayer(R"({"source": "a.json"})")) ==
+            R"(test.json:1:27: /layers/0: missing required key "type" (one of "geojson", "points", "polyline", "model"))");
+}
+
+TEST_CASE("The version is required and only version 1 is understood", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"width": 640})") == R"(test.json:1:1: missing required key "version" (this orbis reads version 1))");
+    CHECK(errorOf(R"({"version": 2, "newKey": true})") ==
+            "test.json:1:13: /version: version 2 is newer than this orbis understands (it reads version 1)");
+    CHECK(errorOf(R"({"version": 0})") == "test.json:1:13: /version: 0 is not a version; versions start at 1");
+    CHECK(errorOf(R"({"version": "1"})") == R"(test.json:1:13: /version: expected an integer, got "1")");
+    CHECK(errorOf(R"({"version": 1.0})") == "test.json:1:13: /version: expected an integer, got 1.0");
+}
+
+TEST_CASE("Missing required keys are errors naming the key", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 10}}})") ==
+            R"(test.json:1:39: /camera/position: missing required key "lat")");
+    CHECK(errorOf(withLayer(R"({"type": "geojson"})")) == R"(test.json:1:27: /layers/0: missing required key "source")");
+    CHECK(errorOf(withLayer(R"({"type": "polyline"})")) == R"(test.json:1:27: /layers/0: missing required key "positions")");
+    CHECK(errorOf(withLayer(R"({"type": "model", "source": "m.gltf"})")) ==
+            R"(test.json:1:27: /layers/0: missing required key "position")");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {}})")) ==
+            R"(test.json:1:74: /layers/0/label: missing required key "field")");
+}
+
+TEST_CASE("Keys that contradict each other are errors", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf(R"({"version": 1, "camera": {"target": {"lon": 0, "lat": 0}, "pitch": -30}})") ==
+            R"(test.json:1:59: /camera/pitch: "target" and "heading"/"pitch"/"roll" both aim the camera; give one or the other)");
+    CHECK(errorOf(R"({"version": 1, "sun": {"lon": 0, "lat": 0}, "time": "2026-06-21T12:00:00Z"})") ==
+            R"(test.json:1:45: /time: "sun" and "time" both place the Sun; give one or the other)");
+    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 5, "lat": 5, "height": 10}, "target": {"lon": 5, "lat": 5, "height": 10}}})") ==
+            "test.json:1:85: /camera/target: the target is the camera's position; the camera would look nowhere");
+    CHECK(errorOf(R"({"version": 1, "time": "2026-02-30T12:00:00Z"})") ==
+            R"(test.json:1:24: /time: expected a UTC time "YYYY-MM-DDTHH:MM:SSZ", got "2026-02-30T12:00:00Z")");
+}
+
+TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[scene][scenefile][errors]")
+{
+    // NaN and Infinity are not JSON.
+    CHECK(errorOf("{\"version\": 1,\n \"width\": NaN}") ==
+            "test.json:2:11: invalid JSON: syntax error while parsing value - invalid literal; last read: "
+            "'\"width\": N' (JSON has no NaN or Infinity; write a finite number)");
+    CHECK(errorOf(R"({"version": 1, "sun": {"lon": -Infinity, "lat": 0}})") ==
+            "test.json:1:32: invalid JSON: syntax error while parsing value - invalid number; expected digit after "
+            "'-'; last read: '-I' (JSON has no NaN or Infinity; write a finite number)");
+    CHECK(errorOf(R"({"version": 1, "width": 1e999})") == "test.json:1:25: invalid JSON: 1e999 is too large for a double");
+    CHECK(errorOf("{\"version\": 1, // one\n}") ==
+            "test.json:1:16: invalid JSON: syntax error while parsing object key - invalid literal; last read: "
+            "'1, /'; expected string literal (JSON has no comments)");
+    CHECK(errorOf("{\"version\": 1,\n}") ==
+            "test.json:2:1: invalid JSON: syntax error while parsing object key - unexpected '}'; expected string "
+            "literal (a comma before a closing bracket?)");
+    CHECK(errorOf("{\"version\": 1") ==
+            "test.json:1:14: invalid JSON: syntax error while parsing object - unexpected end of input; expected '}'");
+    CHECK(errorOf(" \n ") == "test.json: the file is empty; expected a JSON object");
+    CHECK(errorOf(std::string(100, '[') + std::string(100, ']')) ==
+            "test.json: invalid scene: nested deeper than 64 levels");
+}
+
+TEST_CASE("A key given twice is an error at the second", "[scene][scenefile][errors]")
+{
+    CHECK(errorOf("{\"version\": 1,\n \"camera\": {\"fovY\": 30,\n  \"fovY\": 40}}") ==
+            R"(test.json:3:3: /camera/fovY: duplicate key "fovY" (first given at line 2))");
+}
+
+TEST_CASE("Missing and unsuitable files are errors naming the key and the file", "[scene][scenefile][errors]")
+{
+    const TemporaryFolder folder;
+    const fs::path base = folder.path();
+    writeText(base / "empty" / "readme.txt", "not tiles");
+    writeText(base / "cities.csv", "name,x,y\nA,1,2\n");
+    writeText(base / "places.csv", "\xEF\xBB\xBF\"name\", \"lat\",lon\r\nA,1,2\r\n");
+    writeText(base / "blank.csv", "");
+    writeText(base / "wide.csv", std::string(70'000, 'x') + "\n");
+
+    const std::string missing = errorOf(withLayer(R"({"type": "geojson", "source": "countries.geojson"})"), true, base);
+    REQUIRE(missing == "test.json:1:57: /layers/0/source: file \"countries.geojson\" not found (looked for \"" +
+                           (base / "countries.geojson").string() + "\")");
+    CHECK(errorOf(R"({"version": 1, "globe": {"nightTexture": "/nonexistent/night.jpg"}})", true, base) ==
+            R"(test.json:1:42: /globe/nightTexture: file "/nonexistent/night.jpg" not found)");
+    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "empty"}})", true, base) ==
+            R"(test.json:1:37: /globe/texture: the folder "empty" is not a TMS tile set: it has no tilemapresource.xml)");
+    CHECK(errorOf(R"({"version": 1, "globe": {"nightTexture": "empty"}})", true, base) ==
+            R"(test.json:1:42: /globe/nightTexture: "empty" is a folder; expected a file)");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "cities.txt"})"), true, base) ==
+            R"(test.json:1:56: /layers/0/source: expected a .csv, .geojson or .json file, got "cities.txt")");
+    CHECK(errorOf(withLayer(R"({"type": "model", "source": "plane.obj", "position": {"lon": 0, "lat": 0}})"), true, base) ==
+            R"(test.json:1:55: /layers/0/source: expected a .gltf or .glb file, got "plane.obj")");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "cities.csv"})"), true, base) ==
+            R"(test.json:1:56: /layers/0/source: "cities.csv" has no longitude column (one of "lon", "lng", "long", "longitude"); its columns are "name", "x", "y")");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "wide.csv"})"), true, base) ==
+          R"(test.json:1:56: /layers/0/source: "wide.csv" has a first line longer than 64 KiB; expected a header row)");
+    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "/dev/null"}})", true, base) ==
+          R"(test.json:1:37: /globe/texture: "/dev/null" is not a regular file)");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "blank.csv"})"), true, base) ==
+            R"(test.json:1:56: /layers/0/source: "blank.csv" has no header row)");
+    // A byte-order mark, quotes, blanks and CRLF around column names are fine; a misspelt field is not.
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "places.csv", "label": {"field": "name"}})"), true, base) ==
+            "no error");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "places.csv", "label": {"field": "nmae"}})"), true, base) ==
+            R"(test.json:1:89: /layers/0/label/field: no column "nmae" in "places.csv" (did you mean "name"?))");
+}
+
+TEST_CASE("parseSceneFile names files it cannot read", "[scene][scenefile][errors]")
+{
+    const TemporaryFolder folder;
+    const fs::path missing = folder.path() / "missing.json";
+    try {
+        parseSceneFile(missing);
+        FAIL("no error");
+    } catch (const SceneFileError& error) {
+        REQUIRE(std::string(error.what()) == missing.string() + ": no such file");
+    }
+    try {
+        parseSceneFile(folder.path());
+        FAIL("no error");
+    } catch (const SceneFileError& error) {
+        REQUIRE(std::string(error.what()) == folder.path().string() + ": is a folder; expected a scene file");
+    }
+}

@@ -1,0 +1,53 @@
+#pragma once
+
+// Helpers for the polyline and polygon tests: Natural Earth's countries, a plain globe, and
+// counting pixels of a colour.
+
+#include "RendererTestSupport.h"
+
+#include <orbis/scene/GeoJson.h>
+#include <orbis/scene/Globe.h>
+
+#include <glm/common.hpp>
+
+#include <memory>
+
+namespace orbis::test {
+
+/// data/natural-earth/countries-110m.geojson, loaded once per process.
+inline const FeatureCollection& countries110m()
+{
+    static const FeatureCollection countries =
+        loadGeoJson(ORBIS_SOURCE_DIR "/data/natural-earth/countries-110m.geojson");
+    return countries;
+}
+
+/// The ray-cast (or tessellated) globe in one unlit colour.
+inline std::shared_ptr<Globe> unlitGlobe(const Ellipsoid& ellipsoid, const glm::vec4& color,
+                                         GlobeMethod method = GlobeMethod::RayCast)
+{
+    GlobeOptions options;
+    options.method = method;
+    options.lighting = false;
+    options.color = color;
+    return std::make_shared<Globe>(ellipsoid, options);
+}
+
+/// Pixels whose every channel is within tolerance of the colour, in [x0, x1) x [y0, y1).
+inline int countPixelsNear(const Image& image, const glm::ivec4& color, int tolerance, int x0, int y0, int x1, int y1)
+{
+    int count = 0;
+    for (int y = std::max(y0, 0); y < std::min(y1, image.height); ++y) {
+        for (int x = std::max(x0, 0); x < std::min(x1, image.width); ++x) {
+            count += pixelNear(image, x, y, color, tolerance) ? 1 : 0;
+        }
+    }
+    return count;
+}
+
+inline int countPixelsNear(const Image& image, const glm::ivec4& color, int tolerance = 2)
+{
+    return countPixelsNear(image, color, tolerance, 0, 0, image.width, image.height);
+}
+
+} // namespace orbis::test
