@@ -410,7 +410,7 @@ std::vector<Table> depthTables(Context& context, const Options& options, std::ve
     cost.notes = "Depth clears count the frame's first clear too. Multi-frustum repeats the commands that span two "
                  "frustums (the globe and the terrain here); logarithmic per fragment writes gl_FragDepth, which turns "
                  "off early depth testing; complementary costs nothing per fragment but needs a float depth buffer and "
-                 "glClipControl. Auto chooses complementary here.";
+                 "glClipControl. Automatic chooses complementary here.";
     return {wrong, separation, cost};
 }
 

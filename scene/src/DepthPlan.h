@@ -39,7 +39,7 @@ struct AutoInputs {
     bool logarithmicAvailable = false;   ///< every primitive writes logarithmic depth
 };
 
-/// Auto's choice: one multi-frustum frustum when far/near fits the ratio, else Complementary, else
+/// Automatic's choice: one multi-frustum frustum when far/near fits the ratio, else Complementary, else
 /// Logarithmic, else MultiFrustum (see DepthStrategy::Automatic).
 DepthStrategy resolveAutomaticDepth(const AutoInputs& inputs, const MultiFrustumOptions& limits) noexcept;
 

@@ -79,7 +79,7 @@ TEST_CASE("A globe seen from 200 km needs one frustum: its near and far come fro
 TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formula says, and removing it restores one", "[scene][effects][multifrustum]")
 {
     Scene scene(kEarth);
-    scene.options().depthStrategy = DepthStrategy::MultiFrustum; // Auto would pick one complementary frustum
+    scene.options().depthStrategy = DepthStrategy::MultiFrustum; // Automatic would pick one complementary frustum
     scene.add(plainGlobe());
     const glm::dvec3 satellitePosition = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7));
     const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7 + 1000.0));

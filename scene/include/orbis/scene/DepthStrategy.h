@@ -12,11 +12,12 @@ struct ShaderDefine;            // orbis/renderer/ShaderProgram.h
 /// How a Scene resolves depth across its view distance (book chapter 6, SIGGRAPH 2013 course
 /// chapter 2). docs/precision.md measures each; FrameStatistics::depthStrategy says which ran.
 enum class DepthStrategy : std::uint8_t {
-    /// The cheapest that resolves the frame, decided from the primitives' bounding spheres before
-    /// they update: MultiFrustum when its frustums come to one (far/near within the ratio: plain
-    /// depth, nothing extra); otherwise Complementary where the device has glClipControl and the
-    /// target has texture attachments; otherwise Logarithmic when every primitive supports it;
-    /// MultiFrustum otherwise.
+    /// The cheapest that resolves the frame, decided from its commands' depth range: MultiFrustum
+    /// when its frustums come to one (far/near within the ratio: plain depth, nothing extra);
+    /// otherwise Complementary where the device has glClipControl and the target has texture
+    /// attachments; otherwise Logarithmic when every primitive supports it; MultiFrustum otherwise.
+    /// A frame starts with last frame's choice and updates its primitives again only when the
+    /// commands call for another (docs/precision.md, "How Automatic chooses").
     Automatic,
     /// Dynamic multiple frustums: far/near at most the ratio in each, overlapping slightly, a depth
     /// clear each, back to front; commands drawn once per frustum they span. Blended draws keep

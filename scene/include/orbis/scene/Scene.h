@@ -24,22 +24,23 @@ class Texture2D;
 struct SceneOptions {
     /// The near and far limits of every strategy; the ratio and overlap of MultiFrustum.
     MultiFrustumOptions multiFrustum;
-    /// How depth is resolved (docs/precision.md compares them); Auto picks per frame.
+    /// How depth is resolved (docs/precision.md compares them); Automatic picks per frame.
     DepthStrategy depthStrategy = DepthStrategy::Automatic;
     glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
 };
 
-/// Primitives, a camera and a sun; render() runs one frame: cull primitives whole, choose the depth
-/// strategy (DepthStrategy::Automatic weighs the survivors' bounding spheres), update the survivors, cull
-/// their commands against the view frustum and the ellipsoid's horizon, bin them into frustums (one,
-/// or the dynamic multi-frustums), draw the frustums back to front (depth cleared for each, opaque
-/// then translucent), then the overlay pass.
+/// Primitives, a camera and a sun; render() runs one frame: cull primitives whole, update the
+/// survivors for the frame's depth strategy, cull their commands against the view frustum and the
+/// ellipsoid's horizon, bin them into frustums (one, or the dynamic multi-frustums), draw the
+/// frustums back to front (depth cleared for each, opaque then translucent), then the overlay pass.
+/// DepthStrategy::Automatic decides by the commands' depth range; it starts a frame with last
+/// frame's choice and updates the primitives again only when the commands call for another.
 ///
 /// Complementary depth needs a Depth32F depth buffer: when the target's depth attachment is not one,
 /// the scene draws into the target's colour textures with a float depth texture of its own (made
 /// once per size, no copy), and the target's own depth attachment is left as it was. A context
-/// without glClipControl, or a default (window) framebuffer, cannot have it: Auto then passes over
-/// it, and asking for it throws orbis::Error saying why.
+/// without glClipControl, or a default (window) framebuffer, cannot have it: Automatic then passes
+/// over it, and asking for it throws orbis::Error saying why.
 ///
 /// ```
 /// Scene scene;
@@ -72,7 +73,7 @@ public:
     FrameStatistics render(Context& context);
 
 private:
-    /// The frame's strategy: the one asked for, checked, or Auto's choice.
+    /// The frame's strategy: the one asked for, checked, or Automatic's choice.
     DepthStrategy chooseDepthStrategy(Context& context, Framebuffer* target, double nearDistance,
                                       double farDistance, bool logarithmicAvailable) const;
     /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
