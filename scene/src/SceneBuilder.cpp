@@ -6,6 +6,7 @@
 #include "orbis/scene/GeoJson.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
+#include "orbis/scene/ModelPrimitive.h"
 
 #include <orbis/core/Error.h>
 
@@ -184,6 +185,13 @@ void addPointsLayer(const PointsLayer& layer, Scene& scene)
     scene.add(labels);
 }
 
+/// The file is read now (geometry, and its errors); GPU resources wait for the first frame.
+void addModelLayer(const ModelLayer& layer, Scene& scene)
+{
+    scene.add(ModelPrimitive::fromFile(layer.source, scene.ellipsoid(),
+                                       ModelPlacement{layer.position, layer.orientation, layer.scale}));
+}
+
 } // namespace
 
 void populateScene(const SceneDescription& description, Scene& scene)
@@ -221,7 +229,7 @@ void populateScene(const SceneDescription& description, Scene& scene)
                     } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
                         addPointsLayer(layer, scene);
                     } else {
-                        throw Error("model layers are not drawn by this build yet");
+                        addModelLayer(layer, scene);
                     }
                 },
                 description.layers[i]);
