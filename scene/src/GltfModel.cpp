@@ -50,6 +50,10 @@ constexpr int kClampToEdge = 33071;
 constexpr int kMirroredRepeat = 33648;
 constexpr int kRepeat = 10497;
 
+/// The most vertices a model may unfold into (node instances and flat-shaded triangles counted):
+/// 32 Mi vertices, about 1.5 GB as read. A small file must not be able to ask for more.
+constexpr std::size_t kMaxVertices = std::size_t{1} << 25;
+
 /// Extensions a file may require and still be drawn right.
 constexpr std::array<std::string_view, 1> kSupportedRequiredExtensions = {"KHR_mesh_quantization"};
 
@@ -402,6 +406,13 @@ private:
             }
         }
 
+        const std::size_t added = normals.empty() ? triangles.size() : vertexCount;
+        if (added > kMaxVertices - _vertices) {
+            fail(where + ": the model unfolds into more than " + std::to_string(kMaxVertices) +
+                 " vertices (counting every node that uses a mesh), too many to draw");
+        }
+        _vertices += added;
+
         GltfBatch& batch = batchFor(materialIndex);
         Mesh& mesh = batch.mesh;
         const bool textured = material.baseColorTexture.has_value();
@@ -537,7 +548,7 @@ private:
         const std::size_t elementSize = static_cast<std::size_t>(components * componentSize(accessor.componentType));
         bytes.stride = elementSize;
         if (accessor.bufferView < 0) {
-            if (accessor.count > (std::size_t{1} << 28)) {
+            if (accessor.count > kMaxVertices) {
                 fail(where + ": " + std::to_string(accessor.count) + " zero elements without a buffer view is too many");
             }
             return bytes;
@@ -824,6 +835,7 @@ private:
     std::vector<int> _textureCoordinateSet;  ///< per GltfModel material: n of TEXCOORD_n
     std::map<int, std::size_t> _textures;
     std::map<int, std::size_t> _imageIndices;
+    std::size_t _vertices = 0; ///< unfolded so far
 };
 
 bool startsWithGlbMagic(const fs::path& file)
@@ -873,6 +885,8 @@ GltfModel GltfModel::read(const fs::path& file)
         Reader(model, images, out).read();
     } catch (const Error& failure) {
         throw Error(name + ": " + failure.what());
+    } catch (const std::bad_alloc&) {
+        throw Error(name + ": not enough memory to read the model");
     }
     return out;
 }

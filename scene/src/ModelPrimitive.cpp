@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cassert>
+#include <cmath>
 
 namespace orbis {
 
@@ -86,6 +87,7 @@ std::size_t ModelPrimitive::batchCount() const noexcept
 
 void ModelPrimitive::setPlacement(const ModelPlacement& placement) noexcept
 {
+    assert(placement.scale > 0.0 && std::isfinite(placement.scale));
     _placement = placement;
     _modelMatrix = modelToFixedFrame(_ellipsoid, placement);
     // The model matrix is a similarity (rotation, uniform scale, translation): a sphere stays a
@@ -110,14 +112,17 @@ void ModelPrimitive::setPlacement(const ModelPlacement& placement) noexcept
 
 void ModelPrimitive::createResources(FrameState& frameState)
 {
+    // Everything is made before anything is released, so that an error (an image that does not
+    // decode, a texture too large for the device) leaves the primitive as it was, to try again.
     Device& device = frameState.device;
+    std::vector<Texture2D> textures;
     for (std::size_t i = 0; i < _model.images.size(); ++i) {
-        // Mipmaps whatever the samplers say: a few more texels, and any filter can read the texture.
-        _textures.push_back(device.createTexture2D(_model.decodeImage(i), true));
-        _model.images[i].encoded = {};
+        // Mipmaps whatever the samplers say: a third more texels, and any filter can read them.
+        textures.push_back(device.createTexture2D(_model.decodeImage(i), true));
     }
+    std::vector<Sampler> samplers;
     for (const GltfTexture& texture : _model.textures) {
-        _samplers.push_back(device.createSampler(texture.sampler));
+        samplers.push_back(device.createSampler(texture.sampler));
     }
     for (Batch& batch : _batches) {
         const GltfMaterial& material = _model.materials[batch.material];
@@ -135,7 +140,15 @@ void ModelPrimitive::createResources(FrameState& frameState)
         }
         batch.program = device.shaderCache().get(description);
         batch.vertexArray = frameState.context.createVertexArray(batch.mesh, *batch.program);
-        batch.mesh = Mesh(); // on the GPU now
+    }
+    // On the GPU now: the CPU copies go.
+    _textures = std::move(textures);
+    _samplers = std::move(samplers);
+    for (GltfImage& image : _model.images) {
+        image.encoded = {};
+    }
+    for (Batch& batch : _batches) {
+        batch.mesh = Mesh();
     }
     _resourcesCreated = true;
 }

@@ -432,6 +432,14 @@ TEST_CASE("Bad glTF files raise errors naming the file, the part at fault and wh
     basis.extra = R"("materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], "textures": [{}], )";
     CHECK_THAT(readError("basis.gltf", basis.json()), Contains("basis.gltf: mesh 0 primitive 0: material 0: texture 0: no source image"));
 
+    // An accessor without a buffer view is zeros; a count no file backs is refused, not allocated.
+    std::string zeros = triangle.json();
+    zeros.replace(zeros.find("\"bufferView\": 0, "), 17, "");
+    zeros.replace(zeros.find("\"count\": 3"), 10, "\"count\": 3000000000");
+    CHECK_THAT(readError("zeros.gltf", zeros),
+               Contains("zeros.gltf: mesh 0 primitive 0: POSITION: accessor 0: 3000000000 zero elements without a "
+                        "buffer view is too many"));
+
     const std::string glb = readBytes(modelFile("aircraft.glb"));
     CHECK_THAT(readError("header.glb", glb.substr(0, 10)), Contains("header.glb: "));
     CHECK_THAT(readError("half.glb", glb.substr(0, glb.size() / 2)), Contains("half.glb: "));
@@ -632,7 +640,11 @@ TEST_CASE("A model 500 m above the ray-cast globe shows; one below the surface i
 {
     constexpr int kSize = 64;
     const Geodetic2D place = Geodetic2D::fromDegrees(-100.0, 40.0);
-    auto pixelAtModel = [&](double heightMeters) {
+    struct Seen {
+        glm::ivec4 pixel;
+        FrameStatistics statistics;
+    };
+    auto render = [&](double heightMeters) {
         Scene scene(kEarth);
         scene.add(plainGlobe());
         // Scale 40: a 450 m aircraft, its fin 74 m above its origin.
@@ -642,14 +654,18 @@ TEST_CASE("A model 500 m above the ray-cast globe shows; one below the surface i
         lookDownAt(scene, Geodetic3D{place.longitude, place.latitude, 0.0}, 3000.0);
         const RenderedFrame frame = renderFrame(scene, kSize, kSize);
         const glm::ivec2 pixel = projectToPixel(scene, kEarth.toCartesian(position), kSize, kSize);
-        return pixelAt(frame.image, pixel.x, pixel.y);
+        return Seen{pixelAt(frame.image, pixel.x, pixel.y), frame.statistics};
     };
-    const glm::ivec4 above = pixelAtModel(500.0);
-    INFO("above: " << above.r << ", " << above.g << ", " << above.b);
-    CHECK(above.r > 150); // the white fuselage, not the blue globe
-    const glm::ivec4 below = pixelAtModel(-500.0);
-    INFO("below: " << below.r << ", " << below.g << ", " << below.b);
-    CHECK(below == glm::ivec4(0, 0, 255, 255)); // the globe's plain blue
+    const Seen above = render(500.0);
+    INFO("above: " << above.pixel.r << ", " << above.pixel.g << ", " << above.pixel.b);
+    CHECK(above.pixel.r > 150); // the white fuselage, not the blue globe
+    const Seen below = render(-500.0);
+    INFO("below: " << below.pixel.r << ", " << below.pixel.g << ", " << below.pixel.b);
+    CHECK(below.pixel == glm::ivec4(0, 0, 255, 255)); // the globe's plain blue
+    // Drawn, not culled: the ray-cast globe's depth hides it (the globe and six materials).
+    CHECK(below.statistics.commandsCulledByHorizon == 0);
+    CHECK(below.statistics.commandsSubmitted == 7);
+    CHECK(below.statistics.commandsExecuted >= 7);
 }
 
 TEST_CASE("A model behind the Earth is culled by the horizon; one behind the camera never loads", "[scene][model][effects]")
