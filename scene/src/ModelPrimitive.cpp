@@ -1,5 +1,7 @@
 #include "orbis/scene/ModelPrimitive.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/renderer/Context.h>
@@ -44,8 +46,10 @@ glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& p
     return matrix;
 }
 
-ModelPrimitive::ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement)
+ModelPrimitive::ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
+                               const ModelOptions& options)
     : _ellipsoid(ellipsoid)
+    , _options(options)
     , _model(std::move(model))
 {
     std::vector<glm::dvec3> all;
@@ -75,9 +79,9 @@ ModelPrimitive::ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, cons
 ModelPrimitive::~ModelPrimitive() = default;
 
 std::shared_ptr<ModelPrimitive> ModelPrimitive::fromFile(const std::filesystem::path& file, const Ellipsoid& ellipsoid,
-                                                         const ModelPlacement& placement)
+                                                         const ModelPlacement& placement, const ModelOptions& options)
 {
-    return std::make_shared<ModelPrimitive>(GltfModel::read(file), ellipsoid, placement);
+    return std::make_shared<ModelPrimitive>(GltfModel::read(file), ellipsoid, placement, options);
 }
 
 std::size_t ModelPrimitive::batchCount() const noexcept
@@ -130,6 +134,9 @@ void ModelPrimitive::createResources(FrameState& frameState)
         description.name = "model";
         description.vertex = ShaderSource::embedded("scene/model/model.vert.glsl");
         description.fragment = ShaderSource::embedded("scene/model/model.frag.glsl");
+        if (_options.lighting) {
+            description.defines.push_back({"LIGHTING"});
+        }
         if (material.baseColorTexture) {
             description.defines.push_back({"BASE_COLOR_TEXTURE"});
         }
@@ -162,6 +169,7 @@ void ModelPrimitive::update(FrameState& frameState, CommandList& commands)
         const GltfMaterial& material = _model.materials[batch.material];
         DrawCommand command;
         command.debugName = "model";
+        command.tags = _options.lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
         command.vertexArray = &*batch.vertexArray;
         command.shaderProgram = batch.program.get();
         command.modelMatrix = _modelMatrix;

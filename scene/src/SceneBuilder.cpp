@@ -186,10 +186,12 @@ void addPointsLayer(const PointsLayer& layer, Scene& scene)
 }
 
 /// The file is read now (geometry, and its errors); GPU resources wait for the first frame.
-void addModelLayer(const ModelLayer& layer, Scene& scene)
+void addModelLayer(const ModelLayer& layer, bool lighting, Scene& scene)
 {
+    ModelOptions options;
+    options.lighting = lighting;
     scene.add(ModelPrimitive::fromFile(layer.source, scene.ellipsoid(),
-                                       ModelPlacement{layer.position, layer.orientation, layer.scale}));
+                                       ModelPlacement{layer.position, layer.orientation, layer.scale}, options));
 }
 
 } // namespace
@@ -229,7 +231,8 @@ void populateScene(const SceneDescription& description, Scene& scene)
                     } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
                         addPointsLayer(layer, scene);
                     } else {
-                        addModelLayer(layer, scene);
+                        // Lit, as the globe is, only when the file places the Sun.
+                        addModelLayer(layer, description.sun.source != SunSource::Camera, scene);
                     }
                 },
                 description.layers[i]);

@@ -6,6 +6,7 @@
 #include <orbis/core/Error.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/renderer/Image.h>
+#include <orbis/scene/Effect.h>
 #include <orbis/scene/GltfModel.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/ModelPrimitive.h>
@@ -697,6 +698,33 @@ TEST_CASE("A model behind the Earth is culled by the horizon; one behind the cam
     statistics = renderFrame(scene, 32, 32).statistics;
     CHECK(statistics.commandsExecuted == 6);
     CHECK(statistics.translucentPasses == 0);
+}
+
+TEST_CASE("A model adds the models effect, and lighting only when lit; unlit it shows its base colour", "[scene][model][effects]")
+{
+    TempDirectory directory;
+    TestGltf gltf = flatSquare();
+    gltf.material = 0;
+    gltf.extra = R"("materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]}}], )";
+    const std::filesystem::path file = directory.write("square.gltf", gltf.json());
+    const Geodetic3D position = Geodetic3D::fromDegrees(-20.0, 60.0, 10.0);
+    for (const bool lighting : {true, false}) {
+        INFO("lighting " << lighting);
+        Scene scene(kEarth);
+        ModelOptions options;
+        options.lighting = lighting;
+        scene.add(ModelPrimitive::fromFile(file, kEarth, ModelPlacement{position, {}, 1.0}, options));
+        lookDownAt(scene, position, 2.2);
+        // The Sun low in the west: lit, the square facing up gets 0.3 + 0.7 cos(80 degrees).
+        const glm::dmat3 enu = eastNorthUpAxes(kEarth, kEarth.toCartesian(position));
+        scene.setSunDirection(std::cos(toRadians(10.0)) * -enu[0] + std::sin(toRadians(10.0)) * enu[2]);
+        const RenderedFrame frame = renderFrame(scene, 16, 16);
+        const std::uint32_t expected = lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
+        CHECK(frame.statistics.effects == expected);
+        const double shade = lighting ? 0.3 + 0.7 * std::sin(toRadians(10.0)) : 1.0;
+        INFO(describePixel(frame.image, 8, 8));
+        CHECK(pixelNear(frame.image, 8, 8, {srgb(0.2 * shade), srgb(0.4 * shade), srgb(0.6 * shade), 255}, 2));
+    }
 }
 
 TEST_CASE("Blended materials draw in the translucent pass, over what is behind them", "[scene][model][pixels]")

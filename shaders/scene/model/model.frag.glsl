@@ -1,10 +1,13 @@
-// A glTF base colour (factor times texture) lit by the Sun as MeshPrimitive lights its meshes, in
-// linear space: the texture is sRGB-encoded (glTF 3.9.2) and decoded here, the factor is linear,
+// A glTF base colour (factor times texture), lit by the Sun (LIGHTING) as MeshPrimitive lights its
+// meshes, in linear space: the texture is sRGB-encoded (glTF 3.9.2) and decoded here, the factor is linear,
 // and the result is encoded to sRGB for the 8-bit framebuffer.
 // ALPHA_MASK discards fragments under u_alphaCutoff; ALPHA_BLEND keeps alpha for blending; otherwise
 // the material is opaque and alpha is 1.
 
+#ifdef LIGHTING
 in vec3 v_normalEye;
+uniform vec3 og_sunDirectionEye;
+#endif
 #ifdef BASE_COLOR_TEXTURE
 in vec2 v_textureCoordinate;
 uniform sampler2D og_texture0;
@@ -14,7 +17,6 @@ uniform float u_alphaCutoff;
 #endif
 
 uniform vec4 u_baseColorFactor;
-uniform vec3 og_sunDirectionEye;
 
 out vec4 fragmentColor;
 
@@ -43,10 +45,14 @@ void main()
         discard;
     }
 #endif
+#ifdef LIGHTING
     // Back faces of double-sided materials are lit as seen from their side.
     vec3 normal = normalize(v_normalEye) * (gl_FrontFacing ? 1.0 : -1.0);
     float diffuse = max(dot(normal, og_sunDirectionEye), 0.0);
     vec3 color = linearToSrgb(baseColor.rgb * (0.3 + 0.7 * diffuse));
+#else
+    vec3 color = linearToSrgb(baseColor.rgb);
+#endif
 #ifdef ALPHA_BLEND
     fragmentColor = vec4(color, baseColor.a);
 #else

@@ -3,19 +3,23 @@
 // placement, the scale and the Earth-scale translation into og_modelViewProjectionMatrix.
 
 in vec3 position;
+#ifdef LIGHTING
 in vec3 normal;
 out vec3 v_normalEye;
+uniform mat3 og_normalMatrix;
+#endif
 #ifdef BASE_COLOR_TEXTURE
 in vec2 textureCoordinate;
 out vec2 v_textureCoordinate;
 #endif
 
 uniform mat4 og_modelViewProjectionMatrix;
-uniform mat3 og_normalMatrix;
 
 void main()
 {
+#ifdef LIGHTING
     v_normalEye = og_normalMatrix * normal;
+#endif
 #ifdef BASE_COLOR_TEXTURE
     v_textureCoordinate = textureCoordinate;
 #endif

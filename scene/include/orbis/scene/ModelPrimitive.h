@@ -30,6 +30,13 @@ struct ModelPlacement {
     friend bool operator==(const ModelPlacement&, const ModelPlacement&) = default;
 };
 
+/// How a model is drawn, beyond what its file and placement say.
+struct ModelOptions {
+    /// Lit by the Sun (og_sunDirectionEye): base colour x (0.3 + 0.7 x the cosine to the Sun).
+    /// false: the base colours as they are, and no lighting computed (no "lighting" effect).
+    bool lighting = true;
+};
+
 /// glTF's axes to the local east-north-up axes a model starts from before heading, pitch and roll
 /// turn it: glTF +y (up) to up, +z (the asset's front) to north, +x (the asset's left) to west.
 /// A rotation (determinant +1): x_enu = -x, y_enu = z, z_enu = y.
@@ -41,7 +48,8 @@ glm::dmat3 gltfToEastNorthUp() noexcept;
 glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& placement) noexcept;
 
 /// A glTF 2.0 model placed on the globe (book section 5.2 for the precision): one draw command
-/// per material, lit by the Sun like MeshPrimitive, drawn relative to the model's origin. The GPU
+/// per material (tagged Effect::Models, and Effect::Lighting when lit), lit by the Sun like
+/// MeshPrimitive unless the options say not, drawn relative to the model's origin. The GPU
 /// gets float positions in the model's own frame; the model matrix (placement, in double) carries
 /// the Earth-scale translation, and the model-view-projection product is formed on the CPU in
 /// double. Base colours (factor times texture, sRGB textures decoded to linear) are lit in linear
@@ -59,14 +67,16 @@ glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& p
 class ModelPrimitive final : public Primitive {
 public:
     /// The model must have at least one triangle (GltfModel::read ensures it; asserted).
-    ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement);
+    ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
+                   const ModelOptions& options = {});
     ~ModelPrimitive() override;
 
     /// Reads a .gltf or .glb file (GltfModel::read, whose orbis::Error it passes on).
     static std::shared_ptr<ModelPrimitive> fromFile(const std::filesystem::path& file, const Ellipsoid& ellipsoid,
-                                                    const ModelPlacement& placement);
+                                                    const ModelPlacement& placement, const ModelOptions& options = {});
 
     const ModelPlacement& placement() const noexcept { return _placement; }
+    const ModelOptions& options() const noexcept { return _options; }
     /// Moves or turns the model; no GPU work (the bounding spheres follow).
     void setPlacement(const ModelPlacement& placement) noexcept;
     /// modelToFixedFrame of the placement.
@@ -93,6 +103,7 @@ private:
 
     Ellipsoid _ellipsoid;
     ModelPlacement _placement;
+    ModelOptions _options;
     glm::dmat4 _modelMatrix{1.0};
     GltfModel _model; ///< geometry and encoded images released once uploaded; materials kept
     std::vector<Batch> _batches;
