@@ -6,6 +6,7 @@
 #include "orbis/scene/GeoJson.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
+#include "orbis/scene/ModelPrimitive.h"
 
 #include <orbis/core/Error.h>
 
@@ -184,6 +185,15 @@ void addPointsLayer(const PointsLayer& layer, Scene& scene)
     scene.add(labels);
 }
 
+/// The file is read now (geometry, and its errors); GPU resources wait for the first frame.
+void addModelLayer(const ModelLayer& layer, bool lighting, Scene& scene)
+{
+    ModelOptions options;
+    options.lighting = lighting;
+    scene.add(ModelPrimitive::fromFile(layer.source, scene.ellipsoid(),
+                                       ModelPlacement{layer.position, layer.orientation, layer.scale}, options));
+}
+
 } // namespace
 
 void populateScene(const SceneDescription& description, Scene& scene)
@@ -219,7 +229,8 @@ void populateScene(const SceneDescription& description, Scene& scene)
                     } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
                         addPointsLayer(layer, scene);
                     } else {
-                        throw Error("model layers are not drawn by this build yet");
+                        // Lit, as the globe is, only when the file places the Sun.
+                        addModelLayer(layer, description.sun.source != SunSource::Camera, scene);
                     }
                 },
                 description.layers[i]);

@@ -160,3 +160,12 @@ TEST_CASE("A polyline layer adds polylines and nothing else", "[scene][effects]"
                                              "positions": [[0, 40, 0], [40, 50, 0]]}])")),
                       {"polylines"});
 }
+
+TEST_CASE("A model layer adds models and nothing else", "[scene][effects]")
+{
+    // The project's aircraft scaled up some 100,000 times, so that it covers pixels from orbit.
+    requireOnlyEffect(render(sceneText()),
+                      render(sceneText(R"(, "layers": [{"type": "model", "source": "../models/aircraft.glb",
+                                             "position": {"lon": 20, "lat": 45, "height": 3000000}, "scale": 100000}])")),
+                      {"models"});
+}

@@ -7,8 +7,9 @@ namespace orbis {
 
 /// Fills a Scene from a scene file's description: camera, Sun, background, globe and layers,
 /// creating only what the description asks for (GPU resources follow on the first render).
-/// Throws orbis::Error naming the layer ("/layers/2") for a kind of layer or a depth strategy this
-/// build cannot draw yet.
+/// Model layers read their glTF file here. Throws orbis::Error naming the layer ("/layers/2") for
+/// a file it cannot read (the model reader's message follows), or a depth strategy this build
+/// cannot draw yet.
 void populateScene(const SceneDescription& description, Scene& scene);
 
 } // namespace orbis

@@ -156,7 +156,8 @@ struct PolylineLayer {
 };
 
 /// A glTF model placed at a position, its +x east, +y north and +z up before the heading,
-/// pitch and roll turn it.
+/// pitch and roll turn it: glTF's -x, +z (the asset's front) and +y (up), see gltfToEastNorthUp()
+/// in ModelPrimitive.h and docs/scene-format.md.
 struct ModelLayer {
     enum class Format { Gltf, Glb };
     std::filesystem::path source;

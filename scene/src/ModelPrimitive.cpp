@@ -1,0 +1,198 @@
+#include "orbis/scene/ModelPrimitive.h"
+
+#include "orbis/scene/Effect.h"
+
+#include <orbis/core/EllipsoidalOccluder.h>
+#include <orbis/core/Transforms.h>
+#include <orbis/renderer/Context.h>
+#include <orbis/renderer/Device.h>
+
+#include <glm/geometric.hpp>
+
+#include <array>
+#include <cassert>
+#include <cmath>
+
+namespace orbis {
+
+struct ModelPrimitive::Batch {
+    Mesh mesh; ///< released once uploaded
+    std::size_t material = 0;
+    BoundingSphere localSphere;
+    BoundingSphere sphere; ///< world
+    Pass pass = Pass::Opaque;
+    std::shared_ptr<ShaderProgram> program;
+    std::optional<VertexArray> vertexArray;
+};
+
+glm::dmat3 gltfToEastNorthUp() noexcept
+{
+    // Columns: where glTF's +x, +y and +z go in east-north-up coordinates.
+    return {glm::dvec3(-1.0, 0.0, 0.0), glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0, 1.0, 0.0)};
+}
+
+glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& placement) noexcept
+{
+    const glm::dvec3 origin = ellipsoid.toCartesian(placement.position);
+    const HeadingPitchRoll& orientation = placement.orientation;
+    // The front, up and right of the turned model, Earth-fixed: the same turn a view takes.
+    const ViewOrientation view =
+        headingPitchRollToView(ellipsoid, origin, orientation.heading, orientation.pitch, orientation.roll);
+    const glm::dvec3 right = glm::cross(view.direction, view.up);
+    // East-north-up axes turned: local +x (east at heading 0) is the right, +y the front, +z up.
+    const glm::dmat3 turned(right, view.direction, view.up);
+    glm::dmat4 matrix(turned * (placement.scale * gltfToEastNorthUp()));
+    matrix[3] = glm::dvec4(origin, 1.0);
+    return matrix;
+}
+
+ModelPrimitive::ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
+                               const ModelOptions& options)
+    : _ellipsoid(ellipsoid)
+    , _options(options)
+    , _model(std::move(model))
+{
+    std::vector<glm::dvec3> all;
+    for (GltfBatch& batch : _model.batches) {
+        Batch out;
+        out.material = batch.material;
+        out.localSphere = BoundingSphere::fromPoints(batch.mesh.positions);
+        out.pass = _model.materials[batch.material].alphaMode == AlphaMode::Blend ? Pass::Translucent : Pass::Opaque;
+        _triangleCount += batch.mesh.triangleCount();
+        all.insert(all.end(), batch.mesh.positions.begin(), batch.mesh.positions.end());
+        out.mesh = std::move(batch.mesh);
+        _batches.push_back(std::move(out));
+    }
+    _model.batches.clear();
+    assert(_triangleCount > 0);
+    _localSphere = BoundingSphere::fromPoints(all);
+    if (!all.empty()) {
+        _localMinimum = _localMaximum = all.front();
+        for (const glm::dvec3& p : all) {
+            _localMinimum = glm::min(_localMinimum, p);
+            _localMaximum = glm::max(_localMaximum, p);
+        }
+    }
+    setPlacement(placement);
+}
+
+ModelPrimitive::~ModelPrimitive() = default;
+
+std::shared_ptr<ModelPrimitive> ModelPrimitive::fromFile(const std::filesystem::path& file, const Ellipsoid& ellipsoid,
+                                                         const ModelPlacement& placement, const ModelOptions& options)
+{
+    return std::make_shared<ModelPrimitive>(GltfModel::read(file), ellipsoid, placement, options);
+}
+
+std::size_t ModelPrimitive::batchCount() const noexcept
+{
+    return _batches.size();
+}
+
+void ModelPrimitive::setPlacement(const ModelPlacement& placement) noexcept
+{
+    assert(placement.scale > 0.0 && std::isfinite(placement.scale));
+    _placement = placement;
+    _modelMatrix = modelToFixedFrame(_ellipsoid, placement);
+    // The model matrix is a similarity (rotation, uniform scale, translation): a sphere stays a
+    // sphere, its radius scaled. A millimetre more covers the rounding of the Earth-scale centre.
+    auto toWorld = [&](const BoundingSphere& local) {
+        return BoundingSphere{glm::dvec3(_modelMatrix * glm::dvec4(local.centre, 1.0)),
+                              local.radius * placement.scale + 1e-3};
+    };
+    _boundingSphere = toWorld(_localSphere);
+    for (Batch& batch : _batches) {
+        batch.sphere = toWorld(batch.localSphere);
+    }
+    std::array<glm::dvec3, 8> corners;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        const glm::dvec3 local(i & 1 ? _localMaximum.x : _localMinimum.x, i & 2 ? _localMaximum.y : _localMinimum.y,
+                               i & 4 ? _localMaximum.z : _localMinimum.z);
+        corners[i] = glm::dvec3(_modelMatrix * glm::dvec4(local, 1.0));
+    }
+    _occlusionPoint =
+        EllipsoidalOccluder(_ellipsoid, glm::dvec3(0.0)).horizonOcclusionPoint(_boundingSphere.centre, corners);
+}
+
+void ModelPrimitive::createResources(FrameState& frameState)
+{
+    // Everything is made before anything is released, so that an error (an image that does not
+    // decode, a texture too large for the device) leaves the primitive as it was, to try again.
+    Device& device = frameState.device;
+    std::vector<Texture2D> textures;
+    for (std::size_t i = 0; i < _model.images.size(); ++i) {
+        // Mipmaps whatever the samplers say: a third more texels, and any filter can read them.
+        textures.push_back(device.createTexture2D(_model.decodeImage(i), true));
+    }
+    std::vector<Sampler> samplers;
+    for (const GltfTexture& texture : _model.textures) {
+        samplers.push_back(device.createSampler(texture.sampler));
+    }
+    for (Batch& batch : _batches) {
+        const GltfMaterial& material = _model.materials[batch.material];
+        ShaderProgramDescription description;
+        description.name = "model";
+        description.vertex = ShaderSource::embedded("scene/model/model.vert.glsl");
+        description.fragment = ShaderSource::embedded("scene/model/model.frag.glsl");
+        if (_options.lighting) {
+            description.defines.push_back({"LIGHTING"});
+        }
+        if (material.baseColorTexture) {
+            description.defines.push_back({"BASE_COLOR_TEXTURE"});
+        }
+        if (material.alphaMode == AlphaMode::Mask) {
+            description.defines.push_back({"ALPHA_MASK"});
+        } else if (material.alphaMode == AlphaMode::Blend) {
+            description.defines.push_back({"ALPHA_BLEND"});
+        }
+        batch.program = device.shaderCache().get(description);
+        batch.vertexArray = frameState.context.createVertexArray(batch.mesh, *batch.program);
+    }
+    // On the GPU now: the CPU copies go.
+    _textures = std::move(textures);
+    _samplers = std::move(samplers);
+    for (GltfImage& image : _model.images) {
+        image.encoded = {};
+    }
+    for (Batch& batch : _batches) {
+        batch.mesh = Mesh();
+    }
+    _resourcesCreated = true;
+}
+
+void ModelPrimitive::update(FrameState& frameState, CommandList& commands)
+{
+    if (!_resourcesCreated) {
+        createResources(frameState);
+    }
+    for (const Batch& batch : _batches) {
+        const GltfMaterial& material = _model.materials[batch.material];
+        DrawCommand command;
+        command.debugName = "model";
+        command.tags = _options.lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
+        command.vertexArray = &*batch.vertexArray;
+        command.shaderProgram = batch.program.get();
+        command.modelMatrix = _modelMatrix;
+        command.uniforms.set("u_baseColorFactor", material.baseColorFactor);
+        if (material.alphaMode == AlphaMode::Mask) {
+            command.uniforms.set("u_alphaCutoff", material.alphaCutoff);
+        }
+        if (material.baseColorTexture) {
+            const GltfTexture& texture = _model.textures[*material.baseColorTexture];
+            command.textures.push_back({0, &_textures[texture.image], &_samplers[*material.baseColorTexture]});
+        }
+        command.renderState.facetCulling.enabled = !material.doubleSided;
+        command.pass = batch.pass;
+        command.boundingSphere = batch.sphere;
+        command.horizonOcclusionPoint = _occlusionPoint;
+        if (batch.pass == Pass::Translucent) {
+            command.renderState.blending = Blending::alphaBlending();
+            // "Over" for alpha too, so an opaque background stays opaque.
+            command.renderState.blending.sourceAlphaFactor = SourceBlendingFactor::One;
+            command.renderState.depthMask = false;
+        }
+        commands.push_back(std::move(command));
+    }
+}
+
+} // namespace orbis
