@@ -1,10 +1,12 @@
 #pragma once
 
 // What every scene example shares: arguments, a headless device, a framebuffer, one frame of a
-// Scene written to a PNG, and the frame statistics printed.
+// Scene (or a row of captioned tiles) written to a PNG, and the frame statistics printed.
 
+#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
 
+#include <cstddef>
 #include <functional>
 #include <string>
 
@@ -20,6 +22,19 @@ struct ExampleSettings {
 /// frame and writes the PNG. Returns the process exit code: 0, 1 for an orbis::Error, 2 for usage.
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
                     const std::function<void(Scene&, const ExampleSettings&)>& setup);
+
+/// One tile of a side-by-side example: its pixels and the caption written over them.
+struct ExampleTile {
+    Image image;
+    std::string caption; ///< lines split at '\n'
+};
+
+/// Parses the arguments as runSceneExample does (W x H: one tile; `defaults` where not given),
+/// calls `renderTile` for tiles 0 to tileCount - 1 with a W x H framebuffer set on the context,
+/// captions each tile (scaled with it, up to 13 pixels) and writes them three to a row as one PNG.
+/// Returns the process exit code as runSceneExample does.
+int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
+                    const std::function<ExampleTile(Context&, std::size_t tile, const ExampleSettings&)>& renderTile);
 
 /// The Natural Earth II TMS pyramid in data/imagery.
 std::string naturalEarthPyramid();
