@@ -29,12 +29,8 @@ std::vector<T> valuesOf(const std::vector<std::byte>& bytes)
     return values;
 }
 
-struct TexturedFixture {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(16, 16);
-    ShaderProgram program = device.createShaderProgram(test::texturedDescription());
-    VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+struct TexturedFixture : test::QuadFixture {
+    TexturedFixture() : QuadFixture(16, test::texturedDescription()) {}
 
     Image draw(const Texture2D& texture, const Sampler* sampler, float scale = 1.0f)
     {

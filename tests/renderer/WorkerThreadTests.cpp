@@ -84,11 +84,8 @@ TEST_CASE("A texture and a program made on a worker thread are drawn by the main
 
 TEST_CASE("Objects that belong to one context are refused by another", "[renderer][worker][errors]")
 {
-    Device& device = test::sharedDevice();
-    Context& main = device.context();
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = main.createVertexArray(test::fullScreenQuad(), program);
-    Framebuffer framebuffer = main.createFramebuffer(4, 4);
+    test::QuadFixture quad(4);
+    auto& [device, main, framebuffer, program, array] = quad;
 
     std::unique_ptr<Context> shared = device.createSharedContext();
     CHECK_FALSE(shared->isCurrent());

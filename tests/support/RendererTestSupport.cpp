@@ -60,6 +60,15 @@ void main() { fragmentColor = texture(og_texture0, v_textureCoordinate); }
     return description;
 }
 
+QuadFixture::QuadFixture(int size, const ShaderProgramDescription& description)
+    : device(sharedDevice()),
+      context(device.context()),
+      framebuffer(context.createFramebuffer(size, size)),
+      program(device.createShaderProgram(description)),
+      array(context.createVertexArray(fullScreenQuad(), program))
+{
+}
+
 glm::ivec4 pixelAt(const Image& image, int x, int y)
 {
     const std::uint8_t* p = image.pixel(x, y);
