@@ -22,8 +22,6 @@ using Catch::Matchers::WithinAbs;
 namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
-const glm::vec4 kBlue(0.0f, 0.0f, 1.0f, 1.0f);
-const glm::ivec4 kBluePixel(0, 0, 255, 255);
 const glm::ivec4 kRedPixel(255, 0, 0, 255);
 
 /// The chord sag bound the class documents: a (a / b)^2 (1 - cos(g / 2)), with its 1% margin.
@@ -40,12 +38,6 @@ PolylineStyle solid(const glm::vec4& color, float width)
     style.color = color;
     style.widthPixels = width;
     return style;
-}
-
-void lookDownAt(Scene& scene, const Geodetic3D& below, double height)
-{
-    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D(below.longitude, below.latitude, height)),
-                          kEarth.toCartesian(below), {0, 0, 1});
 }
 
 } // namespace
