@@ -2,6 +2,7 @@
 #include "SceneTestSupport.h"
 #include "VectorTestSupport.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/scene/FeaturePrimitives.h>
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/scene/PolylineCollection.h>
@@ -225,7 +226,7 @@ TEST_CASE("Lines on the ray-cast globe win the depth test in a frustum 1000 time
         scene.camera().lookAt(eye, kEarth.toCartesian(below), {0, 0, 1});
         // In a corner of the view, 10 km out.
         const glm::dvec3 marker = eye + 1e4 * glm::normalize(kEarth.toCartesian(below) - eye) + glm::dvec3(0, 3e3, 3e3);
-        scene.add(std::make_shared<MeshPrimitive>(cube(marker, 5.0), glm::vec4(0, 1, 0, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(marker, 5.0), glm::vec4(0, 1, 0, 1)));
         const RenderedFrame frame = renderFrame(scene, size, size);
         if (statistics) {
             *statistics = frame.statistics;
