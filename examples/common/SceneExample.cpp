@@ -5,6 +5,8 @@
 #include <orbis/core/Error.h>
 #include <orbis/core/SunPosition.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/BillboardCollection.h>
+#include <orbis/scene/CsvPoints.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -104,6 +106,22 @@ std::string xplanetDayImage()
 std::string xplanetNightImage()
 {
     return "/usr/share/xplanet/images/night.jpg";
+}
+
+std::shared_ptr<BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const CsvPoints& cities,
+                                                    const Image& dot)
+{
+    auto billboards = std::make_shared<BillboardCollection>();
+    const std::size_t image = billboards->addImage(dot);
+    billboards->reserve(cities.size());
+    for (const Geodetic3D& position : cities.positions) {
+        Billboard b;
+        b.position = ellipsoid.toCartesian(position);
+        b.image = image;
+        b.color = {1.0f, 0.8f, 0.3f, 0.6f};
+        billboards->add(b);
+    }
+    return billboards;
 }
 
 void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye)

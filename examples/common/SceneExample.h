@@ -8,7 +8,13 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
+
+namespace orbis {
+class BillboardCollection;
+struct CsvPoints;
+} // namespace orbis
 
 namespace orbis::examples {
 
@@ -42,6 +48,11 @@ std::string naturalEarthPyramid();
 /// The day and night Earth images of Debian's xplanet-images package.
 std::string xplanetDayImage();
 std::string xplanetNightImage();
+
+/// Every point of `cities` as a billboard of `dot` in one collection, tinted the chapter 9 example's
+/// amber (the bench times the same collection).
+std::shared_ptr<BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const CsvPoints& cities,
+                                                    const Image& dot);
 
 /// A camera looking at the Earth's centre from a geodetic position.
 void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye);
