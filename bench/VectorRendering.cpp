@@ -111,6 +111,11 @@ std::vector<Table> run(const Options& options)
     auto pixels = [](double meters, double distance) {
         return formatNumber(screenSpaceError(meters, distance, kWidth, kFieldOfView), 2);
     };
+    // The columns of either table, `elements` naming what granularityRow counts beside the vertices.
+    auto granularityColumns = [](const char* elements) {
+        return std::vector<std::string>{"granularity",     "vertices",       elements,   "max deviation",
+                                        "px at 20,000 km", "px at 2,000 km", "build ms", "upload ms"};
+    };
     // A row of either table: the countries built with `style` at granularity g, then the part of
     // them that `part` names (&FeaturePrimitives::borders or ::fills) measured and uploaded.
     auto granularityRow = [&](double g, FeatureStyle style, auto part) {
@@ -137,8 +142,7 @@ std::vector<Table> run(const Options& options)
         "subdivision and lift on the CPU, best of " + std::to_string(repeats) +
         " runs. Upload: the first update() (groups by region and their culling volumes, vertex encoding, buffers "
         "handed to GL), programs compiled beforehand.";
-    borders.columns = {"granularity", "vertices", "segments", "max deviation", "px at 20,000 km", "px at 2,000 km",
-                       "build ms", "upload ms"};
+    borders.columns = granularityColumns("segments");
     FeatureStyle bordersOnly;
     bordersOnly.fill = false;
     for (const double g : degrees) {
@@ -155,8 +159,7 @@ std::vector<Table> run(const Options& options)
         "Every polygon of countries-110m (buildFeaturePrimitives: triangulatePolygon, lift, regions, relative to "
         "the eye). Deviation: the greatest height of a drawn vertex above the ellipsoid, the lift that keeps the "
         "flat triangles above the surface; in pixels as above. Build and upload as above.";
-    fills.columns = {"granularity", "vertices", "triangles", "max deviation", "px at 20,000 km", "px at 2,000 km",
-                     "build ms", "upload ms"};
+    fills.columns = granularityColumns("triangles");
     FeatureStyle fillsOnly;
     fillsOnly.borders = false;
     for (const double g : degrees) {
