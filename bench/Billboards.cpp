@@ -4,6 +4,8 @@
 
 #include "Report.h"
 
+#include "SceneExample.h"
+
 #include <orbis/core/Math.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/BillboardCollection.h>
@@ -30,21 +32,6 @@ Image dotImage()
     Image image(3, 3, 4);
     std::fill(image.pixels.begin(), image.pixels.end(), std::uint8_t{255});
     return image;
-}
-
-std::shared_ptr<BillboardCollection> cityBillboards(const CsvPoints& cities)
-{
-    auto billboards = std::make_shared<BillboardCollection>();
-    const std::size_t dot = billboards->addImage(dotImage());
-    billboards->reserve(cities.size());
-    for (const Geodetic3D& position : cities.positions) {
-        Billboard b;
-        b.position = kEarth.toCartesian(position);
-        b.image = dot;
-        b.color = {1.0f, 0.8f, 0.3f, 0.6f};
-        billboards->add(b);
-    }
-    return billboards;
 }
 
 /// A country name at the first position of each feature's first ring: where it lands does not
@@ -102,10 +89,10 @@ std::vector<Table> run(const Options& options)
     context.setFramebuffer(&framebuffer);
 
     const CsvPoints cities = loadCsvPoints(kData / "geonames/cities.csv");
-    auto billboards = cityBillboards(cities);
+    auto billboards = examples::cityBillboards(kEarth, cities, dotImage());
     auto labels = countryLabels();
     GlobeOptions globeOptions;
-    globeOptions.dayTexture = "/usr/share/xplanet/images/earth.jpg";
+    globeOptions.dayTexture = examples::xplanetDayImage();
     auto globe = std::make_shared<Globe>(kEarth, globeOptions);
 
     Table frame;

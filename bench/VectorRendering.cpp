@@ -34,7 +34,7 @@ double millisecondsSince(std::chrono::steady_clock::time_point start)
 
 /// Greatest distance, above or below, of the drawn borders from the surface: each segment sampled
 /// at 16 points with the exact Ellipsoid::toGeodetic3D.
-double bordersDeviation(const PolylineCollection& borders)
+double deviation(const PolylineCollection& borders)
 {
     double largest = 0.0;
     for (std::size_t i = 0; i < borders.size(); ++i) {
@@ -55,7 +55,7 @@ double bordersDeviation(const PolylineCollection& borders)
 
 /// Greatest height of the fills' triangles above the surface (at their corners, the highest
 /// points: the triangles are flat and the lift puts their lowest points at about the surface).
-double fillsDeviation(const PolygonCollection& fills)
+double deviation(const PolygonCollection& fills)
 {
     double largest = 0.0;
     for (std::size_t i = 0; i < fills.size(); ++i) {
@@ -64,6 +64,17 @@ double fillsDeviation(const PolygonCollection& fills)
         }
     }
     return largest;
+}
+
+/// What the tables count beside the vertices: the borders' segments, the fills' triangles.
+std::size_t elementCount(const PolylineCollection& borders)
+{
+    return borders.segmentCount();
+}
+
+std::size_t elementCount(const PolygonCollection& fills)
+{
+    return fills.triangleCount();
 }
 
 /// A scene with only `primitive`, looked at from 20,000 km over (20 E, 20 N): the time its first
@@ -100,6 +111,26 @@ std::vector<Table> run(const Options& options)
     auto pixels = [](double meters, double distance) {
         return formatNumber(screenSpaceError(meters, distance, kWidth, kFieldOfView), 2);
     };
+    // The columns of either table, `elements` naming what granularityRow counts beside the vertices.
+    auto granularityColumns = [](const char* elements) {
+        return std::vector<std::string>{"granularity",     "vertices",       elements,   "max deviation",
+                                        "px at 20,000 km", "px at 2,000 km", "build ms", "upload ms"};
+    };
+    // A row of either table: the countries built with `style` at granularity g, then the part of
+    // them that `part` names (&FeaturePrimitives::borders or ::fills) measured and uploaded.
+    auto granularityRow = [&](double g, FeatureStyle style, auto part) {
+        style.granularityRadians = toRadians(g);
+        FeaturePrimitives primitives;
+        const double buildNs = nanosecondsPerItem(
+            1, [&] { primitives = buildFeaturePrimitives(kEarth, countries, style); }, repeats);
+        const auto& collection = primitives.*part;
+        const double drawnDeviation = deviation(*collection);
+        const double upload = uploadMilliseconds(context, collection);
+        return std::vector<std::string>{formatNumber(g, 3) + " deg", std::to_string(collection->vertexCount()),
+                                        std::to_string(elementCount(*collection)), formatLength(drawnDeviation),
+                                        pixels(drawnDeviation, 2e7), pixels(drawnDeviation, 2e6),
+                                        formatNumber(1e-6 * buildNs, 3), formatNumber(upload, 3)};
+    };
 
     Table borders;
     borders.title = "Country borders as polylines: granularity, deviation and build time";
@@ -111,21 +142,11 @@ std::vector<Table> run(const Options& options)
         "subdivision and lift on the CPU, best of " + std::to_string(repeats) +
         " runs. Upload: the first update() (groups by region and their culling volumes, vertex encoding, buffers "
         "handed to GL), programs compiled beforehand.";
-    borders.columns = {"granularity", "vertices", "segments", "max deviation", "px at 20,000 km", "px at 2,000 km",
-                       "build ms", "upload ms"};
+    borders.columns = granularityColumns("segments");
+    FeatureStyle bordersOnly;
+    bordersOnly.fill = false;
     for (const double g : degrees) {
-        FeatureStyle style;
-        style.fill = false;
-        style.granularityRadians = toRadians(g);
-        FeaturePrimitives primitives;
-        const double buildNs = nanosecondsPerItem(
-            1, [&] { primitives = buildFeaturePrimitives(kEarth, countries, style); }, repeats);
-        const double deviation = bordersDeviation(*primitives.borders);
-        const double upload = uploadMilliseconds(context, primitives.borders);
-        borders.rows.push_back({formatNumber(g, 3) + " deg", std::to_string(primitives.borders->vertexCount()),
-                                std::to_string(primitives.borders->segmentCount()), formatLength(deviation),
-                                pixels(deviation, 2e7), pixels(deviation, 2e6), formatNumber(1e-6 * buildNs, 3),
-                                formatNumber(upload, 3)});
+        borders.rows.push_back(granularityRow(g, bordersOnly, &FeaturePrimitives::borders));
     }
     borders.notes = "The deviation is the lift, a (a / b)^2 (1 - cos(g / 2)): it falls as the square of the "
                     "granularity while the vertices grow as its inverse (once the granularity is finer than the "
@@ -138,24 +159,14 @@ std::vector<Table> run(const Options& options)
         "Every polygon of countries-110m (buildFeaturePrimitives: triangulatePolygon, lift, regions, relative to "
         "the eye). Deviation: the greatest height of a drawn vertex above the ellipsoid, the lift that keeps the "
         "flat triangles above the surface; in pixels as above. Build and upload as above.";
-    fills.columns = {"granularity", "vertices", "triangles", "max deviation", "px at 20,000 km", "px at 2,000 km",
-                     "build ms", "upload ms"};
+    fills.columns = granularityColumns("triangles");
+    FeatureStyle fillsOnly;
+    fillsOnly.borders = false;
     for (const double g : degrees) {
         if (g < 0.25) {
             continue; // 1.4 million triangles at 0.1 degree: the polygons section has the trend
         }
-        FeatureStyle style;
-        style.borders = false;
-        style.granularityRadians = toRadians(g);
-        FeaturePrimitives primitives;
-        const double buildNs = nanosecondsPerItem(
-            1, [&] { primitives = buildFeaturePrimitives(kEarth, countries, style); }, repeats);
-        const double deviation = fillsDeviation(*primitives.fills);
-        const double upload = uploadMilliseconds(context, primitives.fills);
-        fills.rows.push_back({formatNumber(g, 3) + " deg", std::to_string(primitives.fills->vertexCount()),
-                              std::to_string(primitives.fills->triangleCount()), formatLength(deviation),
-                              pixels(deviation, 2e7), pixels(deviation, 2e6), formatNumber(1e-6 * buildNs, 3),
-                              formatNumber(upload, 3)});
+        fills.rows.push_back(granularityRow(g, fillsOnly, &FeaturePrimitives::fills));
     }
     fills.notes = "Fills are subdivided inside as well as along their edges: triangles grow as the inverse square "
                   "of the granularity, four times the borders' cost for the same deviation in pixels, which is a "

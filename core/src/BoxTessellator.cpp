@@ -67,4 +67,17 @@ TessellationResult BoxTessellator::compute(const Ellipsoid& ellipsoid, VertexAtt
     return result;
 }
 
+Mesh BoxTessellator::cube(const glm::dvec3& centre, double halfSize)
+{
+    Mesh mesh;
+    // Corner i has the sign of bit 0 in x, bit 1 in y, bit 2 in z.
+    for (int i = 0; i < 8; ++i) {
+        mesh.positions.push_back(centre + halfSize * glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
+    }
+    // Counter-clockwise from outside: -x, +x, -y, +y, -z, +z.
+    mesh.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
+                    2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+    return mesh;
+}
+
 } // namespace orbis

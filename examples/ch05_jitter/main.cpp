@@ -3,70 +3,40 @@
 // window-position error measured on the GPU (transform feedback against double precision).
 // Usage: ch05_jitter [--out file.png] [--width W] [--height H]   (W x H: one tile)
 #include "../common/PrecisionScenes.h"
+#include "../common/SceneExample.h"
 
-#include <orbis/core/Error.h>
-#include <orbis/renderer/Device.h>
+#include <orbis/renderer/Context.h>
 #include <orbis/scene/PrecisionMeasurement.h>
 
-#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
+#include <iterator>
+#include <utility>
 
 int main(int argc, char** argv)
 {
     using namespace orbis;
-    std::string output = "ch05_jitter.png";
-    int width = 320;
-    int height = 240;
-    for (int i = 1; i < argc; ++i) {
-        const bool hasValue = i + 1 < argc;
-        if (std::strcmp(argv[i], "--out") == 0 && hasValue) {
-            output = argv[++i];
-        } else if (std::strcmp(argv[i], "--width") == 0 && hasValue) {
-            width = std::atoi(argv[++i]);
-        } else if (std::strcmp(argv[i], "--height") == 0 && hasValue) {
-            height = std::atoi(argv[++i]);
-        } else {
-            std::fprintf(stderr, "usage: %s [--out file.png] [--width W] [--height H]\n", argv[0]);
-            return 2;
+    const VertexTransform transforms[] = {VertexTransform::RelativeToWorld,  VertexTransform::RelativeToCenter,
+                                          VertexTransform::RelativeToEyeGpu, VertexTransform::RelativeToEyeDsfun90,
+                                          VertexTransform::RelativeToEyeCpu, VertexTransform::Automatic};
+    auto renderTile = [&](Context& context, std::size_t tile, const examples::ExampleSettings& settings) {
+        const VertexTransform transform = transforms[tile];
+        if (tile == 0) { // the console table's heading, before its first row
+            std::printf("%-42s %12s %12s\n", "vertex transform (eye 2 m away)", "max px", "max mm");
         }
-    }
-    try {
-        Device device;
-        Context& context = device.context();
-        Framebuffer framebuffer = context.createFramebuffer(width, height);
-        const VertexTransform transforms[] = {VertexTransform::RelativeToWorld,  VertexTransform::RelativeToCenter,
-                                              VertexTransform::RelativeToEyeGpu, VertexTransform::RelativeToEyeDsfun90,
-                                              VertexTransform::RelativeToEyeCpu, VertexTransform::Automatic};
-        std::vector<Image> tiles;
-        std::printf("%-42s %12s %12s\n", "vertex transform (eye 2 m away)", "max px", "max mm");
-        for (const VertexTransform transform : transforms) {
-            Scene scene;
-            examples::buildJitterScene(scene, transform);
-            context.setFramebuffer(&framebuffer);
-            scene.render(context);
-            Image tile = context.readPixels();
-            JitterOptions options;
-            options.width = width;
-            options.height = height;
-            const JitterResult error = measureVertexJitter(context, transform, examples::jitterSceneTarget(),
-                                                           examples::kJitterSceneEyeDistance, options);
-            char caption[256];
-            std::snprintf(caption, sizeof caption, "%s\nmeasured: %.3g px, %.3g mm", vertexTransformName(transform),
-                          error.maxPixels, 1e3 * error.maxMeters);
-            // Captions scale with the tile, up to 13 pixels.
-            const float captionSize = std::clamp(std::min(static_cast<float>(width) / 25.0f, static_cast<float>(height) / 18.0f), 6.5f, 13.0f);
-            examples::drawCaption(tile, 4, 3, caption, captionSize);
-            tiles.push_back(std::move(tile));
-            std::printf("%-42s %12.4g %12.4g\n", vertexTransformName(transform), error.maxPixels, 1e3 * error.maxMeters);
-        }
-        context.setFramebuffer(nullptr);
-        writePng(examples::composeTiles(tiles, 3), output);
-        std::printf("%s: %d tiles of %dx%d\n", output.c_str(), static_cast<int>(tiles.size()), width, height);
-        return 0;
-    } catch (const Error& error) {
-        std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
-        return 1;
-    }
+        Scene scene;
+        examples::buildJitterScene(scene, transform);
+        scene.render(context);
+        Image image = context.readPixels();
+        JitterOptions options;
+        options.width = settings.width;
+        options.height = settings.height;
+        const JitterResult error = measureVertexJitter(context, transform, examples::jitterSceneTarget(),
+                                                       examples::kJitterSceneEyeDistance, options);
+        char caption[256];
+        std::snprintf(caption, sizeof caption, "%s\nmeasured: %.3g px, %.3g mm", vertexTransformName(transform),
+                      error.maxPixels, 1e3 * error.maxMeters);
+        std::printf("%-42s %12.4g %12.4g\n", vertexTransformName(transform), error.maxPixels, 1e3 * error.maxMeters);
+        return examples::ExampleTile{std::move(image), caption};
+    };
+    return examples::runTiledExample(argc, argv, {"ch05_jitter.png", 320, 240}, std::size(transforms), renderTile);
 }

@@ -99,16 +99,7 @@ int main(int argc, char** argv)
         scene.add(std::make_shared<Globe>(ellipsoid, globe));
 
         const CsvPoints cities = loadCsvPoints(dataDirectory() / "geonames" / "cities.csv");
-        auto billboards = std::make_shared<BillboardCollection>();
-        const std::size_t dot = billboards->addImage(cityDot());
-        billboards->reserve(cities.size());
-        for (const Geodetic3D& position : cities.positions) {
-            Billboard b;
-            b.position = ellipsoid.toCartesian(position);
-            b.image = dot;
-            b.color = {1.0f, 0.8f, 0.3f, 0.6f};
-            billboards->add(b);
-        }
+        const auto billboards = examples::cityBillboards(ellipsoid, cities, cityDot());
         scene.add(billboards);
 
         const FeatureCollection countries = loadGeoJson(dataDirectory() / "natural-earth" / "countries-110m.geojson");

@@ -1,21 +1,31 @@
 #include "SceneExample.h"
 
+#include "PrecisionScenes.h"
+
 #include <orbis/core/Error.h>
 #include <orbis/core/SunPosition.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/BillboardCollection.h>
+#include <orbis/scene/CsvPoints.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <vector>
 
 namespace orbis::examples {
 
-int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
-                    const std::function<void(Scene&, const ExampleSettings&)>& setup)
+namespace {
+
+/// Parses [--out file.png] [--width W] [--height H] over `defaults`, then runs `body` with a
+/// headless device's context and a framebuffer of the parsed size (not yet set on the context).
+/// Returns the process exit code: 0, 1 for an orbis::Error (printed), 2 for usage (printed).
+int runWithFramebuffer(int argc, char** argv, const ExampleSettings& defaults,
+                       const std::function<void(Context&, Framebuffer&, const ExampleSettings&)>& body)
 {
-    ExampleSettings settings;
-    settings.output = defaultOutput;
+    ExampleSettings settings = defaults;
     for (int i = 1; i < argc; ++i) {
         const bool hasValue = i + 1 < argc;
         if (std::strcmp(argv[i], "--out") == 0 && hasValue) {
@@ -33,6 +43,22 @@ int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
         Device device;
         Context& context = device.context();
         Framebuffer framebuffer = context.createFramebuffer(settings.width, settings.height);
+        body(context, framebuffer, settings);
+        return 0;
+    } catch (const Error& error) {
+        std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
+        return 1;
+    }
+}
+
+} // namespace
+
+int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
+                    const std::function<void(Scene&, const ExampleSettings&)>& setup)
+{
+    ExampleSettings defaults;
+    defaults.output = defaultOutput;
+    auto render = [&](Context& context, Framebuffer& framebuffer, const ExampleSettings& settings) {
         context.setFramebuffer(&framebuffer);
         Scene scene;
         scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T12:00:00Z")));
@@ -41,11 +67,30 @@ int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
         writePng(context.readPixels(), settings.output);
         std::printf("%s: %dx%d\n%s", settings.output.c_str(), settings.width, settings.height,
                     statistics.toText().c_str());
-        return 0;
-    } catch (const Error& error) {
-        std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
-        return 1;
-    }
+    };
+    return runWithFramebuffer(argc, argv, defaults, render);
+}
+
+int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
+                    const std::function<ExampleTile(Context&, std::size_t tile, const ExampleSettings&)>& renderTile)
+{
+    auto render = [&](Context& context, Framebuffer& framebuffer, const ExampleSettings& settings) {
+        const float width = static_cast<float>(settings.width);
+        const float height = static_cast<float>(settings.height);
+        const float captionSize = std::clamp(std::min(width / 25.0f, height / 18.0f), 6.5f, 13.0f);
+        std::vector<Image> tiles;
+        for (std::size_t i = 0; i < tileCount; ++i) {
+            context.setFramebuffer(&framebuffer); // again for each tile, whatever the last one left set
+            ExampleTile tile = renderTile(context, i, settings);
+            drawCaption(tile.image, 4, 3, tile.caption, captionSize);
+            tiles.push_back(std::move(tile.image));
+        }
+        context.setFramebuffer(nullptr);
+        writePng(composeTiles(tiles, 3), settings.output);
+        std::printf("%s: %d tiles of %dx%d\n", settings.output.c_str(), static_cast<int>(tiles.size()),
+                    settings.width, settings.height);
+    };
+    return runWithFramebuffer(argc, argv, defaults, render);
 }
 
 std::string naturalEarthPyramid()
@@ -61,6 +106,22 @@ std::string xplanetDayImage()
 std::string xplanetNightImage()
 {
     return "/usr/share/xplanet/images/night.jpg";
+}
+
+std::shared_ptr<BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const CsvPoints& cities,
+                                                    const Image& dot)
+{
+    auto billboards = std::make_shared<BillboardCollection>();
+    const std::size_t image = billboards->addImage(dot);
+    billboards->reserve(cities.size());
+    for (const Geodetic3D& position : cities.positions) {
+        Billboard b;
+        b.position = ellipsoid.toCartesian(position);
+        b.image = image;
+        b.color = {1.0f, 0.8f, 0.3f, 0.6f};
+        billboards->add(b);
+    }
+    return billboards;
 }
 
 void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye)

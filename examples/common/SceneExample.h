@@ -1,12 +1,20 @@
 #pragma once
 
 // What every scene example shares: arguments, a headless device, a framebuffer, one frame of a
-// Scene written to a PNG, and the frame statistics printed.
+// Scene (or a row of captioned tiles) written to a PNG, and the frame statistics printed.
 
+#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
 
+#include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
+
+namespace orbis {
+class BillboardCollection;
+struct CsvPoints;
+} // namespace orbis
 
 namespace orbis::examples {
 
@@ -21,12 +29,30 @@ struct ExampleSettings {
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
                     const std::function<void(Scene&, const ExampleSettings&)>& setup);
 
+/// One tile of a side-by-side example: its pixels and the caption written over them.
+struct ExampleTile {
+    Image image;
+    std::string caption; ///< lines split at '\n'
+};
+
+/// Parses the arguments as runSceneExample does (W x H: one tile; `defaults` where not given),
+/// calls `renderTile` for tiles 0 to tileCount - 1 with a W x H framebuffer set on the context,
+/// captions each tile (scaled with it, up to 13 pixels) and writes them three to a row as one PNG.
+/// Returns the process exit code as runSceneExample does.
+int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
+                    const std::function<ExampleTile(Context&, std::size_t tile, const ExampleSettings&)>& renderTile);
+
 /// The Natural Earth II TMS pyramid in data/imagery.
 std::string naturalEarthPyramid();
 
 /// The day and night Earth images of Debian's xplanet-images package.
 std::string xplanetDayImage();
 std::string xplanetNightImage();
+
+/// Every point of `cities` as a billboard of `dot` in one collection, tinted the chapter 9 example's
+/// amber (the bench times the same collection).
+std::shared_ptr<BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const CsvPoints& cities,
+                                                    const Image& dot);
 
 /// A camera looking at the Earth's centre from a geodetic position.
 void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye);

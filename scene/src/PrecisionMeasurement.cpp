@@ -3,6 +3,7 @@
 #include "orbis/scene/MeshPrimitive.h"
 #include "orbis/scene/Scene.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EmulatedDouble.h>
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Context.h>
@@ -43,17 +44,6 @@ Mesh facingSquare(const glm::dvec3& eye, double distance, double half, double ti
     Mesh mesh;
     mesh.positions = {at(half, -half), at(-half, -half), at(-half, half), at(half, half)};
     mesh.indices = {0, 1, 2, 0, 2, 3};
-    return mesh;
-}
-
-Mesh cubeMesh(const glm::dvec3& centre, double half)
-{
-    Mesh mesh;
-    for (int i = 0; i < 8; ++i) {
-        mesh.positions.push_back(centre + half * glm::dvec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1));
-    }
-    mesh.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
-                    2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
     return mesh;
 }
 
@@ -184,8 +174,8 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
             // Up and to the right on screen (screen right is world -x), clear of the counted pixels.
             const double d = options.nearObjectDistance;
             const double e = d * std::tan(0.5 * fieldOfView);
-            scene.add(std::make_shared<MeshPrimitive>(cubeMesh(eye + glm::dvec3(-0.75 * e, 0.75 * e, d), 0.04 * d),
-                                                      glm::vec4(1, 1, 1, 1), Pass::Opaque, exact));
+            const Mesh cube = BoxTessellator::cube(eye + glm::dvec3(-0.75 * e, 0.75 * e, d), 0.04 * d);
+            scene.add(std::make_shared<MeshPrimitive>(cube, glm::vec4(1, 1, 1, 1), Pass::Opaque, exact));
         }
         Framebuffer* previous = context.framebuffer();
         Framebuffer framebuffer = context.createFramebuffer(options.size, options.size);

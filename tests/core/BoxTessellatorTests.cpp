@@ -50,3 +50,19 @@ TEST_CASE("BoxTessellator deviation is the corners' distance from the ellipsoid"
     REQUIRE(*BoxTessellator::compute(earth).maxDeviationMeters ==
             Approx(earth.toGeodetic3D(earth.radii()).height).epsilon(1e-14));
 }
+
+TEST_CASE("BoxTessellator::cube has 8 corners around its centre and 12 outward triangles", "[core][tessellation]")
+{
+    const glm::dvec3 centre(6378137.0, -20.0, 0.5);
+    const Mesh cube = BoxTessellator::cube(centre, 2.0);
+    REQUIRE(cube.positions.size() == 8);
+    REQUIRE(cube.triangleCount() == 12);
+    REQUIRE(cube.normals.empty());
+    test::requireClosed(cube);
+    Mesh atOrigin = cube; // outward is away from the origin for the check
+    for (glm::dvec3& p : atOrigin.positions) {
+        REQUIRE(glm::abs(p - centre) == glm::dvec3(2.0)); // exact: the offsets are powers of two here
+        p -= centre;
+    }
+    test::requireOutwardAndNonDegenerate(atOrigin, 0.99);
+}

@@ -10,11 +10,8 @@ using Catch::Matchers::Contains;
 
 TEST_CASE("Drawing the same command again issues only the draw call", "[renderer][context][shadowing]")
 {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(16, 16);
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    test::QuadFixture quad(16);
+    auto& [device, context, framebuffer, program, array] = quad;
     DrawCommand command = test::makeCommand(array, program, framebuffer, {1.0f, 0.0f, 0.0f, 1.0f});
 
     context.draw(command);
@@ -36,11 +33,8 @@ TEST_CASE("Drawing the same command again issues only the draw call", "[renderer
 
 TEST_CASE("Changing one part of the render state changes only that part", "[renderer][context][shadowing]")
 {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(16, 16);
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    test::QuadFixture quad(16);
+    auto& [device, context, framebuffer, program, array] = quad;
     DrawCommand opaque = test::makeCommand(array, program, framebuffer, {1.0f, 0.0f, 0.0f, 1.0f});
     DrawCommand blended = opaque;
     blended.renderState.blending = Blending::alphaBlending();
@@ -70,11 +64,8 @@ TEST_CASE("Changing one part of the render state changes only that part", "[rend
 
 TEST_CASE("Drawing with no program or no vertex array is a clear error", "[renderer][context][errors]")
 {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(8, 8);
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    test::QuadFixture quad(8);
+    auto& [device, context, framebuffer, program, array] = quad;
 
     DrawCommand command;
     command.debugName = "empty";
@@ -89,11 +80,8 @@ TEST_CASE("Drawing with no program or no vertex array is a clear error", "[rende
 
 TEST_CASE("Uniforms never set, unknown or of the wrong type are clear errors", "[renderer][context][errors]")
 {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(8, 8);
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    test::QuadFixture quad(8);
+    auto& [device, context, framebuffer, program, array] = quad;
 
     DrawCommand command;
     command.debugName = "unset";
@@ -152,11 +140,8 @@ TEST_CASE("Statistics count draws, primitives by type and clears until reset", "
 
 TEST_CASE("After resetState the next draw sets every state item and binding again", "[renderer][context][shadowing]")
 {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(8, 8);
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+    test::QuadFixture quad(8);
+    auto& [device, context, framebuffer, program, array] = quad;
     const DrawCommand command = test::makeCommand(array, program, framebuffer, {0, 1, 0, 1});
     context.clear(ClearState{}, &framebuffer);
     context.draw(command);

@@ -10,16 +10,28 @@
 using namespace orbis;
 using Catch::Matchers::Contains;
 
+namespace {
+
+/// A new width x height framebuffer on the shared device, cleared to `color`.
+Framebuffer clearedFramebuffer(int width, int height, const glm::vec4& color)
+{
+    Context& context = test::sharedDevice().context();
+    Framebuffer framebuffer = context.createFramebuffer(width, height);
+    ClearState clear;
+    clear.color = color;
+    context.clear(clear, &framebuffer);
+    return framebuffer;
+}
+
+} // namespace
+
 TEST_CASE("A framebuffer of any size clears to the colour and reads back", "[renderer][framebuffer]")
 {
     const auto [width, height] = GENERATE(table<int, int>({{1, 1}, {37, 19}, {300, 7}, {64, 64}}));
     Context& context = test::sharedDevice().context();
-    Framebuffer framebuffer = context.createFramebuffer(width, height);
+    Framebuffer framebuffer = clearedFramebuffer(width, height, {0.2f, 0.4f, 0.6f, 0.8f});
     CHECK(framebuffer.width() == width);
     CHECK(framebuffer.height() == height);
-    ClearState clear;
-    clear.color = {0.2f, 0.4f, 0.6f, 0.8f};
-    context.clear(clear, &framebuffer);
     const Image image = context.readPixels(&framebuffer);
     REQUIRE(image.width == width);
     REQUIRE(image.height == height);
@@ -31,10 +43,7 @@ TEST_CASE("A framebuffer of any size clears to the colour and reads back", "[ren
 TEST_CASE("readPixels returns the rows top to bottom", "[renderer][framebuffer]")
 {
     Context& context = test::sharedDevice().context();
-    Framebuffer framebuffer = context.createFramebuffer(16, 16);
-    ClearState blue;
-    blue.color = {0.0f, 0.0f, 1.0f, 1.0f};
-    context.clear(blue, &framebuffer);
+    Framebuffer framebuffer = clearedFramebuffer(16, 16, {0.0f, 0.0f, 1.0f, 1.0f}); // blue
     ClearState redBottom; // GL counts rows from the bottom: the scissor keeps the lower 4 rows
     redBottom.color = {1.0f, 0.0f, 0.0f, 1.0f};
     redBottom.scissorTest = {true, {0, 0, 16, 4}};
@@ -50,10 +59,7 @@ TEST_CASE("readPixels returns the rows top to bottom", "[renderer][framebuffer]"
 TEST_CASE("A framebuffer writes a PNG that reads back the same", "[renderer][framebuffer]")
 {
     Context& context = test::sharedDevice().context();
-    Framebuffer framebuffer = context.createFramebuffer(8, 5);
-    ClearState clear;
-    clear.color = {1.0f, 0.5f, 0.0f, 1.0f};
-    context.clear(clear, &framebuffer);
+    Framebuffer framebuffer = clearedFramebuffer(8, 5, {1.0f, 0.5f, 0.0f, 1.0f});
     const Image image = context.readPixels(&framebuffer);
     const auto path = std::filesystem::temp_directory_path() /
                       ("orbis-framebuffer-test-" + std::to_string(getpid()) + ".png"); // parallel runs apart
@@ -97,11 +103,7 @@ TEST_CASE("Drawing or clearing with no framebuffer on a headless context is a cl
 
 TEST_CASE("A colour attachment can be read as a texture after rendering into it", "[renderer][framebuffer]")
 {
-    Context& context = test::sharedDevice().context();
-    Framebuffer framebuffer = context.createFramebuffer(4, 4);
-    ClearState clear;
-    clear.color = {0.0f, 1.0f, 0.0f, 1.0f};
-    context.clear(clear, &framebuffer);
+    const Framebuffer framebuffer = clearedFramebuffer(4, 4, {0.0f, 1.0f, 0.0f, 1.0f});
     const Image image = framebuffer.colorAttachment(0)->copyToImage();
     CHECK(test::pixelNear(image, 3, 3, {0, 255, 0, 255}));
 }

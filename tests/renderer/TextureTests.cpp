@@ -29,33 +29,8 @@ std::vector<T> valuesOf(const std::vector<std::byte>& bytes)
     return values;
 }
 
-/// A textured quad: og_texture0 at the texture coordinates times u_scale.
-ShaderProgramDescription texturedDescription()
-{
-    ShaderProgramDescription description;
-    description.name = "textured";
-    description.vertex = ShaderSource::fromText("textured.vert.glsl", R"(
-in vec4 position;
-in vec2 textureCoordinate;
-out vec2 v_textureCoordinate;
-uniform float u_scale;
-void main() { v_textureCoordinate = textureCoordinate * u_scale; gl_Position = position; }
-)");
-    description.fragment = ShaderSource::fromText("textured.frag.glsl", R"(
-in vec2 v_textureCoordinate;
-out vec4 fragmentColor;
-uniform sampler2D og_texture0;
-void main() { fragmentColor = texture(og_texture0, v_textureCoordinate); }
-)");
-    return description;
-}
-
-struct TexturedFixture {
-    Device& device = test::sharedDevice();
-    Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(16, 16);
-    ShaderProgram program = device.createShaderProgram(texturedDescription());
-    VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
+struct TexturedFixture : test::QuadFixture {
+    TexturedFixture() : QuadFixture(16, test::texturedDescription()) {}
 
     Image draw(const Texture2D& texture, const Sampler* sampler, float scale = 1.0f)
     {
@@ -253,7 +228,7 @@ TEST_CASE("Textures on several units reach the sampler uniforms of those units",
 {
     Device& device = test::sharedDevice();
     Context& context = device.context();
-    ShaderProgramDescription description = texturedDescription();
+    ShaderProgramDescription description = test::texturedDescription();
     description.fragment = ShaderSource::fromText("two.frag.glsl", R"(
 in vec2 v_textureCoordinate;
 out vec4 fragmentColor;

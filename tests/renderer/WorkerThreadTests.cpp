@@ -21,25 +21,6 @@ struct Loaded {
     Fence fence;
 };
 
-ShaderProgramDescription texturedDescription()
-{
-    ShaderProgramDescription description;
-    description.name = "textured (worker)";
-    description.vertex = ShaderSource::fromText("worker.vert.glsl", R"(
-in vec4 position;
-in vec2 textureCoordinate;
-out vec2 v_textureCoordinate;
-void main() { v_textureCoordinate = textureCoordinate; gl_Position = position; }
-)");
-    description.fragment = ShaderSource::fromText("worker.frag.glsl", R"(
-in vec2 v_textureCoordinate;
-out vec4 fragmentColor;
-uniform sampler2D og_texture0;
-void main() { fragmentColor = texture(og_texture0, v_textureCoordinate); }
-)");
-    return description;
-}
-
 } // namespace
 
 TEST_CASE("A texture and a program made on a worker thread are drawn by the main context", "[renderer][worker]")
@@ -60,7 +41,7 @@ TEST_CASE("A texture and a program made on a worker thread are drawn by the main
             Image image(2, 2, 4);
             image.pixels = {255, 0, 0, 255, 0, 255, 0, 255,    // top: red, green
                             0, 0, 255, 255, 255, 255, 0, 255}; // bottom: blue, yellow
-            Loaded loaded{device.createTexture2D(image), device.shaderCache().get(texturedDescription()),
+            Loaded loaded{device.createTexture2D(image), device.shaderCache().get(test::texturedDescription()),
                           device.createFence()};
             context->flush();
             context->releaseCurrent();
@@ -76,7 +57,7 @@ TEST_CASE("A texture and a program made on a worker thread are drawn by the main
     loaded.fence.serverWait();
     CHECK(loaded.fence.clientWait() == Fence::Status::Signaled);
     CHECK(loaded.fence.signaled());
-    CHECK(device.shaderCache().get(texturedDescription()) == loaded.program); // compiled once, on the worker
+    CHECK(device.shaderCache().get(test::texturedDescription()) == loaded.program); // compiled once, on the worker
 
     Context& context = device.context();
     Framebuffer framebuffer = context.createFramebuffer(16, 16);
@@ -90,6 +71,7 @@ TEST_CASE("A texture and a program made on a worker thread are drawn by the main
     command.vertexArray = &array;
     command.shaderProgram = loaded.program.get();
     command.framebuffer = &framebuffer;
+    command.uniforms.set("u_scale", 1.0f);
     command.textures.push_back({0, &loaded.texture, &sampler});
     context.clear(ClearState{}, &framebuffer);
     context.draw(command);
@@ -102,11 +84,8 @@ TEST_CASE("A texture and a program made on a worker thread are drawn by the main
 
 TEST_CASE("Objects that belong to one context are refused by another", "[renderer][worker][errors]")
 {
-    Device& device = test::sharedDevice();
-    Context& main = device.context();
-    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
-    const VertexArray array = main.createVertexArray(test::fullScreenQuad(), program);
-    Framebuffer framebuffer = main.createFramebuffer(4, 4);
+    test::QuadFixture quad(4);
+    auto& [device, main, framebuffer, program, array] = quad;
 
     std::unique_ptr<Context> shared = device.createSharedContext();
     CHECK_FALSE(shared->isCurrent());

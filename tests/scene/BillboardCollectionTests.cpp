@@ -3,6 +3,7 @@
 #include "GoldenImage.h"
 #include "RendererTestSupport.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/CsvPoints.h>
@@ -449,7 +450,7 @@ TEST_CASE("A billboard on the surface shows whole over the globe, and with the d
 
         // A 200 km cube halfway along the line of sight covers the billboard (about 20 px wide).
         const glm::dvec3 halfway = 0.5 * (scene.camera().eye() + b.position);
-        scene.add(std::make_shared<MeshPrimitive>(orbis::test::cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 0);
         billboards->setDepthOptions({.depthTest = false});
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 35);

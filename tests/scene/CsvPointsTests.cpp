@@ -3,6 +3,7 @@
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
 
+#include "GeodeticChecks.h"
 #include "TempFiles.h"
 
 #include <catch2/catch.hpp>
@@ -12,21 +13,10 @@
 using namespace orbis;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
-using Catch::Matchers::WithinAbs;
 
 namespace {
 
 const std::filesystem::path kCities = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/geonames/cities.csv";
-
-// Degrees to radians is exact to a few ulps; 1e-12 rad is 6 micrometres on the ground.
-constexpr double kRadianTolerance = 1e-12;
-
-void checkPosition(const Geodetic3D& p, double longitudeDegrees, double latitudeDegrees, double heightMeters = 0.0)
-{
-    CHECK_THAT(p.longitude, WithinAbs(toRadians(longitudeDegrees), kRadianTolerance));
-    CHECK_THAT(p.latitude, WithinAbs(toRadians(latitudeDegrees), kRadianTolerance));
-    CHECK(p.height == heightMeters);
-}
 
 std::size_t indexOf(const std::vector<std::string>& column, std::string_view value)
 {
@@ -51,13 +41,13 @@ TEST_CASE("loadCsvPoints reads all 171075 GeoNames cities with the default colum
     // The first row: "Vila",42.53176,1.56654,AD
     CHECK((*names)[0] == "Vila");
     CHECK((*countries)[0] == "AD");
-    checkPosition(cities.positions[0], 1.56654, 42.53176);
+    test::checkPosition(cities.positions[0], 1.56654, 42.53176);
 
     // A quoted name with a comma, and UTF-8 kept byte for byte.
     const std::size_t gjader = indexOf(*names, "Gjad\xC3\xABr, Dajc");
     REQUIRE(gjader < cities.size());
     CHECK((*countries)[gjader] == "AL");
-    checkPosition(cities.positions[gjader], 19.59139, 41.88);
+    test::checkPosition(cities.positions[gjader], 19.59139, 41.88);
 }
 
 TEST_CASE("parseCsvPoints follows RFC 4180 quoting, line ends and a byte-order mark", "[scene][csv]")
@@ -80,8 +70,8 @@ TEST_CASE("parseCsvPoints follows RFC 4180 quoting, line ends and a byte-order m
     CHECK(notes[2].empty());
     CHECK(names[3].empty());
     CHECK(notes[3] == "last without a line end");
-    checkPosition(points.positions[0], -72.2, 46.3);
-    checkPosition(points.positions[2], -46.63, -23.55);
+    test::checkPosition(points.positions[0], -72.2, 46.3);
+    test::checkPosition(points.positions[2], -46.63, -23.55);
 }
 
 TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and chosen properties", "[scene][csv]")
@@ -98,8 +88,8 @@ TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and
     options.delimiter = ';';
     const CsvPoints points = parseCsvPoints(text, "points.csv", options);
     REQUIRE(points.size() == 2);
-    checkPosition(points.positions[0], 10.5, -20.25, 1200.0);
-    checkPosition(points.positions[1], -180, 90, -5.5);
+    test::checkPosition(points.positions[0], 10.5, -20.25, 1200.0);
+    test::checkPosition(points.positions[1], -180, 90, -5.5);
     CHECK(points.propertyNames == std::vector<std::string>{"label", "id"});
     CHECK(points.properties[0] == std::vector<std::string>{"first", "second"});
     CHECK(points.properties[1] == std::vector<std::string>{"a", "b"});

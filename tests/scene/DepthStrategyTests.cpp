@@ -5,6 +5,7 @@
 
 #include "RendererTestSupport.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/Globe.h>
@@ -99,8 +100,8 @@ TEST_CASE("Auto runs one multi-frustum frustum for a globe from orbit and comple
     // A satellite 1 km from an eye 40,000 km out: far / near about 5e4, two multi-frustum frustums.
     const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7 + 1000.0));
     scene.camera().lookAt(eye, glm::dvec3(0), {0, 0, 1});
-    scene.add(std::make_shared<MeshPrimitive>(cube(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7)), 20.0),
-                                              glm::vec4(1, 0, 0, 1)));
+    const Mesh satellite = BoxTessellator::cube(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 4e7)), 20.0);
+    scene.add(std::make_shared<MeshPrimitive>(satellite, glm::vec4(1, 0, 0, 1)));
     const FrameStatistics wide = renderFrame(scene, 32, 32).statistics;
     // Complementary where the driver has glClipControl; logarithmic (every primitive here writes
     // it) where it does not (the ctest run with MESA_EXTENSION_OVERRIDE=-GL_ARB_clip_control).
@@ -205,7 +206,7 @@ TEST_CASE("No tears where multi-frustums meet: ground crossing the boundary show
     // Ground 200 m below, from 2 m to 20 km: it spans the boundary near 1,000 m (the cube 1 m ahead
     // makes the first frustum start there).
     scene.add(std::make_shared<MeshPrimitive>(ground(-200.0, 2.0, 20e3, 20e3), glm::vec4(0, 1, 0, 1)));
-    scene.add(std::make_shared<MeshPrimitive>(cube({0.5, 0.5, -1.2}, 0.05), glm::vec4(1, 1, 1, 1)));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0.5, 0.5, -1.2}, 0.05), glm::vec4(1, 1, 1, 1)));
     constexpr int size = 128;
     const RenderedFrame frame = renderFrame(scene, size, size);
     REQUIRE(frame.statistics.frustums.size() == 2);
@@ -231,7 +232,7 @@ TEST_CASE("A translucent surface spanning two overlapping frustums is blended on
     scene.camera().lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
     scene.add(std::make_shared<MeshPrimitive>(ground(-200.0, 2.0, 20e3, 20e3), glm::vec4(1, 0, 0, 0.5),
                                               Pass::Translucent));
-    scene.add(std::make_shared<MeshPrimitive>(cube({0.5, 0.5, -1.2}, 0.05), glm::vec4(1, 1, 1, 1)));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0.5, 0.5, -1.2}, 0.05), glm::vec4(1, 1, 1, 1)));
     constexpr int size = 128;
     const RenderedFrame frame = renderFrame(scene, size, size);
     REQUIRE(frame.statistics.frustums.size() == 2);
@@ -278,7 +279,8 @@ TEST_CASE("The ray-cast globe writes its depth under every strategy: a patch 20 
         // Something 10 m from the eye: the frame spans 10 m to 1,000 km, three decades and more.
         const glm::dvec3 down = glm::normalize(kEarth.toCartesian(below) - eye);
         const glm::dvec3 side = glm::normalize(glm::cross(down, glm::dvec3(0, 0, 1)));
-        scene.add(std::make_shared<MeshPrimitive>(cube(eye + 10.0 * down + 3.5 * side, 0.2), glm::vec4(1, 1, 1, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(eye + 10.0 * down + 3.5 * side, 0.2),
+                                                  glm::vec4(1, 1, 1, 1)));
         constexpr int size = 96;
         const RenderedFrame frame = renderFrame(scene, size, size);
         CHECK(frame.statistics.depthStrategy == strategy);
@@ -310,7 +312,7 @@ TEST_CASE("Logarithmic depth per vertex puts a large triangle too far between it
         scene.add(std::make_shared<MeshPrimitive>(ground(-20.0, 2.0, 20e3, 20e3), glm::vec4(0, 1, 0, 1)));
         Mesh marker = ground(-21.0, 95.0, 105.0, 5.0);
         scene.add(std::make_shared<MeshPrimitive>(marker, glm::vec4(1, 0, 0, 1)));
-        scene.add(std::make_shared<MeshPrimitive>(cube({0.3, 0.3, -1.0}, 0.02), glm::vec4(1, 1, 1, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0.3, 0.3, -1.0}, 0.02), glm::vec4(1, 1, 1, 1)));
         return renderFrame(scene, 64, 64);
     };
     const glm::dvec3 markerCentre(0.0, -21.0, -100.0);
@@ -334,7 +336,7 @@ TEST_CASE("Under logarithmic depth a triangle reaching behind the eye is clipped
         scene.options().depthStrategy = strategy;
         scene.camera().lookAt({0, 0, 0}, {0, -0.2, -1}, {0, 1, 0});
         scene.add(std::make_shared<MeshPrimitive>(ground(-20.0, -50.0, 20e3, 20e3), glm::vec4(0, 1, 0, 1)));
-        scene.add(std::make_shared<MeshPrimitive>(cube({0.3, 0.3, -1.0}, 0.02), glm::vec4(1, 1, 1, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0.3, 0.3, -1.0}, 0.02), glm::vec4(1, 1, 1, 1)));
         const RenderedFrame frame = renderFrame(scene, 64, 64);
         INFO(depthStrategyName(strategy) << ": " << describePixel(frame.image, 32, 60) << " at the bottom, "
                                          << describePixel(frame.image, 5, 40) << " at the left");

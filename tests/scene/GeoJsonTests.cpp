@@ -3,6 +3,7 @@
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
 
+#include "GeodeticChecks.h"
 #include "TempFiles.h"
 
 #include <catch2/catch.hpp>
@@ -13,21 +14,10 @@
 using namespace orbis;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
-using Catch::Matchers::WithinAbs;
 
 namespace {
 
 const std::filesystem::path kDataDir = std::filesystem::path(ORBIS_SOURCE_DIR) / "data";
-
-// Degrees to radians and back is exact to a few ulps; 1e-12 rad is 6 micrometres on the ground.
-constexpr double kRadianTolerance = 1e-12;
-
-void checkPosition(const Geodetic3D& p, double longitudeDegrees, double latitudeDegrees, double heightMeters = 0.0)
-{
-    CHECK_THAT(p.longitude, WithinAbs(toRadians(longitudeDegrees), kRadianTolerance));
-    CHECK_THAT(p.latitude, WithinAbs(toRadians(latitudeDegrees), kRadianTolerance));
-    CHECK(p.height == heightMeters);
-}
 
 /// A FeatureCollection around the given feature texts.
 std::string collection(std::initializer_list<std::string> features)
@@ -75,7 +65,7 @@ TEST_CASE("loadGeoJson reads the 177 Natural Earth countries with names and vali
     REQUIRE(multi->polygons.size() == 2); // Fiji's two main islands at 1:110m
     const LinearRing& ring = multi->polygons[0].rings.at(0);
     REQUIRE(ring.size() == 9);
-    checkPosition(ring[0], 178.12438124381248, -17.505557252327606);
+    test::checkPosition(ring[0], 178.12438124381248, -17.505557252327606);
     CHECK(ring.front() == ring.back());
 }
 
@@ -115,7 +105,7 @@ TEST_CASE("parseGeoJson reads every geometry type, heights, holes and properties
 
     const Feature& point = result.features[0];
     CHECK(point.id == "7");
-    checkPosition(std::get<Point>(point.geometry->value).position, -180, 90, 12.5);
+    test::checkPosition(std::get<Point>(point.geometry->value).position, -180, 90, 12.5);
     CHECK(point.stringProperty("name") == "here");
     CHECK(point.numberProperty("population") == 1500.0);
     CHECK(std::get<bool>(*point.property("capital")) == true);
@@ -127,16 +117,16 @@ TEST_CASE("parseGeoJson reads every geometry type, heights, holes and properties
 
     const auto& multiPoint = std::get<MultiPoint>(result.features[1].geometry->value);
     REQUIRE(multiPoint.positions.size() == 2);
-    checkPosition(multiPoint.positions[1], 3, 4);
+    test::checkPosition(multiPoint.positions[1], 3, 4);
     CHECK(std::get<LineString>(result.features[2].geometry->value).positions.size() == 3);
     const auto& lines = std::get<MultiLineString>(result.features[3].geometry->value);
     REQUIRE(lines.lines.size() == 2);
-    checkPosition(lines.lines[1].positions[1], 7, 8);
+    test::checkPosition(lines.lines[1].positions[1], 7, 8);
 
     const auto& withHole = std::get<Polygon>(result.features[4].geometry->value);
     REQUIRE(withHole.rings.size() == 2);
     CHECK(withHole.rings[0].size() == 5);
-    checkPosition(withHole.rings[1][1], 2, 4);
+    test::checkPosition(withHole.rings[1][1], 2, 4);
 
     CHECK(std::get<MultiPolygon>(result.features[5].geometry->value).polygons.size() == 2);
     const auto& geometries = std::get<GeometryCollection>(result.features[6].geometry->value).geometries;

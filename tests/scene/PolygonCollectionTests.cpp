@@ -21,16 +21,8 @@ using Catch::Matchers::WithinAbs;
 namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
-const glm::vec4 kBlue(0.0f, 0.0f, 1.0f, 1.0f);
-const glm::ivec4 kBluePixel(0, 0, 255, 255);
 const glm::vec4 kOrange(1.0f, 0.5f, 0.0f, 1.0f);
 const glm::ivec4 kOrangePixel(255, 128, 0, 255);
-
-void lookDownAt(Scene& scene, const Geodetic3D& below, double height)
-{
-    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D(below.longitude, below.latitude, height)),
-                          kEarth.toCartesian(below), {0, 0, 1});
-}
 
 /// Signed area of the spherical triangle a, b, c on the unit sphere (positive counter-clockwise
 /// seen from outside; Van Oosterom and Strackee's formula for the solid angle).

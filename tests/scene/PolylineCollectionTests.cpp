@@ -2,6 +2,7 @@
 #include "SceneTestSupport.h"
 #include "VectorTestSupport.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/scene/FeaturePrimitives.h>
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/scene/PolylineCollection.h>
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 using namespace orbis;
 using namespace orbis::test;
@@ -22,8 +24,6 @@ using Catch::Matchers::WithinAbs;
 namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
-const glm::vec4 kBlue(0.0f, 0.0f, 1.0f, 1.0f);
-const glm::ivec4 kBluePixel(0, 0, 255, 255);
 const glm::ivec4 kRedPixel(255, 0, 0, 255);
 
 /// The chord sag bound the class documents: a (a / b)^2 (1 - cos(g / 2)), with its 1% margin.
@@ -42,10 +42,15 @@ PolylineStyle solid(const glm::vec4& color, float width)
     return style;
 }
 
-void lookDownAt(Scene& scene, const Geodetic3D& below, double height)
+/// The unlit blue globe and, over it, a red line `widthPixels` wide through `positions` (closed
+/// when `loop`) in a collection of its own made with `options`.
+void addRedLineOverGlobe(Scene& scene, std::span<const Geodetic3D> positions, float widthPixels,
+                         const PolylineCollectionOptions& options = {}, bool loop = false)
 {
-    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D(below.longitude, below.latitude, height)),
-                          kEarth.toCartesian(below), {0, 0, 1});
+    auto lines = std::make_shared<PolylineCollection>(kEarth, options);
+    lines->add(positions, solid({1, 0, 0, 1}, widthPixels), loop);
+    scene.add(unlitGlobe(kEarth, kBlue));
+    scene.add(lines);
 }
 
 } // namespace
@@ -77,11 +82,8 @@ TEST_CASE("A polyline from 179 E to 179 W crosses the antimeridian the short way
 
     // Drawn: seen from over the antimeridian the line spans the view between its ends; seen from
     // over the prime meridian nothing of it shows, and its commands are culled below the horizon.
-    auto lines = std::make_shared<PolylineCollection>(kEarth);
-    lines->add(ends, solid({1, 0, 0, 1}, 5.0f));
     Scene scene(kEarth);
-    scene.add(unlitGlobe(kEarth, kBlue));
-    scene.add(lines);
+    addRedLineOverGlobe(scene, ends, 5.0f);
     const int size = 96;
     lookDownAt(scene, Geodetic3D::fromDegrees(180.0, 10.0), 1e6);
     const RenderedFrame across = renderFrame(scene, size, size);
@@ -218,16 +220,13 @@ TEST_CASE("Lines on the ray-cast globe win the depth test in a frustum 1000 time
         PolylineCollectionOptions options;
         options.granularityRadians = toRadians(0.02);
         options.depthOffset = depthOffset;
-        auto lines = std::make_shared<PolylineCollection>(kEarth, options);
         const Geodetic3D ends[] = {Geodetic3D::fromDegrees(-5, 0), Geodetic3D::fromDegrees(5, 0)};
-        lines->add(ends, solid({1, 0, 0, 1}, 3.0f));
         Scene scene(kEarth);
-        scene.add(unlitGlobe(kEarth, kBlue));
-        scene.add(lines);
+        addRedLineOverGlobe(scene, ends, 3.0f, options);
         scene.camera().lookAt(eye, kEarth.toCartesian(below), {0, 0, 1});
         // In a corner of the view, 10 km out.
         const glm::dvec3 marker = eye + 1e4 * glm::normalize(kEarth.toCartesian(below) - eye) + glm::dvec3(0, 3e3, 3e3);
-        scene.add(std::make_shared<MeshPrimitive>(cube(marker, 5.0), glm::vec4(0, 1, 0, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(marker, 5.0), glm::vec4(0, 1, 0, 1)));
         const RenderedFrame frame = renderFrame(scene, size, size);
         if (statistics) {
             *statistics = frame.statistics;
@@ -265,12 +264,9 @@ TEST_CASE("A wide line seen at a grazing angle keeps its whole width on the glob
         PolylineCollectionOptions options;
         options.granularityRadians = toRadians(0.01);
         options.depthOffset = depthOffset;
-        auto lines = std::make_shared<PolylineCollection>(kEarth, options);
         const Geodetic3D ends[] = {Geodetic3D::fromDegrees(-1, 0.54), Geodetic3D::fromDegrees(1, 0.54)};
-        lines->add(ends, solid({1, 0, 0, 1}, 9.0f));
         Scene scene(kEarth);
-        scene.add(unlitGlobe(kEarth, kBlue));
-        scene.add(lines);
+        addRedLineOverGlobe(scene, ends, 9.0f, options);
         scene.camera().lookAt(eye, target, {0, 0, 1});
         const Image image = renderFrame(scene, size, size).image;
         return countPixelsNear(image, kRedPixel, 2, size / 2, 0, size / 2 + 1, size);
@@ -291,12 +287,9 @@ TEST_CASE("A line running behind the eye is clipped at the near plane, not smear
     // over the eye.)
     PolylineCollectionOptions options;
     options.granularityRadians = toRadians(0.01);
-    auto lines = std::make_shared<PolylineCollection>(kEarth, options);
     const Geodetic3D ends[] = {Geodetic3D::fromDegrees(0, -1), Geodetic3D::fromDegrees(0, 1)};
-    lines->add(ends, solid({1, 0, 0, 1}, 5.0f));
     Scene scene(kEarth);
-    scene.add(unlitGlobe(kEarth, kBlue));
-    scene.add(lines);
+    addRedLineOverGlobe(scene, ends, 5.0f, options);
     scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 100)),
                           kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0.05, 0)), {0, 0, 1});
     const int size = 64;
@@ -353,13 +346,10 @@ TEST_CASE("Relative to centre and relative to eye draw the same lines", "[polyli
         PolylineCollectionOptions options;
         options.encoding = encoding;
         options.granularityRadians = toRadians(0.01);
-        auto lines = std::make_shared<PolylineCollection>(kEarth, options);
         const Geodetic3D square[] = {Geodetic3D::fromDegrees(2.30, 48.85), Geodetic3D::fromDegrees(2.36, 48.85),
                                      Geodetic3D::fromDegrees(2.36, 48.87), Geodetic3D::fromDegrees(2.30, 48.87)};
-        lines->add(square, solid({1, 0, 0, 1}, 4.0f), true);
         Scene scene(kEarth);
-        scene.add(unlitGlobe(kEarth, kBlue));
-        scene.add(lines);
+        addRedLineOverGlobe(scene, square, 4.0f, options, true);
         lookDownAt(scene, Geodetic3D::fromDegrees(2.33, 48.86), 8e3);
         return renderFrame(scene, 96, 96).image;
     };

@@ -1,6 +1,7 @@
 #pragma once
 
-// Scenes for tests: a framebuffer-backed frame, markers and satellites as small meshes.
+// Scenes for tests: a framebuffer-backed frame, flat squares as small meshes (cubes for markers
+// and satellites: BoxTessellator::cube).
 
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/renderer/Image.h>
@@ -11,9 +12,6 @@ namespace orbis::test {
 /// A flat square, halfSize metres from its centre to each side, in the local horizontal plane of a
 /// geodetic position (heights along the normal), counter-clockwise seen from above.
 Mesh horizontalSquare(const Ellipsoid& ellipsoid, const Geodetic3D& centre, double halfSize);
-
-/// An axis-aligned cube around a world position.
-Mesh cube(const glm::dvec3& centre, double halfSize);
 
 /// Renders one frame of the scene into a new width x height framebuffer of the shared device.
 struct RenderedFrame {

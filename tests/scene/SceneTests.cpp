@@ -2,6 +2,7 @@
 
 #include "RendererTestSupport.h"
 
+#include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/MeshPrimitive.h>
@@ -88,7 +89,7 @@ TEST_CASE("A satellite near the camera 40,000 km out adds frustums as the formul
     const FrameStatistics globeOnly = renderFrame(scene, 64, 64).statistics;
     REQUIRE(globeOnly.frustums.size() == 1);
 
-    auto satellite = std::make_shared<MeshPrimitive>(cube(satellitePosition, 20.0), kRed);
+    auto satellite = std::make_shared<MeshPrimitive>(BoxTessellator::cube(satellitePosition, 20.0), kRed);
     scene.add(satellite);
     const FrameStatistics withSatellite = renderFrame(scene, 64, 64).statistics;
     const double nearest = withSatellite.frustums.front().nearDistance;
@@ -193,9 +194,9 @@ TEST_CASE("A command straddling two frustums is drawn in each and counted once a
     // Bounding spheres of cubes reach sqrt(3) half-sizes: the nearest starts at 15 - 5 sqrt(3) m,
     // so the frustums meet 1000 times farther out; the third cube sits on that boundary.
     const double nearest = 15.0 - 5.0 * std::sqrt(3.0);
-    scene.add(std::make_shared<MeshPrimitive>(cube({0, 0, -15.0}, 5.0), kRed));
-    scene.add(std::make_shared<MeshPrimitive>(cube({0, 0, -100e3}, 1e3), kGreen));
-    scene.add(std::make_shared<MeshPrimitive>(cube({0, 0, -1000.0 * nearest}, 100.0), kRed));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0, 0, -15.0}, 5.0), kRed));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0, 0, -100e3}, 1e3), kGreen));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0, 0, -1000.0 * nearest}, 100.0), kRed));
     const FrameStatistics statistics = renderFrame(scene, 32, 32).statistics;
     REQUIRE(statistics.frustums.size() == 2);
     REQUIRE_THAT(statistics.frustums[0].nearDistance, Catch::Matchers::WithinRel(nearest, 1e-12));
@@ -209,8 +210,9 @@ TEST_CASE("Translucent commands draw after opaque ones and blend over them", "[s
     Scene scene(kEarth);
     scene.camera().lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0});
     // Submitted first but translucent: must still be blended over the opaque square behind it.
-    scene.add(std::make_shared<MeshPrimitive>(cube({0, 0, -10.0}, 1.0), glm::vec4(1, 0, 0, 0.5), Pass::Translucent));
-    scene.add(std::make_shared<MeshPrimitive>(cube({0, 0, -20.0}, 10.0), glm::vec4(0, 0, 1, 1)));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0, 0, -10.0}, 1.0), glm::vec4(1, 0, 0, 0.5),
+                                              Pass::Translucent));
+    scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube({0, 0, -20.0}, 10.0), glm::vec4(0, 0, 1, 1)));
     const RenderedFrame frame = renderFrame(scene, 32, 32);
     REQUIRE(frame.statistics.translucentPasses == 1);
     REQUIRE(frame.statistics.opaquePasses == 1);

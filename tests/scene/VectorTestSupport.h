@@ -1,12 +1,13 @@
 #pragma once
 
-// Helpers for the polyline and polygon tests: Natural Earth's countries, a plain globe, and
-// counting pixels of a colour.
+// Helpers for the polyline and polygon tests: Natural Earth's countries, a plain blue globe, a
+// camera looking straight down, and counting pixels of a colour.
 
 #include "RendererTestSupport.h"
 
 #include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/scene/Scene.h>
 
 #include <glm/common.hpp>
 
@@ -22,6 +23,10 @@ inline const FeatureCollection& countries110m()
     return countries;
 }
 
+/// The colour these tests draw the unlit globe in, and its pixel.
+inline const glm::vec4 kBlue(0.0f, 0.0f, 1.0f, 1.0f);
+inline const glm::ivec4 kBluePixel(0, 0, 255, 255);
+
 /// The ray-cast (or tessellated) globe in one unlit colour.
 inline std::shared_ptr<Globe> unlitGlobe(const Ellipsoid& ellipsoid, const glm::vec4& color,
                                          GlobeMethod method = GlobeMethod::RayCast)
@@ -31,6 +36,14 @@ inline std::shared_ptr<Globe> unlitGlobe(const Ellipsoid& ellipsoid, const glm::
     options.lighting = false;
     options.color = color;
     return std::make_shared<Globe>(ellipsoid, options);
+}
+
+/// The camera `height` metres straight above a point on the scene's ellipsoid, looking at it, +z up.
+inline void lookDownAt(Scene& scene, const Geodetic3D& below, double height)
+{
+    const Ellipsoid& ellipsoid = scene.ellipsoid();
+    scene.camera().lookAt(ellipsoid.toCartesian(Geodetic3D(below.longitude, below.latitude, height)),
+                          ellipsoid.toCartesian(below), {0, 0, 1});
 }
 
 /// Pixels whose every channel is within tolerance of the colour, in [x0, x1) x [y0, y1).

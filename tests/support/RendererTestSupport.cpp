@@ -40,6 +40,35 @@ void main() { fragmentColor = u_color; }
     return description;
 }
 
+ShaderProgramDescription texturedDescription()
+{
+    ShaderProgramDescription description;
+    description.name = "textured";
+    description.vertex = ShaderSource::fromText("test/textured.vert.glsl", R"(
+in vec4 position;
+in vec2 textureCoordinate;
+out vec2 v_textureCoordinate;
+uniform float u_scale;
+void main() { v_textureCoordinate = textureCoordinate * u_scale; gl_Position = position; }
+)");
+    description.fragment = ShaderSource::fromText("test/textured.frag.glsl", R"(
+in vec2 v_textureCoordinate;
+out vec4 fragmentColor;
+uniform sampler2D og_texture0;
+void main() { fragmentColor = texture(og_texture0, v_textureCoordinate); }
+)");
+    return description;
+}
+
+QuadFixture::QuadFixture(int size, const ShaderProgramDescription& description)
+    : device(sharedDevice()),
+      context(device.context()),
+      framebuffer(context.createFramebuffer(size, size)),
+      program(device.createShaderProgram(description)),
+      array(context.createVertexArray(fullScreenQuad(), program))
+{
+}
+
 glm::ivec4 pixelAt(const Image& image, int x, int y)
 {
     const std::uint8_t* p = image.pixel(x, y);

@@ -27,6 +27,25 @@ inline Mesh fullScreenQuad(double z = 0.0)
 /// "position" transformed by og_modelViewProjectionMatrix, coloured by uniform vec4 u_color.
 ShaderProgramDescription solidColorDescription();
 
+/// "position" as it is (clip coordinates), coloured by og_texture0 at "textureCoordinate" times
+/// uniform float u_scale (1: the texture once over a quad).
+ShaderProgramDescription texturedDescription();
+
+/// A size x size framebuffer on the shared device, a program and a full-screen quad for it: where
+/// most drawing tests start.
+///
+///     test::QuadFixture quad(16);
+///     auto& [device, context, framebuffer, program, array] = quad;
+struct QuadFixture {
+    explicit QuadFixture(int size, const ShaderProgramDescription& description = solidColorDescription());
+
+    Device& device;
+    Context& context;
+    Framebuffer framebuffer;
+    ShaderProgram program;
+    VertexArray array;
+};
+
 /// A pixel of an RGBA image (x from the left, y from the top).
 glm::ivec4 pixelAt(const Image& image, int x, int y);
 

@@ -2,6 +2,8 @@
 
 #include "orbis/core/Tessellation.h"
 
+#include <glm/vec3.hpp>
+
 namespace orbis {
 
 class Ellipsoid;
@@ -21,6 +23,11 @@ public:
     /// six face centres).
     static TessellationResult compute(const Ellipsoid& ellipsoid, VertexAttributes attributes = VertexAttributes::Position,
                                       Deviation deviation = Deviation::Measure);
+
+    /// An axis-aligned cube around `centre`, `halfSize` metres from it to each face (markers,
+    /// satellites, test objects): positions only, the 8 corners shared, 12 triangles
+    /// counter-clockwise seen from outside.
+    static Mesh cube(const glm::dvec3& centre, double halfSize);
 };
 
 } // namespace orbis
