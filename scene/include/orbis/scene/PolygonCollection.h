@@ -83,9 +83,9 @@ public:
 
 private:
     struct Item;
-    struct Gpu;
     void build(FrameState& frameState);
     void buildIndices(Device& device);
+    void writeColor(std::size_t index, std::vector<std::byte>& out) const;
 
     Ellipsoid _ellipsoid;
     PolygonCollectionOptions _options;
@@ -93,7 +93,7 @@ private:
     std::size_t _vertexCount = 0;
     std::size_t _triangleCount = 0;
     std::optional<BoundingSphere> _boundingSphere;
-    std::unique_ptr<Gpu> _gpu;
+    std::unique_ptr<detail::VectorBatch> _batch;
     bool _geometryDirty = true;
     bool _indicesDirty = true;
     std::vector<std::size_t> _colorDirty;

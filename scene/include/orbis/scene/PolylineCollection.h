@@ -16,6 +16,9 @@
 namespace orbis {
 
 class Geodesic;
+namespace detail {
+class VectorBatch;
+} // namespace detail
 
 /// How a vector collection's positions reach the GPU (ARCHITECTURE.md, precision rules).
 enum class VertexEncoding {
@@ -128,7 +131,6 @@ public:
 
 private:
     struct Line;
-    struct Gpu;
     void build(FrameState& frameState);
     void buildIndices(Device& device);
     void writeStyle(const Line& line, std::vector<std::byte>& out) const;
@@ -140,7 +142,7 @@ private:
     std::size_t _segmentCount = 0;
     std::optional<BoundingSphere> _boundingSphere;
     std::unique_ptr<const Geodesic> _geodesic; ///< CurveType::Geodesic only
-    std::unique_ptr<Gpu> _gpu;
+    std::unique_ptr<detail::VectorBatch> _batch;
     bool _geometryDirty = true;
     bool _indicesDirty = true;
     std::vector<std::size_t> _styleDirty; ///< lines whose style changed since the last upload
