@@ -17,6 +17,10 @@ namespace orbis {
 namespace {
 
 constexpr std::size_t kStyleBytes = 16; ///< colour, outline colour (4 bytes each), width, outline width (floats)
+/// Where vector.vert.glsl reads "outlineColor" and "widths": fixed, so that the one vertex array
+/// serves the program of every depth strategy.
+constexpr int kOutlineColorLocation = 6;
+constexpr int kWidthsLocation = 7;
 
 /// Depth-buffer steps and least fraction of the distance lines move towards the eye: four times
 /// the polygons' (PolygonCollection), so borders win over fills as well as over the globe.
@@ -202,14 +206,9 @@ void PolylineCollection::build(FrameState& frameState)
     VertexArray& vertexArray = batch.vertexArray();
     vertexArray.setAttribute(VertexAttributeLocation::Color, batch.attributes(),
                              {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 0});
-    if (const ShaderVertexAttribute* outline = batch.program(frameState).findVertexAttribute("outlineColor")) {
-        vertexArray.setAttribute(outline->location, batch.attributes(),
-                                 {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
-    }
-    if (const ShaderVertexAttribute* widths = batch.program(frameState).findVertexAttribute("widths")) {
-        vertexArray.setAttribute(widths->location, batch.attributes(),
-                                 {ComponentType::Float, 2, false, false, kStyleBytes, 8});
-    }
+    vertexArray.setAttribute(kOutlineColorLocation, batch.attributes(),
+                             {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
+    vertexArray.setAttribute(kWidthsLocation, batch.attributes(), {ComponentType::Float, 2, false, false, kStyleBytes, 8});
     _geometryDirty = false;
     _styleDirty.clear();
     buildIndices(frameState.device);

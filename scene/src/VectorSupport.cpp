@@ -160,7 +160,7 @@ RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcep
     return state;
 }
 
-ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye)
+ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
 {
     ShaderProgramDescription description;
     description.vertex = ShaderSource::embedded("scene/vector/vector.vert.glsl");
@@ -171,7 +171,13 @@ ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relati
         description.defines.push_back({"POLYLINE"});
     } else {
         description.name = "polygons";
+        if (strategy == DepthStrategy::LogarithmicVertex) {
+            description.geometry = ShaderSource::embedded("scene/vector/polygon.geom.glsl");
+        }
         description.fragment = ShaderSource::embedded("scene/vector/polygon.frag.glsl");
+    }
+    if (description.geometry) {
+        description.defines.push_back({"DEPTH_IN_GEOMETRY_SHADER"});
     }
     if (!relativeToEye) {
         description.defines.push_back({"RELATIVE_TO_CENTER"});
@@ -183,15 +189,10 @@ VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool rel
     : _ellipsoid(ellipsoid)
     , _shape(shape)
     , _relativeToEye(relativeToEye)
+    , _programs([shape, relativeToEye](DepthStrategy strategy, Pass) {
+        return vectorProgramDescription(shape, relativeToEye, strategy);
+    })
 {
-}
-
-ShaderProgram& VectorBatch::program(FrameState& frameState)
-{
-    if (!_program) {
-        _program = frameState.device.shaderCache().get(vectorProgramDescription(_shape, _relativeToEye));
-    }
-    return *_program;
 }
 
 void VectorBatch::build(FrameState& frameState, std::span<const VectorItem> items, std::size_t bytesPerVertex,
@@ -306,7 +307,6 @@ void VectorBatch::buildIndices(Device& device, const std::function<bool(std::siz
 void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands)
 {
     const bool lines = _shape == VectorShape::Polylines;
-    ShaderProgram& shaderProgram = program(frameState);
     const glm::dvec3 eye = frameState.camera.eye();
     const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Range& range : _ranges) {
@@ -318,7 +318,7 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
         command.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
         command.first = range.first;
         command.count = range.count;
-        command.shaderProgram = &shaderProgram;
+        command.shaderProgram = &_programs.get(frameState, range.pass);
         command.uniforms.set("u_depthOffset", depthOffset);
         // Fills cull their back faces; lines blend in both passes (anti-aliased edges).
         command.renderState = vectorRenderState(range.pass, !lines, lines);

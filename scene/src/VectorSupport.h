@@ -6,11 +6,12 @@
 
 #include "orbis/scene/FrameState.h"
 
+#include "DepthPrograms.h"
+
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/DrawCommand.h>
 #include <orbis/renderer/IndexBuffer.h>
-#include <orbis/renderer/ShaderProgram.h>
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
 
@@ -21,7 +22,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -99,9 +99,12 @@ struct VectorItem {
 /// primitive restart between lines) or filled triangles.
 enum class VectorShape : std::uint8_t { Polylines, Polygons };
 
-/// The program a VectorBatch draws with: shaders/scene/vector with the shape's stages and the
-/// encoding's define.
-ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye);
+/// The program a VectorBatch draws with under a depth strategy (before its depth defines):
+/// shaders/scene/vector with the shape's stages and the encoding's define. Depth is applied in a
+/// geometry shader where there is one (DEPTH_IN_GEOMETRY_SHADER): the polylines' always, and for
+/// polygons a pass-through one under LogarithmicVertex, which keeps each triangle's interpolated
+/// logarithm from falling behind its true depth (og_depthPrimitiveVertex).
+ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy);
 
 /// The GPU side PolylineCollection and PolygonCollection share: their items in groups by region
 /// (groupByRegion), the items' positions in one vertex buffer laid out group by group (relative to
@@ -132,12 +135,10 @@ public:
     /// range drawn in its pass.
     void buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
                       const IndexWriter& writeIndices);
-    /// Appends one command per range, tagged with the shape's effect, u_depthOffset set
-    /// (depthOffsetUniform).
+    /// Appends one command per range, tagged with the shape's effect, drawn with the program for
+    /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform).
     void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands);
 
-    /// The program, from the device's shader cache on first use.
-    ShaderProgram& program(FrameState& frameState);
     VertexArray& vertexArray() noexcept { return _vertexArray; }
     const VertexBuffer& attributes() const noexcept { return _attributes; }
 
@@ -158,7 +159,7 @@ private:
     Ellipsoid _ellipsoid;
     VectorShape _shape;
     bool _relativeToEye;
-    std::shared_ptr<ShaderProgram> _program;
+    DepthPrograms _programs;
     std::size_t _bytesPerVertex = 0;
     std::vector<Group> _groups;
     std::vector<Range> _ranges;

@@ -80,6 +80,8 @@ public:
     /// The sphere around every drawn position; none while no polygon has triangles.
     std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its fills write every DepthStrategy's depth, with their depth offset scaled to it.
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     struct Item;

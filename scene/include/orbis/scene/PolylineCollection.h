@@ -128,6 +128,8 @@ public:
     /// The sphere around every drawn position; none for an empty collection.
     std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its lines write every DepthStrategy's depth, with their depth offset scaled to it.
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     struct Line;
