@@ -441,6 +441,26 @@ std::vector<glm::dvec3> geodeticRectangle(double west, double south, double east
     return ring;
 }
 
+Image solidImage(int width, int height, const glm::ivec4& rgba)
+{
+    Image image(width, height, 4);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        image.pixels[i] = static_cast<std::uint8_t>(rgba[static_cast<int>(i % 4)]);
+    }
+    return image;
+}
+
+int countNear(const Image& image, const glm::ivec4& color, int tolerance)
+{
+    int count = 0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            count += pixelNear(image, x, y, color, tolerance) ? 1 : 0;
+        }
+    }
+    return count;
+}
+
 } // namespace
 
 TEST_CASE("Polygons and polylines on the globe show wherever they lie under every depth strategy, seen at a slant", "[scene][depth][polygon][polyline]")
@@ -569,6 +589,78 @@ TEST_CASE("A line running behind the eye is clipped at the near plane under ever
             ++rowsWithLine;
         }
         CHECK(rowsWithLine > 15);
+    }
+}
+
+TEST_CASE("Billboards and labels keep their pixels under every depth strategy, and their optional depth test", "[scene][depth][billboard][label]")
+{
+    // Straight down from 1,000 km: a 7 x 5 red billboard and a label above it. Without the depth
+    // test (the default) every strategy draws them alike, whatever stands in front; with it, they
+    // show whole over the globe (their depth taken 1e-3 of the distance nearer than the anchor:
+    // 1 km) and a 200 km cube halfway to them hides them. Single is spared the first: its 24 bits
+    // from 1 m to 1e10 m resolve 60 km at 1,000 km, so the 1 km is a tie the globe may win.
+    constexpr int size = 64;
+    const glm::dvec3 anchor = kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 0));
+    auto whitePixels = [](const Image& image) {
+        int count = 0;
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                const glm::ivec4 p = pixelAt(image, x, y);
+                count += p.r > 200 && p.g > 200 && p.b > 200 ? 1 : 0;
+            }
+        }
+        return count;
+    };
+    int referenceLabelPixels = -1;
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        Scene scene(kEarth);
+        scene.options().depthStrategy = strategy;
+        scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 1e6)), anchor, {0, 0, 1});
+        scene.add(blueGlobe());
+        auto billboards = std::make_shared<BillboardCollection>();
+        Billboard billboard;
+        billboard.position = anchor;
+        billboard.image = billboards->addImage(solidImage(7, 5, {255, 0, 0, 255}));
+        billboards->add(billboard);
+        scene.add(billboards);
+        auto labels = std::make_shared<LabelCollection>();
+        Label label;
+        label.position = anchor;
+        label.text = "ab";
+        label.fontSizePixels = 12.0f;
+        label.pixelOffset = {0, -4}; // clear of the billboard
+        labels->add(label);
+        scene.add(labels);
+        scene.add(cubeNearEye(scene, 10.0));
+
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        CHECK(frame.statistics.depthStrategy == strategy);
+        const int white = whitePixels(frame.image); // the label's fill
+        CHECK(countNear(frame.image, {255, 0, 0, 255}, 0) == 35);
+        CHECK(white > 10);
+        if (referenceLabelPixels < 0) {
+            referenceLabelPixels = white;
+        }
+        CHECK(white == referenceLabelPixels); // screen-space text: the same pixels whatever the depth
+
+        billboards->setDepthOptions({.depthTest = true});
+        labels->setDepthOptions({.depthTest = true});
+        if (strategy != DepthStrategy::Single) {
+            const RenderedFrame tested = renderFrame(scene, size, size);
+            CHECK(countNear(tested.image, {255, 0, 0, 255}, 0) == 35);
+            CHECK(whitePixels(tested.image) == white);
+        }
+        const glm::dvec3 halfway = 0.5 * (scene.camera().eye() + anchor);
+        scene.add(std::make_shared<MeshPrimitive>(cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
+        const RenderedFrame hidden = renderFrame(scene, size, size);
+        CHECK(countNear(hidden.image, {255, 0, 0, 255}, 0) == 0);
+        CHECK(whitePixels(hidden.image) == 0);
+        billboards->setDepthOptions({.depthTest = false});
+        labels->setDepthOptions({.depthTest = false});
+        const RenderedFrame untested = renderFrame(scene, size, size);
+        CHECK(countNear(untested.image, {255, 0, 0, 255}, 0) == 35);
+        CHECK(whitePixels(untested.image) == white);
     }
 }
 
