@@ -664,6 +664,41 @@ TEST_CASE("Billboards and labels keep their pixels under every depth strategy, a
     }
 }
 
+TEST_CASE("A model above the globe shows and one below it hides under every depth strategy", "[scene][depth][model]")
+{
+    // As "A model 500 m above the ray-cast globe shows", with something 5 m from the eye: the frame
+    // spans 5 m to 200 km. Scale 40: a 450 m aircraft.
+    constexpr int size = 64;
+    const Geodetic2D place = Geodetic2D::fromDegrees(-100.0, 40.0);
+    const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        for (const double height : {500.0, -500.0}) {
+            INFO("model " << height << " m above the ellipsoid");
+            Scene scene(kEarth);
+            scene.options().depthStrategy = strategy;
+            scene.add(blueGlobe());
+            const Geodetic3D position{place.longitude, place.latitude, height};
+            scene.add(ModelPrimitive::fromFile(aircraft, kEarth, ModelPlacement{position, {}, 40.0}));
+            const glm::dvec3 ground = kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 0.0});
+            scene.camera().lookAt(kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 3000.0}), ground,
+                                  {0, 0, 1});
+            scene.setSunDirection(kEarth.geodeticSurfaceNormal(ground)); // overhead: the fuselage white
+            scene.add(cubeNearEye(scene, 5.0));
+            const RenderedFrame frame = renderFrame(scene, size, size);
+            CHECK(frame.statistics.depthStrategy == strategy);
+            const glm::ivec2 p = projectToPixel(scene, kEarth.toCartesian(position), size, size);
+            const glm::ivec4 pixel = pixelAt(frame.image, p.x, p.y);
+            INFO(describePixel(frame.image, p.x, p.y));
+            if (height > 0.0) {
+                CHECK(pixel.r > 150); // the white fuselage, not the blue globe
+            } else {
+                CHECK(pixel == glm::ivec4(0, 0, 255, 255));
+            }
+        }
+    }
+}
+
 TEST_CASE("A translucent polygon spanning two overlapping frustums is blended once where they overlap", "[scene][depth][multifrustum][polygon]")
 {
     // As the mesh test above, with a translucent fill on the ellipsoid seen 45 degrees down: a
