@@ -758,3 +758,57 @@ TEST_CASE("A translucent polygon spanning two overlapping frustums is blended on
         CHECK(inOverlap > 50);
     }
 }
+
+TEST_CASE("Automatic picks complementary depth, or logarithmic without glClipControl, for a scene with vector layers, billboards, labels and a model", "[scene][depth]")
+{
+    // Every primitive now writes every strategy's depth: the rule's third branch applies to a frame
+    // holding them all. 3 km over the ground with a cube 2 m from the eye: 2 m to 200 km.
+    const Device& device = sharedDevice();
+    Scene scene(kEarth);
+    const Geodetic3D place = Geodetic3D::fromDegrees(-100.0, 40.0, 0.0);
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D(place.longitude, place.latitude, 3000.0)),
+                          kEarth.toCartesian(Geodetic3D::fromDegrees(-100.0, 40.05, 0.0)), {0, 0, 1});
+    scene.add(blueGlobe());
+    auto fills = std::make_shared<PolygonCollection>(kEarth);
+    const std::vector<std::vector<glm::dvec3>> rings = {geodeticRectangle(-100.1, 40.01, -99.9, 40.2)};
+    fills->add(rings, {1, 0.5f, 0, 0.6f});
+    scene.add(fills);
+    auto lines = std::make_shared<PolylineCollection>(kEarth);
+    const Geodetic3D border[] = {Geodetic3D::fromDegrees(-100.1, 40.1), Geodetic3D::fromDegrees(-99.9, 40.1)};
+    lines->add(border);
+    scene.add(lines);
+    auto billboards = std::make_shared<BillboardCollection>();
+    Billboard billboard;
+    billboard.position = kEarth.toCartesian(Geodetic3D::fromDegrees(-100.0, 40.08, 0.0));
+    billboard.image = billboards->addImage(solidImage(3, 3, {255, 255, 0, 255}));
+    billboards->add(billboard);
+    scene.add(billboards);
+    auto labels = std::make_shared<LabelCollection>();
+    Label label;
+    label.position = billboard.position;
+    label.text = "here";
+    labels->add(label);
+    scene.add(labels);
+    const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    scene.add(ModelPrimitive::fromFile(aircraft, kEarth, ModelPlacement{Geodetic3D::fromDegrees(-100.0, 40.06, 500.0), {}, 1.0}));
+    scene.add(cubeNearEye(scene, 2.0));
+    for (const std::shared_ptr<Primitive>& primitive : scene.primitives()) {
+        CHECK(primitive->supportsLogarithmicDepth());
+    }
+
+    const DepthStrategy expected = device.info().clipControl ? DepthStrategy::Complementary : DepthStrategy::Logarithmic;
+    const FrameStatistics first = renderFrame(scene, 64, 64).statistics;
+    CHECK(first.depthStrategyAutomatic);
+    CHECK(first.depthStrategy == expected);
+    CHECK(first.frustums.size() == 1);
+    // The variants are kept: a steady view compiles nothing, nor does a strategy seen before.
+    const FrameStatistics second = renderFrame(scene, 64, 64).statistics;
+    CHECK(second.depthStrategy == expected);
+    CHECK(second.programsCompiled == 0);
+    scene.options().depthStrategy = DepthStrategy::MultiFrustum;
+    CHECK(renderFrame(scene, 64, 64).statistics.frustums.size() == 2);
+    scene.options().depthStrategy = DepthStrategy::Automatic;
+    const FrameStatistics back = renderFrame(scene, 64, 64).statistics;
+    CHECK(back.depthStrategy == expected);
+    CHECK(back.programsCompiled == 0);
+}
