@@ -15,17 +15,19 @@ void setIfActive(DrawCommand& command, const char* name, const UniformValue& val
 
 } // namespace
 
-std::shared_ptr<ShaderProgram> billboardProgram(Device& device, bool label)
+std::unique_ptr<DepthPrograms> billboardPrograms(bool label)
 {
-    ShaderProgramDescription description;
-    description.name = label ? "label" : "billboard";
-    description.vertex = ShaderSource::embedded("scene/billboard/billboard.vert.glsl");
-    description.geometry = ShaderSource::embedded("scene/billboard/billboard.geom.glsl");
-    description.fragment = ShaderSource::embedded("scene/billboard/billboard.frag.glsl");
-    if (label) {
-        description.defines.push_back({"LABEL"});
-    }
-    return device.shaderCache().get(description);
+    return std::make_unique<DepthPrograms>([label](DepthStrategy, Pass) {
+        ShaderProgramDescription description;
+        description.name = label ? "label" : "billboard";
+        description.vertex = ShaderSource::embedded("scene/billboard/billboard.vert.glsl");
+        description.geometry = ShaderSource::embedded("scene/billboard/billboard.geom.glsl");
+        description.fragment = ShaderSource::embedded("scene/billboard/billboard.frag.glsl");
+        if (label) {
+            description.defines.push_back({"LABEL"});
+        }
+        return description;
+    });
 }
 
 void prepareBillboardCommand(DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,

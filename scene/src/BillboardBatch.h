@@ -6,6 +6,8 @@
 
 #include "orbis/scene/BillboardCollection.h"
 
+#include "DepthPrograms.h"
+
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/renderer/Context.h>
@@ -21,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -282,8 +285,9 @@ private:
 void prepareBillboardCommand(DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
                              const TextureAtlas& atlas);
 
-/// The billboard program (LABEL: the glyph variant), from the device's cache.
-std::shared_ptr<ShaderProgram> billboardProgram(Device& device, bool label);
+/// The billboard program (LABEL: the glyph variant) under every depth strategy: the quads keep
+/// their depth point's clip z and w, so the strategy applies to them as to any vertex.
+std::unique_ptr<DepthPrograms> billboardPrograms(bool label);
 
 /// Vertices in memory and their copy in a vertex buffer. Changed vertices are marked; upload()
 /// writes the marked ones in runs (gaps of up to kMergeGap unchanged vertices are rewritten

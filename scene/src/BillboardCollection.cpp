@@ -44,6 +44,7 @@ BillboardCollection::BillboardCollection(const BillboardCollectionOptions& optio
     , _batch(std::make_unique<detail::BillboardBatch<detail::BillboardVertex>>())
     , _bounds(std::make_unique<detail::BillboardBounds>())
     , _texture(std::make_unique<detail::AtlasTexture>())
+    , _programs(detail::billboardPrograms(false))
 {
 }
 
@@ -205,11 +206,9 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
     if (_billboards.empty()) {
         return;
     }
-    if (!_program) {
-        _program = detail::billboardProgram(frameState.device, false);
-    }
+    ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
     _lastUpload.textureBytesUploaded = _texture->synchronize(frameState.device, _atlas);
-    _batch->upload(frameState, *_program, _lastUpload);
+    _batch->upload(frameState, program, _lastUpload);
 
     std::vector<glm::dvec3> positions;
     if (_bounds->needsPositions(frameState.ellipsoid)) {
@@ -224,7 +223,7 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
     command.horizonOcclusionPoint = _bounds->refresh(frameState.ellipsoid, positions);
     command.boundingSphere = _bounds->sphere();
     command.vertexArray = _batch->vertexArray();
-    command.shaderProgram = _program.get();
+    command.shaderProgram = &program;
     command.count = _billboards.size();
     command.textures.push_back({0, _texture->texture(), nullptr});
     detail::prepareBillboardCommand(command, frameState, _options.depth, _atlas);

@@ -34,6 +34,7 @@ LabelCollection::LabelCollection(const LabelCollectionOptions& options)
     : _options(options)
     , _font(std::make_shared<Font>(options.fontPath))
     , _bounds(std::make_unique<detail::BillboardBounds>())
+    , _programs(detail::billboardPrograms(true))
 {
 }
 
@@ -258,11 +259,9 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
         if (batch->batch.vertices().empty()) {
             continue;
         }
-        if (!_program) {
-            _program = detail::billboardProgram(frameState.device, true);
-        }
+        ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
         _lastUpload.textureBytesUploaded += batch->texture.synchronize(frameState.device, batch->glyphs.atlas());
-        batch->batch.upload(frameState, *_program, _lastUpload);
+        batch->batch.upload(frameState, program, _lastUpload);
 
         DrawCommand command;
         command.debugName = "labels";
@@ -270,7 +269,7 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
         command.horizonOcclusionPoint = occlusionPoint;
         command.boundingSphere = _bounds->sphere();
         command.vertexArray = batch->batch.vertexArray();
-        command.shaderProgram = _program.get();
+        command.shaderProgram = &program;
         command.count = batch->batch.vertices().size();
         command.textures.push_back({0, batch->texture.texture(), nullptr});
         detail::prepareBillboardCommand(command, frameState, _options.depth, batch->glyphs.atlas());

@@ -2,6 +2,8 @@
 
 #include "orbis/scene/Effect.h"
 
+#include "DepthPrograms.h"
+
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/renderer/Context.h>
@@ -21,7 +23,7 @@ struct ModelPrimitive::Batch {
     BoundingSphere localSphere;
     BoundingSphere sphere; ///< world
     Pass pass = Pass::Opaque;
-    std::shared_ptr<ShaderProgram> program;
+    std::optional<detail::DepthPrograms> programs; ///< made with the other resources
     std::optional<VertexArray> vertexArray;
 };
 
@@ -128,7 +130,9 @@ void ModelPrimitive::createResources(FrameState& frameState)
     for (const GltfTexture& texture : _model.textures) {
         samplers.push_back(device.createSampler(texture.sampler));
     }
-    for (Batch& batch : _batches) {
+    std::vector<detail::DepthPrograms> programs;
+    std::vector<VertexArray> vertexArrays;
+    for (const Batch& batch : _batches) {
         const GltfMaterial& material = _model.materials[batch.material];
         ShaderProgramDescription description;
         description.name = "model";
@@ -145,8 +149,14 @@ void ModelPrimitive::createResources(FrameState& frameState)
         } else if (material.alphaMode == AlphaMode::Blend) {
             description.defines.push_back({"ALPHA_BLEND"});
         }
-        batch.program = device.shaderCache().get(description);
-        batch.vertexArray = frameState.context.createVertexArray(batch.mesh, *batch.program);
+        programs.emplace_back([description](DepthStrategy, Pass) { return description; });
+        // Standard attribute names only: the array fits the program of every depth strategy.
+        vertexArrays.push_back(
+            frameState.context.createVertexArray(batch.mesh, programs.back().get(frameState, batch.pass)));
+    }
+    for (std::size_t i = 0; i < _batches.size(); ++i) {
+        _batches[i].programs = std::move(programs[i]);
+        _batches[i].vertexArray = std::move(vertexArrays[i]);
     }
     // On the GPU now: the CPU copies go.
     _textures = std::move(textures);
@@ -165,13 +175,13 @@ void ModelPrimitive::update(FrameState& frameState, CommandList& commands)
     if (!_resourcesCreated) {
         createResources(frameState);
     }
-    for (const Batch& batch : _batches) {
+    for (Batch& batch : _batches) {
         const GltfMaterial& material = _model.materials[batch.material];
         DrawCommand command;
         command.debugName = "model";
         command.tags = _options.lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
         command.vertexArray = &*batch.vertexArray;
-        command.shaderProgram = batch.program.get();
+        command.shaderProgram = &batch.programs->get(frameState, batch.pass);
         command.modelMatrix = _modelMatrix;
         command.uniforms.set("u_baseColorFactor", material.baseColorFactor);
         if (material.alphaMode == AlphaMode::Mask) {

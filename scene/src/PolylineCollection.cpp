@@ -1,14 +1,11 @@
 #include "orbis/scene/PolylineCollection.h"
 
-#include "orbis/scene/Effect.h"
-
 #include "VectorSupport.h"
 
 #include <orbis/core/Geodesic.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
-#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -19,8 +16,11 @@ namespace orbis {
 
 namespace {
 
-constexpr std::uint32_t kRestartIndex = 0xFFFFFFFFu;
 constexpr std::size_t kStyleBytes = 16; ///< colour, outline colour (4 bytes each), width, outline width (floats)
+/// Where vector.vert.glsl reads "outlineColor" and "widths": fixed, so that the one vertex array
+/// serves the program of every depth strategy.
+constexpr int kOutlineColorLocation = 6;
+constexpr int kWidthsLocation = 7;
 
 /// Depth-buffer steps and least fraction of the distance lines move towards the eye: four times
 /// the polygons' (PolygonCollection), so borders win over fills as well as over the globe.
@@ -41,28 +41,6 @@ struct PolylineCollection::Line {
     bool loop = false;
     PolylineStyle style;
     BoundingSphere sphere;
-    std::size_t firstVertex = 0; ///< in the vertex buffers, once built
-};
-
-struct PolylineCollection::Gpu {
-    struct Group {
-        detail::GroupBounds bounds;
-        double maxHeight = 0.0;
-        std::vector<std::size_t> lines;
-    };
-    struct Range {
-        std::size_t group = 0;
-        Pass pass = Pass::Opaque;
-        std::size_t first = 0;
-        std::size_t count = 0;
-    };
-    std::shared_ptr<ShaderProgram> program;
-    VertexBuffer positions;
-    VertexBuffer styles;
-    IndexBuffer indices;
-    VertexArray vertexArray;
-    std::vector<Group> groups;
-    std::vector<Range> ranges;
 };
 
 PolylineCollection::PolylineCollection(const Ellipsoid& ellipsoid, const PolylineCollectionOptions& options)
@@ -217,117 +195,46 @@ void PolylineCollection::writeStyle(const Line& line, std::vector<std::byte>& ou
 
 void PolylineCollection::build(FrameState& frameState)
 {
-    Gpu& gpu = *_gpu;
-    const bool relativeToEye = _options.encoding == VertexEncoding::RelativeToEye;
-
-    // Groups by region, each with its culling volume (and centre, for RTC).
-    std::vector<std::size_t> drawable;
-    std::vector<BoundingSphere> spheres;
-    for (std::size_t i = 0; i < _lines.size(); ++i) {
-        if (_lines[i].positions.size() >= 2) {
-            drawable.push_back(i);
-            spheres.push_back(_lines[i].sphere);
-        }
+    detail::VectorBatch& batch = *_batch;
+    std::vector<detail::VectorItem> items;
+    items.reserve(_lines.size());
+    for (const Line& line : _lines) {
+        items.push_back({line.positions, line.sphere, line.maxHeight});
     }
-    gpu.groups.clear();
-    for (const std::vector<std::uint32_t>& members : detail::groupByRegion(_ellipsoid, spheres)) {
-        Gpu::Group group;
-        std::vector<glm::dvec3> positions;
-        for (const std::uint32_t member : members) {
-            const Line& line = _lines[drawable[member]];
-            group.lines.push_back(drawable[member]);
-            group.maxHeight = std::max(group.maxHeight, line.maxHeight);
-            positions.insert(positions.end(), line.positions.begin(), line.positions.end());
-        }
-        group.bounds = detail::boundsOf(_ellipsoid, positions);
-        gpu.groups.push_back(std::move(group));
-    }
-
-    // Vertices group by group.
-    std::vector<float> positionData;
-    positionData.reserve(_vertexCount * (relativeToEye ? 6 : 3));
-    std::vector<std::byte> styleData;
-    styleData.reserve(_vertexCount * kStyleBytes);
-    std::size_t vertex = 0;
-    for (const Gpu::Group& group : gpu.groups) {
-        for (const std::size_t index : group.lines) {
-            Line& line = _lines[index];
-            line.firstVertex = vertex;
-            vertex += line.positions.size();
-            for (const glm::dvec3& position : line.positions) {
-                detail::appendPosition(positionData, position, relativeToEye, group.bounds.sphere.centre);
-            }
-            writeStyle(line, styleData);
-        }
-    }
-    Device& device = frameState.device;
-    gpu.positions = device.createVertexBuffer(std::as_bytes(std::span(positionData)));
-    gpu.styles = device.createVertexBuffer(std::span<const std::byte>(styleData), BufferUsage::DynamicDraw);
-    gpu.vertexArray = frameState.context.createVertexArray();
-    if (relativeToEye) {
-        gpu.vertexArray.setAttribute(VertexAttributeLocation::PositionHigh, gpu.positions,
-                                     {ComponentType::Float, 3, false, false, 24, 0});
-        gpu.vertexArray.setAttribute(VertexAttributeLocation::PositionLow, gpu.positions,
-                                     {ComponentType::Float, 3, false, false, 24, 12});
-    } else {
-        gpu.vertexArray.setAttribute(VertexAttributeLocation::Position, gpu.positions, {ComponentType::Float, 3});
-    }
-    gpu.vertexArray.setAttribute(VertexAttributeLocation::Color, gpu.styles,
-                                 {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 0});
-    if (const ShaderVertexAttribute* outline = gpu.program->findVertexAttribute("outlineColor")) {
-        gpu.vertexArray.setAttribute(outline->location, gpu.styles,
-                                     {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
-    }
-    if (const ShaderVertexAttribute* widths = gpu.program->findVertexAttribute("widths")) {
-        gpu.vertexArray.setAttribute(widths->location, gpu.styles,
-                                     {ComponentType::Float, 2, false, false, kStyleBytes, 8});
-    }
+    batch.build(frameState, items, kStyleBytes,
+                [&](std::size_t index, std::vector<std::byte>& out) { writeStyle(_lines[index], out); });
+    VertexArray& vertexArray = batch.vertexArray();
+    vertexArray.setAttribute(VertexAttributeLocation::Color, batch.attributes(),
+                             {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 0});
+    vertexArray.setAttribute(kOutlineColorLocation, batch.attributes(),
+                             {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
+    vertexArray.setAttribute(kWidthsLocation, batch.attributes(), {ComponentType::Float, 2, false, false, kStyleBytes, 8});
     _geometryDirty = false;
     _styleDirty.clear();
-    buildIndices(device);
+    buildIndices(frameState.device);
 }
 
 void PolylineCollection::buildIndices(Device& device)
 {
-    Gpu& gpu = *_gpu;
-    std::vector<std::uint32_t> indices;
-    indices.reserve(_vertexCount + 4 * _lines.size());
-    gpu.ranges.clear();
-    for (std::size_t g = 0; g < gpu.groups.size(); ++g) {
-        for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
-            const std::size_t first = indices.size();
-            for (const std::size_t index : gpu.groups[g].lines) {
-                const Line& line = _lines[index];
-                if ((pass == Pass::Opaque) != line.style.opaque()) {
-                    continue;
-                }
-                // A strip with adjacency: the vertex before the first segment and the one after the
-                // last; an open end repeats its own vertex (no joint), a loop wraps around.
-                const auto f = static_cast<std::uint32_t>(line.firstVertex);
-                const auto n = static_cast<std::uint32_t>(line.positions.size());
-                indices.push_back(line.loop ? f + n - 1 : f);
-                for (std::uint32_t k = 0; k < n; ++k) {
-                    indices.push_back(f + k);
-                }
-                if (line.loop) {
-                    indices.push_back(f);
-                    indices.push_back(f + 1);
-                } else {
-                    indices.push_back(f + n - 1);
-                }
-                indices.push_back(kRestartIndex);
+    // A strip with adjacency per line: the vertex before the first segment and the one after the
+    // last; an open end repeats its own vertex (no joint), a loop wraps around.
+    _batch->buildIndices(
+        device, [&](std::size_t index) { return _lines[index].style.opaque(); },
+        [&](std::size_t index, std::uint32_t f, std::vector<std::uint32_t>& indices) {
+            const Line& line = _lines[index];
+            const auto n = static_cast<std::uint32_t>(line.positions.size());
+            indices.push_back(line.loop ? f + n - 1 : f);
+            for (std::uint32_t k = 0; k < n; ++k) {
+                indices.push_back(f + k);
             }
-            if (indices.size() > first) {
-                gpu.ranges.push_back({g, pass, first, indices.size() - first});
+            if (line.loop) {
+                indices.push_back(f);
+                indices.push_back(f + 1);
+            } else {
+                indices.push_back(f + n - 1);
             }
-        }
-    }
-    gpu.vertexArray.setIndexBuffer(nullptr);
-    gpu.indices = IndexBuffer();
-    if (!indices.empty()) {
-        gpu.indices = device.createIndexBuffer(std::span<const std::uint32_t>(indices));
-        gpu.vertexArray.setIndexBuffer(&gpu.indices);
-    }
+            indices.push_back(detail::VectorBatch::kRestartIndex);
+        });
     _indicesDirty = false;
 }
 
@@ -336,36 +243,15 @@ void PolylineCollection::update(FrameState& frameState, CommandList& commands)
     if (_segmentCount == 0) {
         return;
     }
-    if (!_gpu) {
-        _gpu = std::make_unique<Gpu>();
-        ShaderProgramDescription description;
-        description.name = "polylines";
-        description.vertex = ShaderSource::embedded("scene/vector/vector.vert.glsl");
-        description.geometry = ShaderSource::embedded("scene/vector/polyline.geom.glsl");
-        description.fragment = ShaderSource::embedded("scene/vector/polyline.frag.glsl");
-        description.defines.push_back({"POLYLINE"});
-        if (_options.encoding == VertexEncoding::RelativeToCenter) {
-            description.defines.push_back({"RELATIVE_TO_CENTER"});
-        }
-        _gpu->program = frameState.device.shaderCache().get(description);
+    if (!_batch) {
+        _batch = std::make_unique<detail::VectorBatch>(_ellipsoid, detail::VectorShape::Polylines,
+                                                       _options.encoding == VertexEncoding::RelativeToEye);
     }
-    Gpu& gpu = *_gpu;
     if (_geometryDirty) {
         build(frameState);
     } else {
-        std::sort(_styleDirty.begin(), _styleDirty.end());
-        _styleDirty.erase(std::unique(_styleDirty.begin(), _styleDirty.end()), _styleDirty.end());
-        std::vector<std::byte> bytes;
-        for (const std::size_t index : _styleDirty) {
-            const Line& line = _lines[index];
-            if (line.positions.empty()) {
-                continue;
-            }
-            bytes.clear();
-            writeStyle(line, bytes);
-            gpu.styles.copyFromSystemMemory(bytes, line.firstVertex * kStyleBytes);
-        }
-        _styleDirty.clear();
+        _batch->rewriteAttributes(
+            _styleDirty, [&](std::size_t index, std::vector<std::byte>& out) { writeStyle(_lines[index], out); });
         if (_indicesDirty) {
             buildIndices(frameState.device);
         }
@@ -374,30 +260,7 @@ void PolylineCollection::update(FrameState& frameState, CommandList& commands)
     const glm::vec4 depthOffset = detail::depthOffsetUniform(
         _ellipsoid, _options.depthOffset, kLineDepthSteps, kLineDepthFraction,
         detail::triangleSagBound(_ellipsoid, _options.granularityRadians));
-    const glm::dvec3 eye = frameState.camera.eye();
-    const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
-    for (const Gpu::Range& range : gpu.ranges) {
-        const Gpu::Group& group = gpu.groups[range.group];
-        DrawCommand command;
-        command.debugName = "polylines";
-        command.tags = static_cast<std::uint32_t>(Effect::Polylines);
-        command.vertexArray = &gpu.vertexArray;
-        command.primitiveType = PrimitiveType::LineStripAdjacency;
-        command.first = range.first;
-        command.count = range.count;
-        command.shaderProgram = gpu.program.get();
-        command.uniforms.set("u_depthOffset", depthOffset);
-        command.renderState = detail::vectorRenderState(range.pass, false, true);
-        command.renderState.primitiveRestart = {true, kRestartIndex};
-        if (_options.encoding == VertexEncoding::RelativeToCenter) {
-            command.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
-        }
-        command.pass = range.pass;
-        command.boundingSphere = group.bounds.sphere;
-        command.horizonOcclusionPoint = group.bounds.occlusionPoint;
-        detail::boundDepth(command, _ellipsoid, eye, eyeHeight, group.maxHeight);
-        commands.push_back(std::move(command));
-    }
+    _batch->appendCommands(frameState, depthOffset, commands);
 }
 
 } // namespace orbis

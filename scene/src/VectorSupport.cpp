@@ -1,13 +1,19 @@
 #include "VectorSupport.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/EmulatedDouble.h>
+#include <orbis/renderer/Context.h>
+#include <orbis/renderer/Device.h>
 
 #include <glm/common.hpp>
+#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 
 namespace orbis::detail {
@@ -152,6 +158,182 @@ RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcep
     }
     state.depthMask = pass != Pass::Translucent;
     return state;
+}
+
+ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
+{
+    ShaderProgramDescription description;
+    description.vertex = ShaderSource::embedded("scene/vector/vector.vert.glsl");
+    if (shape == VectorShape::Polylines) {
+        description.name = "polylines";
+        description.geometry = ShaderSource::embedded("scene/vector/polyline.geom.glsl");
+        description.fragment = ShaderSource::embedded("scene/vector/polyline.frag.glsl");
+        description.defines.push_back({"POLYLINE"});
+    } else {
+        description.name = "polygons";
+        if (strategy == DepthStrategy::LogarithmicVertex) {
+            description.geometry = ShaderSource::embedded("scene/vector/polygon.geom.glsl");
+        }
+        description.fragment = ShaderSource::embedded("scene/vector/polygon.frag.glsl");
+    }
+    if (description.geometry) {
+        description.defines.push_back({"DEPTH_IN_GEOMETRY_SHADER"});
+    }
+    if (!relativeToEye) {
+        description.defines.push_back({"RELATIVE_TO_CENTER"});
+    }
+    return description;
+}
+
+VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye)
+    : _ellipsoid(ellipsoid)
+    , _shape(shape)
+    , _relativeToEye(relativeToEye)
+    , _programs([shape, relativeToEye](DepthStrategy strategy, Pass) {
+        return vectorProgramDescription(shape, relativeToEye, strategy);
+    })
+{
+}
+
+void VectorBatch::build(FrameState& frameState, std::span<const VectorItem> items, std::size_t bytesPerVertex,
+                        const AttributeWriter& writeAttributes)
+{
+    // Groups by region, each with its culling volume (and centre, for RTC).
+    std::vector<std::size_t> drawable;
+    std::vector<BoundingSphere> spheres;
+    std::size_t vertexCount = 0;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        if (!items[i].positions.empty()) {
+            drawable.push_back(i);
+            spheres.push_back(items[i].sphere);
+            vertexCount += items[i].positions.size();
+        }
+    }
+    _groups.clear();
+    for (const std::vector<std::uint32_t>& members : groupByRegion(_ellipsoid, spheres)) {
+        Group group;
+        std::vector<glm::dvec3> positions;
+        for (const std::uint32_t member : members) {
+            const VectorItem& item = items[drawable[member]];
+            group.items.push_back(drawable[member]);
+            group.maxHeight = std::max(group.maxHeight, item.maxHeight);
+            positions.insert(positions.end(), item.positions.begin(), item.positions.end());
+        }
+        group.bounds = boundsOf(_ellipsoid, positions);
+        _groups.push_back(std::move(group));
+    }
+
+    // Vertices group by group.
+    _bytesPerVertex = bytesPerVertex;
+    _firstVertex.assign(items.size(), kNotDrawn);
+    _vertexCount.assign(items.size(), 0);
+    std::vector<float> positionData;
+    positionData.reserve(vertexCount * (_relativeToEye ? 6 : 3));
+    std::vector<std::byte> attributeData;
+    attributeData.reserve(vertexCount * bytesPerVertex);
+    std::size_t vertex = 0;
+    for (const Group& group : _groups) {
+        for (const std::size_t index : group.items) {
+            const VectorItem& item = items[index];
+            _firstVertex[index] = vertex;
+            _vertexCount[index] = item.positions.size();
+            vertex += item.positions.size();
+            for (const glm::dvec3& position : item.positions) {
+                appendPosition(positionData, position, _relativeToEye, group.bounds.sphere.centre);
+            }
+            writeAttributes(index, attributeData);
+        }
+    }
+    assert(attributeData.size() == vertexCount * bytesPerVertex);
+    Device& device = frameState.device;
+    _positions = device.createVertexBuffer(std::as_bytes(std::span(positionData)));
+    _attributes = device.createVertexBuffer(std::span<const std::byte>(attributeData), BufferUsage::DynamicDraw);
+    _vertexArray = frameState.context.createVertexArray();
+    if (_relativeToEye) {
+        _vertexArray.setAttribute(VertexAttributeLocation::PositionHigh, _positions,
+                                  {ComponentType::Float, 3, false, false, 24, 0});
+        _vertexArray.setAttribute(VertexAttributeLocation::PositionLow, _positions,
+                                  {ComponentType::Float, 3, false, false, 24, 12});
+    } else {
+        _vertexArray.setAttribute(VertexAttributeLocation::Position, _positions, {ComponentType::Float, 3});
+    }
+    _ranges.clear();
+    _indices = IndexBuffer();
+}
+
+void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes)
+{
+    std::sort(items.begin(), items.end());
+    items.erase(std::unique(items.begin(), items.end()), items.end());
+    std::vector<std::byte> bytes;
+    for (const std::size_t index : items) {
+        if (index >= _firstVertex.size() || _firstVertex[index] == kNotDrawn) {
+            continue;
+        }
+        bytes.clear();
+        writeAttributes(index, bytes);
+        assert(bytes.size() == _vertexCount[index] * _bytesPerVertex);
+        _attributes.copyFromSystemMemory(bytes, _firstVertex[index] * _bytesPerVertex);
+    }
+    items.clear();
+}
+
+void VectorBatch::buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
+                               const IndexWriter& writeIndices)
+{
+    std::vector<std::uint32_t> indices;
+    _ranges.clear();
+    for (std::size_t g = 0; g < _groups.size(); ++g) {
+        for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
+            const std::size_t first = indices.size();
+            for (const std::size_t index : _groups[g].items) {
+                if ((pass == Pass::Opaque) == opaque(index)) {
+                    writeIndices(index, static_cast<std::uint32_t>(_firstVertex[index]), indices);
+                }
+            }
+            if (indices.size() > first) {
+                _ranges.push_back({g, pass, first, indices.size() - first});
+            }
+        }
+    }
+    _vertexArray.setIndexBuffer(nullptr);
+    _indices = IndexBuffer();
+    if (!indices.empty()) {
+        _indices = device.createIndexBuffer(std::span<const std::uint32_t>(indices));
+        _vertexArray.setIndexBuffer(&_indices);
+    }
+}
+
+void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands)
+{
+    const bool lines = _shape == VectorShape::Polylines;
+    const glm::dvec3 eye = frameState.camera.eye();
+    const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
+    for (const Range& range : _ranges) {
+        const Group& group = _groups[range.group];
+        DrawCommand command;
+        command.debugName = lines ? "polylines" : "polygons";
+        command.tags = static_cast<std::uint32_t>(lines ? Effect::Polylines : Effect::Polygons);
+        command.vertexArray = &_vertexArray;
+        command.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
+        command.first = range.first;
+        command.count = range.count;
+        command.shaderProgram = &_programs.get(frameState, range.pass);
+        command.uniforms.set("u_depthOffset", depthOffset);
+        // Fills cull their back faces; lines blend in both passes (anti-aliased edges).
+        command.renderState = vectorRenderState(range.pass, !lines, lines);
+        if (lines) {
+            command.renderState.primitiveRestart = {true, kRestartIndex};
+        }
+        if (!_relativeToEye) {
+            command.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
+        }
+        command.pass = range.pass;
+        command.boundingSphere = group.bounds.sphere;
+        command.horizonOcclusionPoint = group.bounds.occlusionPoint;
+        boundDepth(command, _ellipsoid, eye, eyeHeight, group.maxHeight);
+        commands.push_back(std::move(command));
+    }
 }
 
 } // namespace orbis::detail

@@ -2,11 +2,18 @@
 
 // What PolylineCollection and PolygonCollection share: how far straight chords and flat triangles
 // between surface points sag below the ellipsoid, the culling groups a collection is drawn in,
-// vertex encoding, and the depth offset both shaders apply. Private.
+// vertex encoding, the depth offset both shaders apply, and the GPU side (VectorBatch). Private.
+
+#include "orbis/scene/FrameState.h"
+
+#include "DepthPrograms.h"
 
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/DrawCommand.h>
+#include <orbis/renderer/IndexBuffer.h>
+#include <orbis/renderer/VertexArray.h>
+#include <orbis/renderer/VertexBuffer.h>
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -14,6 +21,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -79,5 +87,88 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
 /// (always for translucent commands): alpha "over" in both colour and alpha, so an opaque background
 /// stays opaque; translucent commands do not write depth.
 RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept;
+
+/// One item of a vector collection (a line, a polygon) as VectorBatch lays it out.
+struct VectorItem {
+    std::span<const glm::dvec3> positions; ///< drawn, world metres; empty: the item draws nothing
+    BoundingSphere sphere;
+    double maxHeight = 0.0; ///< of its drawn positions above the ellipsoid
+};
+
+/// What a VectorBatch draws: wide lines (a geometry shader widens line strips with adjacency, with
+/// primitive restart between lines) or filled triangles.
+enum class VectorShape : std::uint8_t { Polylines, Polygons };
+
+/// The program a VectorBatch draws with under a depth strategy (before its depth defines):
+/// shaders/scene/vector with the shape's stages and the encoding's define. Depth is applied in a
+/// geometry shader where there is one (DEPTH_IN_GEOMETRY_SHADER): the polylines' always, and for
+/// polygons a pass-through one under LogarithmicVertex, which keeps each triangle's interpolated
+/// logarithm from falling behind its true depth (og_depthPrimitiveVertex).
+ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy);
+
+/// The GPU side PolylineCollection and PolygonCollection share: their items in groups by region
+/// (groupByRegion), the items' positions in one vertex buffer laid out group by group (relative to
+/// the eye, or to their group's centre), the collection's per-vertex attributes in a second
+/// buffer, one index buffer with a range per group and pass, and one command per range, culled by
+/// its group's sphere and horizon occlusion point and bounded in depth by its height (boundDepth).
+class VectorBatch {
+public:
+    /// Appends an item's per-vertex attributes, bytesPerVertex for each of its positions.
+    using AttributeWriter = std::function<void(std::size_t item, std::vector<std::byte>& out)>;
+    /// Appends an item's indices, its vertices numbered from firstVertex.
+    using IndexWriter = std::function<void(std::size_t item, std::uint32_t firstVertex, std::vector<std::uint32_t>& out)>;
+
+    /// Index value that separates the lines of a Polylines batch.
+    static constexpr std::uint32_t kRestartIndex = 0xFFFFFFFFu;
+
+    VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye);
+
+    /// Groups the items that have positions, uploads their positions and attributes (a new vertex
+    /// array reads the positions; attach the attributes from attributes()), and forgets the
+    /// indices: call buildIndices next.
+    void build(FrameState& frameState, std::span<const VectorItem> items, std::size_t bytesPerVertex,
+               const AttributeWriter& writeAttributes);
+    /// Rewrites the attributes of the items listed (repeats allowed; items without positions are
+    /// skipped) where they lie in the buffer, then empties the list.
+    void rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes);
+    /// Rebuilds the index buffer: in each group the opaque items (`opaque`), then the others, each
+    /// range drawn in its pass.
+    void buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
+                      const IndexWriter& writeIndices);
+    /// Appends one command per range, tagged with the shape's effect, drawn with the program for
+    /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform).
+    void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands);
+
+    VertexArray& vertexArray() noexcept { return _vertexArray; }
+    const VertexBuffer& attributes() const noexcept { return _attributes; }
+
+private:
+    struct Group {
+        GroupBounds bounds;
+        double maxHeight = 0.0;
+        std::vector<std::size_t> items;
+    };
+    struct Range {
+        std::size_t group = 0;
+        Pass pass = Pass::Opaque;
+        std::size_t first = 0;
+        std::size_t count = 0;
+    };
+    static constexpr std::size_t kNotDrawn = static_cast<std::size_t>(-1);
+
+    Ellipsoid _ellipsoid;
+    VectorShape _shape;
+    bool _relativeToEye;
+    DepthPrograms _programs;
+    std::size_t _bytesPerVertex = 0;
+    std::vector<Group> _groups;
+    std::vector<Range> _ranges;
+    std::vector<std::size_t> _firstVertex; ///< by item; kNotDrawn for items without positions
+    std::vector<std::size_t> _vertexCount; ///< by item
+    VertexBuffer _positions;
+    VertexBuffer _attributes;
+    IndexBuffer _indices;
+    VertexArray _vertexArray;
+};
 
 } // namespace orbis::detail

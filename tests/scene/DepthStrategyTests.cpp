@@ -8,13 +8,19 @@
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/MeshPrimitive.h>
+#include <orbis/scene/ModelPrimitive.h>
+#include <orbis/scene/PolygonCollection.h>
+#include <orbis/scene/PolylineCollection.h>
 #include <orbis/scene/PrecisionMeasurement.h>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 
 using namespace orbis;
 using namespace orbis::test;
@@ -384,4 +390,427 @@ TEST_CASE("Automatic decides by the commands' depth bounds, updating again only 
     CHECK(counter->lastStrategy == DepthStrategy::MultiFrustum);
     renderFrame(scene, 32, 32);
     CHECK(counter->updates == 3); // a steady view: one update a frame
+}
+
+// Every primitive under every strategy. Each scene puts a small cube a few metres from the eye, so
+// that the frame spans a few metres to hundreds of kilometres: several multi-frustums, and
+// logarithmic depth spread over seven decades and more.
+
+namespace {
+
+/// The strategies a frame can be asked for on this device (complementary needs glClipControl and
+/// is asserted to throw without it in "A strategy the frame cannot have throws").
+std::vector<DepthStrategy> drawableStrategies()
+{
+    std::vector<DepthStrategy> strategies = {DepthStrategy::Single, DepthStrategy::MultiFrustum,
+                                             DepthStrategy::Logarithmic, DepthStrategy::LogarithmicVertex};
+    if (sharedDevice().info().clipControl) {
+        strategies.push_back(DepthStrategy::Complementary);
+    }
+    return strategies;
+}
+
+/// A grey cube `distance` metres along the view, towards the upper left corner (where the tests
+/// look at nothing else), so that the frame's near distance is about `distance`.
+std::shared_ptr<MeshPrimitive> cubeNearEye(const Scene& scene, double distance)
+{
+    const Camera& camera = scene.camera();
+    const glm::dvec3 direction = camera.direction();
+    const glm::dvec3 right = glm::normalize(glm::cross(direction, camera.up()));
+    const glm::dvec3 up = glm::cross(right, direction);
+    const glm::dvec3 centre = camera.eye() + distance * (direction - 0.32 * right + 0.32 * up);
+    return std::make_shared<MeshPrimitive>(cube(centre, 0.02 * distance), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+}
+
+/// A geodetic rectangle as one ring of world positions, its edges cut every degree or less.
+std::vector<glm::dvec3> geodeticRectangle(double west, double south, double east, double north)
+{
+    std::vector<glm::dvec3> ring;
+    const int columns = static_cast<int>(std::ceil(east - west));
+    const int rows = static_cast<int>(std::ceil(north - south));
+    for (int i = 0; i < columns; ++i) {
+        ring.push_back(kEarth.toCartesian(Geodetic3D::fromDegrees(west + (east - west) * i / columns, south)));
+    }
+    for (int j = 0; j < rows; ++j) {
+        ring.push_back(kEarth.toCartesian(Geodetic3D::fromDegrees(east, south + (north - south) * j / rows)));
+    }
+    for (int i = columns; i > 0; --i) {
+        ring.push_back(kEarth.toCartesian(Geodetic3D::fromDegrees(west + (east - west) * i / columns, north)));
+    }
+    for (int j = rows; j > 0; --j) {
+        ring.push_back(kEarth.toCartesian(Geodetic3D::fromDegrees(west, south + (north - south) * j / rows)));
+    }
+    return ring;
+}
+
+Image solidImage(int width, int height, const glm::ivec4& rgba)
+{
+    Image image(width, height, 4);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        image.pixels[i] = static_cast<std::uint8_t>(rgba[static_cast<int>(i % 4)]);
+    }
+    return image;
+}
+
+int countNear(const Image& image, const glm::ivec4& color, int tolerance)
+{
+    int count = 0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            count += pixelNear(image, x, y, color, tolerance) ? 1 : 0;
+        }
+    }
+    return count;
+}
+
+} // namespace
+
+TEST_CASE("Polygons and polylines on the globe show wherever they lie under every depth strategy, seen at a slant", "[scene][depth][polygon][polyline]")
+{
+    // 300 km up over (10 E, 40 N) looking 6 degrees north: the ground from about 350 km to the
+    // horizon at 2,000 km, its degree-wide triangles and segments seen at a slant (their far
+    // corners up to 1.2 times farther than their near ones). A fill east of the view's middle
+    // (opaque red) and a line along a meridian west of it (green, 3 pixels), both at the default
+    // one-degree granularity: every sampled point of them must show its colour, not the globe's.
+    // Per-vertex logarithmic depth would put the middle of those triangles and segments hundreds of
+    // metres behind their corners, into the globe, without og_depthPrimitiveVertex.
+    constexpr int size = 64;
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        Scene scene(kEarth);
+        scene.options().depthStrategy = strategy;
+        scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(10, 40, 3e5)),
+                              kEarth.toCartesian(Geodetic3D::fromDegrees(10, 46, 0)), {0, 0, 1});
+        scene.add(blueGlobe());
+        auto fills = std::make_shared<PolygonCollection>(kEarth);
+        const std::vector<std::vector<glm::dvec3>> rings = {geodeticRectangle(11.0, 43.0, 13.5, 48.0)};
+        fills->add(rings, {1, 0, 0, 1});
+        scene.add(fills);
+        auto lines = std::make_shared<PolylineCollection>(kEarth);
+        const Geodetic3D meridian[] = {Geodetic3D::fromDegrees(8.5, 41), Geodetic3D::fromDegrees(8.5, 49)};
+        PolylineStyle green;
+        green.color = {0, 1, 0, 1};
+        green.widthPixels = 3.0f;
+        lines->add(meridian, green);
+        scene.add(lines);
+        scene.add(cubeNearEye(scene, 10.0));
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        CHECK(frame.statistics.depthStrategy == strategy);
+        if (strategy == DepthStrategy::MultiFrustum) {
+            CHECK(frame.statistics.frustums.size() >= 2);
+        }
+        int fillSamples = 0;
+        for (double lat = 43.3; lat < 47.8; lat += 0.2) {
+            for (double lon = 11.3; lon < 13.3; lon += 0.2) {
+                const glm::ivec2 p = projectToPixel(scene, kEarth.toCartesian(Geodetic3D::fromDegrees(lon, lat)), size, size);
+                if (p.x < 1 || p.y < 1 || p.x > size - 2 || p.y > size - 2) {
+                    continue; // the fill runs out of the view on the right
+                }
+                INFO("fill at " << lon << " E, " << lat << " N: pixel " << p.x << ", " << p.y << " "
+                                << describePixel(frame.image, p.x, p.y));
+                REQUIRE(pixelNear(frame.image, p.x, p.y, {255, 0, 0, 255}));
+                ++fillSamples;
+            }
+        }
+        CHECK(fillSamples > 100);
+        int lineSamples = 0;
+        for (double lat = 41.5; lat < 48.6; lat += 0.1) {
+            const glm::ivec2 p = projectToPixel(scene, kEarth.toCartesian(Geodetic3D::fromDegrees(8.5, lat)), size, size);
+            if (p.x < 1 || p.y < 1 || p.x > size - 2 || p.y > size - 2) {
+                continue; // the line enters the view from below
+            }
+            ++lineSamples;
+            // The centre pixel's row can meet the 3-pixel line on its side: green dominates either way.
+            const glm::ivec4 pixel = pixelAt(frame.image, p.x, p.y);
+            INFO("line at " << lat << " N: pixel " << p.x << ", " << p.y << " " << describePixel(frame.image, p.x, p.y));
+            REQUIRE(pixel.g > 200);
+            REQUIRE(pixel.b < 60);
+        }
+        CHECK(lineSamples > 40);
+    }
+}
+
+TEST_CASE("A line running behind the eye is clipped at the near plane under every depth strategy", "[scene][depth][polyline][clipping]")
+{
+    // The eye 1 km over the ground looks north at a slant; a line runs across the view from 50 km
+    // south-west (behind the eye) to 50 km north-east, in one segment. Only its part ahead may show,
+    // 3 pixels wide along where that part projects: a part behind the eye projected through w < 0
+    // lands mirrored, and a quad widened from a mirrored end points the wrong way. Complementary
+    // depth clips at z = w, not z = -w (the geometry shader clips before the division by w).
+    constexpr int size = 64;
+    const Geodetic3D ends[] = {Geodetic3D::fromDegrees(-0.05, -0.45), Geodetic3D::fromDegrees(0.05, 0.45)};
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        Scene scene(kEarth);
+        scene.options().depthStrategy = strategy;
+        const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 1000));
+        scene.camera().lookAt(eye, kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0.012, 0)), {0, 0, 1});
+        auto lines = std::make_shared<PolylineCollection>(kEarth);
+        PolylineStyle red;
+        red.color = {1, 0, 0, 1};
+        red.widthPixels = 3.0f;
+        lines->add(ends, red);
+        scene.add(lines);
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        CHECK(frame.statistics.depthStrategy == strategy);
+        INFO("near plane " << frame.statistics.frustums.front().nearDistance << " m");
+        // Where the part from the near plane on projects, row by row (less 2 % for rounding).
+        const double nearDistance = frame.statistics.frustums.front().nearDistance;
+        std::vector<double> lineX(size, -1.0);
+        const std::span<const glm::dvec3> drawn = lines->positions(0);
+        REQUIRE(drawn.size() == 2);
+        for (int k = 0; k <= 100000; ++k) {
+            const glm::dvec3 p = glm::mix(drawn.front(), drawn.back(), k / 100000.0);
+            const glm::ivec2 pixel = projectToPixel(scene, p, size, size);
+            if (glm::dot(p - eye, scene.camera().direction()) >= 0.98 * nearDistance && pixel.y >= 0 && pixel.y < size) {
+                lineX[static_cast<std::size_t>(pixel.y)] = pixel.x;
+            }
+        }
+        // Red only there; and in every row from below the far end down to the lowest red row (where
+        // the near plane cuts it, moved by the depth offset), a run from there up.
+        int lowestRed = -1;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                const glm::ivec4 p = pixelAt(frame.image, x, y);
+                if (p.r > 100 && p.g < 100) {
+                    const double expected = lineX[static_cast<std::size_t>(y)];
+                    INFO("red at " << x << ", " << y << "; the line there at x = " << expected);
+                    REQUIRE(expected >= 0.0);
+                    REQUIRE(std::abs(x - expected) <= 3.0);
+                    lowestRed = y;
+                }
+            }
+        }
+        const int farRow = projectToPixel(scene, drawn.back(), size, size).y;
+        int rowsWithLine = 0;
+        for (int y = std::max(farRow + 2, 0); y <= lowestRed; ++y) {
+            const auto at = static_cast<int>(lineX[static_cast<std::size_t>(y)]);
+            INFO("row " << y << " at x = " << at << ": " << describePixel(frame.image, at, y));
+            CHECK((pixelAt(frame.image, at, y).r > 100 || pixelAt(frame.image, at + 1, y).r > 100 ||
+                   pixelAt(frame.image, at - 1, y).r > 100));
+            ++rowsWithLine;
+        }
+        CHECK(rowsWithLine > 15);
+    }
+}
+
+TEST_CASE("Billboards and labels keep their pixels under every depth strategy, and their optional depth test", "[scene][depth][billboard][label]")
+{
+    // Straight down from 1,000 km: a 7 x 5 red billboard and a label above it. Without the depth
+    // test (the default) every strategy draws them alike, whatever stands in front; with it, they
+    // show whole over the globe (their depth taken 1e-3 of the distance nearer than the anchor:
+    // 1 km) and a 200 km cube halfway to them hides them. Single is spared the first: its 24 bits
+    // from 1 m to 1e10 m resolve 60 km at 1,000 km, so the 1 km is a tie the globe may win.
+    constexpr int size = 64;
+    const glm::dvec3 anchor = kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 0));
+    auto whitePixels = [](const Image& image) {
+        int count = 0;
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                const glm::ivec4 p = pixelAt(image, x, y);
+                count += p.r > 200 && p.g > 200 && p.b > 200 ? 1 : 0;
+            }
+        }
+        return count;
+    };
+    int referenceLabelPixels = -1;
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        Scene scene(kEarth);
+        scene.options().depthStrategy = strategy;
+        scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 1e6)), anchor, {0, 0, 1});
+        scene.add(blueGlobe());
+        auto billboards = std::make_shared<BillboardCollection>();
+        Billboard billboard;
+        billboard.position = anchor;
+        billboard.image = billboards->addImage(solidImage(7, 5, {255, 0, 0, 255}));
+        billboards->add(billboard);
+        scene.add(billboards);
+        auto labels = std::make_shared<LabelCollection>();
+        Label label;
+        label.position = anchor;
+        label.text = "ab";
+        label.fontSizePixels = 12.0f;
+        label.pixelOffset = {0, -4}; // clear of the billboard
+        labels->add(label);
+        scene.add(labels);
+        scene.add(cubeNearEye(scene, 10.0));
+
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        CHECK(frame.statistics.depthStrategy == strategy);
+        const int white = whitePixels(frame.image); // the label's fill
+        CHECK(countNear(frame.image, {255, 0, 0, 255}, 0) == 35);
+        CHECK(white > 10);
+        if (referenceLabelPixels < 0) {
+            referenceLabelPixels = white;
+        }
+        CHECK(white == referenceLabelPixels); // screen-space text: the same pixels whatever the depth
+
+        billboards->setDepthOptions({.depthTest = true});
+        labels->setDepthOptions({.depthTest = true});
+        if (strategy != DepthStrategy::Single) {
+            const RenderedFrame tested = renderFrame(scene, size, size);
+            CHECK(countNear(tested.image, {255, 0, 0, 255}, 0) == 35);
+            CHECK(whitePixels(tested.image) == white);
+        }
+        const glm::dvec3 halfway = 0.5 * (scene.camera().eye() + anchor);
+        scene.add(std::make_shared<MeshPrimitive>(cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
+        const RenderedFrame hidden = renderFrame(scene, size, size);
+        CHECK(countNear(hidden.image, {255, 0, 0, 255}, 0) == 0);
+        CHECK(whitePixels(hidden.image) == 0);
+        billboards->setDepthOptions({.depthTest = false});
+        labels->setDepthOptions({.depthTest = false});
+        const RenderedFrame untested = renderFrame(scene, size, size);
+        CHECK(countNear(untested.image, {255, 0, 0, 255}, 0) == 35);
+        CHECK(whitePixels(untested.image) == white);
+    }
+}
+
+TEST_CASE("A model above the globe shows and one below it hides under every depth strategy", "[scene][depth][model]")
+{
+    // As "A model 500 m above the ray-cast globe shows", with something 5 m from the eye: the frame
+    // spans 5 m to 200 km. Scale 40: a 450 m aircraft.
+    constexpr int size = 64;
+    const Geodetic2D place = Geodetic2D::fromDegrees(-100.0, 40.0);
+    const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    for (const DepthStrategy strategy : drawableStrategies()) {
+        INFO(depthStrategyName(strategy));
+        for (const double height : {500.0, -500.0}) {
+            INFO("model " << height << " m above the ellipsoid");
+            Scene scene(kEarth);
+            scene.options().depthStrategy = strategy;
+            scene.add(blueGlobe());
+            const Geodetic3D position{place.longitude, place.latitude, height};
+            scene.add(ModelPrimitive::fromFile(aircraft, kEarth, ModelPlacement{position, {}, 40.0}));
+            const glm::dvec3 ground = kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 0.0});
+            scene.camera().lookAt(kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 3000.0}), ground,
+                                  {0, 0, 1});
+            scene.setSunDirection(kEarth.geodeticSurfaceNormal(ground)); // overhead: the fuselage white
+            scene.add(cubeNearEye(scene, 5.0));
+            const RenderedFrame frame = renderFrame(scene, size, size);
+            CHECK(frame.statistics.depthStrategy == strategy);
+            const glm::ivec2 p = projectToPixel(scene, kEarth.toCartesian(position), size, size);
+            const glm::ivec4 pixel = pixelAt(frame.image, p.x, p.y);
+            INFO(describePixel(frame.image, p.x, p.y));
+            if (height > 0.0) {
+                CHECK(pixel.r > 150); // the white fuselage, not the blue globe
+            } else {
+                CHECK(pixel == glm::ivec4(0, 0, 255, 255));
+            }
+        }
+    }
+}
+
+TEST_CASE("A translucent polygon spanning two overlapping frustums is blended once where they overlap", "[scene][depth][multifrustum][polygon]")
+{
+    // As the mesh test above, with a translucent fill on the ellipsoid seen 45 degrees down: a
+    // cube 1.2 m from the eye starts the first frustum there, the fill crosses into the second,
+    // which starts 30 % short of the first one's far end. Every sample of the fill is half red over
+    // black once: 128 (blended twice 191). Two frustum ratios: 1,000 (the default), and 100,000,
+    // where the fill's depth offset in the first frustum (four steps of its depth buffer: 2.4 % of
+    // the distance at its far end) is far larger than in the second (1e-5 of the distance), so that
+    // deciding ownership by the moved depth would blend a band beyond the boundary twice.
+    constexpr int size = 128;
+    for (const double ratio : {1e3, 1e5}) {
+        INFO("far / near " << ratio);
+        Scene scene(kEarth);
+        scene.options().depthStrategy = DepthStrategy::MultiFrustum;
+        scene.options().multiFrustum.farToNearRatio = ratio;
+        scene.options().multiFrustum.overlap = 0.3;
+        // The view's middle 1.2 ratio away, where the first frustum ends.
+        const double height = 0.85 * ratio;
+        const double north = toDegrees(height / 6.378e6);
+        const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, height));
+        scene.camera().lookAt(eye, kEarth.toCartesian(Geodetic3D::fromDegrees(0, north, 0)), {0, 0, 1});
+        PolygonCollectionOptions options;
+        options.granularityRadians = toRadians(north / 20.0);
+        auto fills = std::make_shared<PolygonCollection>(kEarth, options);
+        const double side = 4.0 * north;
+        const std::vector<std::vector<glm::dvec3>> rings = {
+            {kEarth.toCartesian(Geodetic3D::fromDegrees(-side, 0.02 * north)),
+             kEarth.toCartesian(Geodetic3D::fromDegrees(side, 0.02 * north)),
+             kEarth.toCartesian(Geodetic3D::fromDegrees(side, 5.0 * north)),
+             kEarth.toCartesian(Geodetic3D::fromDegrees(-side, 5.0 * north))}};
+        fills->add(rings, {1, 0, 0, 0.5});
+        scene.add(fills);
+        scene.add(cubeNearEye(scene, 1.2));
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        REQUIRE(frame.statistics.frustums.size() == 2);
+        REQUIRE(frame.statistics.commandsExecutedMoreThanOnce == 1); // the fill, in both frustums
+        const double overlapNear = frame.statistics.frustums[1].nearDistance;
+        const double overlapFar = frame.statistics.frustums[0].farDistance;
+        int inOverlap = 0;
+        int samples = 0;
+        for (double lat = 0.1 * north; lat < 4.9 * north; lat += 0.01 * north) {
+            for (double lon = -0.5 * north; lon <= 0.5 * north; lon += 0.1 * north) {
+                const glm::dvec3 ground = kEarth.toCartesian(Geodetic3D::fromDegrees(lon, lat));
+                const glm::ivec2 p = projectToPixel(scene, ground, size, size);
+                if (p.x < 1 || p.y < 1 || p.x > size - 2 || p.y > size - 2 || (p.x < size / 3 && p.y < size / 3)) {
+                    continue; // outside the view, or at the cube
+                }
+                const double depth = glm::dot(ground - eye, scene.camera().direction());
+                inOverlap += depth > overlapNear && depth < overlapFar ? 1 : 0;
+                ++samples;
+                INFO("pixel " << p.x << ", " << p.y << " at depth " << depth << " m (overlap " << overlapNear
+                              << " to " << overlapFar << " m): " << describePixel(frame.image, p.x, p.y));
+                REQUIRE(pixelNear(frame.image, p.x, p.y, {128, 0, 0, 255}, 1));
+            }
+        }
+        INFO(samples << " samples, " << inOverlap << " in the overlap");
+        CHECK(inOverlap > 50);
+    }
+}
+
+TEST_CASE("Automatic picks complementary depth, or logarithmic without glClipControl, for a scene with vector layers, billboards, labels and a model", "[scene][depth]")
+{
+    // Every primitive now writes every strategy's depth: the rule's third branch applies to a frame
+    // holding them all. 3 km over the ground with a cube 2 m from the eye: 2 m to 200 km.
+    const Device& device = sharedDevice();
+    Scene scene(kEarth);
+    const Geodetic3D place = Geodetic3D::fromDegrees(-100.0, 40.0, 0.0);
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D(place.longitude, place.latitude, 3000.0)),
+                          kEarth.toCartesian(Geodetic3D::fromDegrees(-100.0, 40.05, 0.0)), {0, 0, 1});
+    scene.add(blueGlobe());
+    auto fills = std::make_shared<PolygonCollection>(kEarth);
+    const std::vector<std::vector<glm::dvec3>> rings = {geodeticRectangle(-100.1, 40.01, -99.9, 40.2)};
+    fills->add(rings, {1, 0.5f, 0, 0.6f});
+    scene.add(fills);
+    auto lines = std::make_shared<PolylineCollection>(kEarth);
+    const Geodetic3D border[] = {Geodetic3D::fromDegrees(-100.1, 40.1), Geodetic3D::fromDegrees(-99.9, 40.1)};
+    lines->add(border);
+    scene.add(lines);
+    auto billboards = std::make_shared<BillboardCollection>();
+    Billboard billboard;
+    billboard.position = kEarth.toCartesian(Geodetic3D::fromDegrees(-100.0, 40.08, 0.0));
+    billboard.image = billboards->addImage(solidImage(3, 3, {255, 255, 0, 255}));
+    billboards->add(billboard);
+    scene.add(billboards);
+    auto labels = std::make_shared<LabelCollection>();
+    Label label;
+    label.position = billboard.position;
+    label.text = "here";
+    labels->add(label);
+    scene.add(labels);
+    const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    scene.add(ModelPrimitive::fromFile(aircraft, kEarth, ModelPlacement{Geodetic3D::fromDegrees(-100.0, 40.06, 500.0), {}, 1.0}));
+    scene.add(cubeNearEye(scene, 2.0));
+    for (const std::shared_ptr<Primitive>& primitive : scene.primitives()) {
+        CHECK(primitive->supportsLogarithmicDepth());
+    }
+
+    const DepthStrategy expected = device.info().clipControl ? DepthStrategy::Complementary : DepthStrategy::Logarithmic;
+    const FrameStatistics first = renderFrame(scene, 64, 64).statistics;
+    CHECK(first.depthStrategyAutomatic);
+    CHECK(first.depthStrategy == expected);
+    CHECK(first.frustums.size() == 1);
+    // The variants are kept: a steady view compiles nothing, nor does a strategy seen before.
+    const FrameStatistics second = renderFrame(scene, 64, 64).statistics;
+    CHECK(second.depthStrategy == expected);
+    CHECK(second.programsCompiled == 0);
+    scene.options().depthStrategy = DepthStrategy::MultiFrustum;
+    CHECK(renderFrame(scene, 64, 64).statistics.frustums.size() == 2);
+    scene.options().depthStrategy = DepthStrategy::Automatic;
+    const FrameStatistics back = renderFrame(scene, 64, 64).statistics;
+    CHECK(back.depthStrategy == expected);
+    CHECK(back.programsCompiled == 0);
 }

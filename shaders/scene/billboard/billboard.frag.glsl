@@ -14,6 +14,7 @@ out vec4 fragmentColor;
 
 void main()
 {
+    og_depthFragment();
 #ifdef LABEL
     vec2 coverage = texture(og_texture0, g_textureCoordinate).rg;
     float fillAlpha = g_color.a * coverage.x;

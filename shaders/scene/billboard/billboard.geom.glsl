@@ -1,12 +1,14 @@
 // Billboards and label glyphs, stage 2 of 3: each point becomes a screen-aligned quad of whole
 // pixels. The anchor snaps to the nearest pixel corner and the size rounds to whole pixels, so
 // at scale 1 every fragment centre samples a texel centre: the image is drawn texel for pixel.
+// The corners keep the depth point's clip z and w (the quad is flat at that depth), so that the
+// depth strategy applies to them as to any vertex (og_depthVertex here, og_depthFragment after).
 
 layout(points) in;
 layout(triangle_strip, max_vertices = 4) out;
 
 in vec4 v_anchorClip[];
-in float v_depth[];
+in vec2 v_depthClip[];
 in vec2 v_pixelOffset[];
 in vec4 v_textureRectangle[];
 in vec3 v_scaleOrigin[];
@@ -27,7 +29,8 @@ flat out vec4 g_haloColor;
 
 void corner(vec2 ndc, vec2 textureCoordinate)
 {
-    gl_Position = vec4(ndc, v_depth[0], 1.0);
+    float w = v_depthClip[0].y;
+    gl_Position = og_depthVertex(vec4(ndc * w, v_depthClip[0].x, w));
     g_textureCoordinate = textureCoordinate;
     g_color = v_color[0];
 #ifdef LABEL

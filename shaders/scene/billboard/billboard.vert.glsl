@@ -2,14 +2,16 @@
 // the GPU (positions come as two floats each), hidden below the ellipsoid's horizon, and the
 // attributes unpacked for the geometry shader, which makes the quad. LABEL: glyphs with a halo.
 
+// The attributes without a standard location get fixed ones, so that one vertex array serves the
+// program of every depth strategy.
 in vec3 positionHigh;
 in vec3 positionLow;
-in vec2 pixelOffset;          // pixels, x right, y down
-in vec4 textureRectangle;     // atlas texels: x, y (rows from the top), width, height
+layout(location = 6) in vec2 pixelOffset;          // pixels, x right, y down
+layout(location = 7) in vec4 textureRectangle;     // atlas texels: x, y (rows from the top), width, height
 in vec4 color;
-in uint scaleOriginVisibility; // bits 0-15 scale x 256, 16-17 horizontal origin, 18-19 vertical, 20 visible
+layout(location = 8) in uint scaleOriginVisibility; // bits 0-15 scale x 256, 16-17 horizontal origin, 18-19 vertical, 20 visible
 #ifdef LABEL
-in vec4 haloColor;
+layout(location = 9) in vec4 haloColor;
 #endif
 
 uniform vec3 og_cameraEyeHigh;
@@ -21,7 +23,7 @@ uniform float u_horizonDistanceSquared; // |eye scaled|^2 - 1, from doubles; neg
 uniform float u_depthScale;            // 1 - the depth offset fraction
 
 out vec4 v_anchorClip;
-out float v_depth;                     // normalised device depth of the quad
+out vec2 v_depthClip;                  // clip z and w of the quad's depth point
 out vec2 v_pixelOffset;
 out vec4 v_textureRectangle;
 out vec3 v_scaleOrigin;                // scale, then the origin as a fraction of the size (0, 0.5, 1)
@@ -46,7 +48,7 @@ void main()
     v_anchorClip = og_modelViewProjectionMatrixRelativeToEye * vec4(toAnchor, 1.0);
     // Depth from a point on the same line of sight, a little nearer: the screen position stays.
     vec4 depthClip = og_modelViewProjectionMatrixRelativeToEye * vec4(toAnchor * u_depthScale, 1.0);
-    v_depth = depthClip.z / depthClip.w;
+    v_depthClip = depthClip.zw;
     v_pixelOffset = pixelOffset;
     v_textureRectangle = textureRectangle;
     uint horizontal = (scaleOriginVisibility >> 16) & 3u;

@@ -34,6 +34,7 @@ vec3 linearToSrgb(vec3 c)
 
 void main()
 {
+    og_depthFragment();
     vec4 baseColor = u_baseColorFactor;
 #ifdef BASE_COLOR_TEXTURE
     // glTF's v runs down the image; Texture2D stores the image upright with t running up.

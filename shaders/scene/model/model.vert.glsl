@@ -1,6 +1,7 @@
 // A glTF model drawn relative to its origin (book section 5.2): positions are float offsets in the
 // model's own frame (metres, glTF axes); the model matrix, in double on the CPU, carries the
-// placement, the scale and the Earth-scale translation into og_modelViewProjectionMatrix.
+// placement, the scale and the Earth-scale translation into og_modelViewProjectionMatrix. The frame's
+// depth strategy: og_depthVertex here, og_depthFragment in model.frag.glsl.
 
 in vec3 position;
 #ifdef LIGHTING
@@ -23,5 +24,5 @@ void main()
 #ifdef BASE_COLOR_TEXTURE
     v_textureCoordinate = textureCoordinate;
 #endif
-    gl_Position = og_modelViewProjectionMatrix * vec4(position, 1.0);
+    gl_Position = og_depthVertex(og_modelViewProjectionMatrix * vec4(position, 1.0));
 }

@@ -6,11 +6,19 @@ flat in vec4 g_color;
 flat in vec4 g_outlineColor;
 flat in vec2 g_halfWidths;
 in vec2 g_distanceTimesW;
+#ifdef OG_DEPTH_OWNED_RANGE
+in float g_eyeDepthBeforeOffset;
+#endif
 
 out vec4 fragmentColor;
 
 void main()
 {
+#ifdef OG_DEPTH_OWNED_RANGE
+    og_depthFragment(g_eyeDepthBeforeOffset); // the offset differs between frustums (vector.vert.glsl)
+#else
+    og_depthFragment();
+#endif
     float distance = abs(g_distanceTimesW.x / g_distanceTimesW.y);
     vec4 color = g_color;
     if (g_halfWidths.y > g_halfWidths.x) {

@@ -37,7 +37,9 @@ struct BillboardDepthOptions {
     bool horizonCulling = true; ///< hide anchors below the scene ellipsoid's horizon
     bool depthTest = false;     ///< also test the depth buffer (never written)
     /// Fraction of the eye-to-anchor distance the depth is taken nearer the eye. 1e-3 clears the
-    /// 24-bit depth steps of a frustum of far/near 1000 (about 6e-5 of the distance) with margin.
+    /// 24-bit depth steps of a frustum of far/near 1000 (about 6e-5 of the distance) with margin,
+    /// and those of logarithmic (about 1e-6) and complementary depth (1.2e-7); not those of
+    /// DepthStrategy::Single far from the eye (60 km at 1,000 km).
     float depthOffsetFraction = 1e-3f;
 };
 
@@ -78,6 +80,7 @@ class BillboardBatch;
 struct BillboardVertex;
 class BillboardBounds;
 class AtlasTexture;
+class DepthPrograms;
 } // namespace detail
 
 class ShaderProgram;
@@ -147,6 +150,8 @@ public:
     /// billboard moves out of it and never shrinks); empty with no billboards.
     std::optional<BoundingSphere> boundingSphere() const override;
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its quads write every DepthStrategy's depth (at their depth point).
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     void writeVertex(std::size_t index);
@@ -158,7 +163,7 @@ private:
     std::unique_ptr<detail::BillboardBatch<detail::BillboardVertex>> _batch;
     std::unique_ptr<detail::BillboardBounds> _bounds;
     std::unique_ptr<detail::AtlasTexture> _texture;
-    std::shared_ptr<ShaderProgram> _program;
+    std::unique_ptr<detail::DepthPrograms> _programs;
     BillboardUploadStatistics _lastUpload;
 };
 

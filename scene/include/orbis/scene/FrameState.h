@@ -52,10 +52,10 @@ public:
     virtual void update(FrameState& frameState, CommandList& commands) = 0;
 
     /// Whether the primitive's shaders write logarithmic depth when frameState.depthStrategy asks
-    /// (they call og_depthVertex and og_depthFragment of the built-in depth.glsl). Complementary
-    /// depth needs nothing of a primitive (the projection and the Context carry it), logarithmic
-    /// depth does: the scene will not pick it automatically for a frame with a primitive that
-    /// answers false, and throws when it is asked for.
+    /// (they call og_depthVertex and og_depthFragment of the built-in depth.glsl); every primitive
+    /// of the scene layer does. Complementary depth needs little of a primitive (the projection and
+    /// the Context carry it), logarithmic depth does: the scene will not pick it automatically for a
+    /// frame with a primitive that answers false, and throws when it is asked for.
     virtual bool supportsLogarithmicDepth() const { return false; }
 };
 

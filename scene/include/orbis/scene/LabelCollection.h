@@ -41,6 +41,7 @@ struct Label {
 
 namespace detail {
 struct GlyphVertex;
+class DepthPrograms;
 } // namespace detail
 
 /// Labels of book chapter 9 on the billboard machinery: each label is a run of glyph quads from
@@ -99,6 +100,8 @@ public:
 
     std::optional<BoundingSphere> boundingSphere() const override;
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its glyph quads write every DepthStrategy's depth (at their depth point).
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     struct SizeBatch;
@@ -120,7 +123,7 @@ private:
     std::map<float, std::unique_ptr<SizeBatch>> _sizes;
     std::vector<Record> _labels;
     std::unique_ptr<detail::BillboardBounds> _bounds;
-    std::shared_ptr<ShaderProgram> _program;
+    std::unique_ptr<detail::DepthPrograms> _programs;
     BillboardUploadStatistics _lastUpload;
     std::size_t _lastDrawCalls = 0;
 };

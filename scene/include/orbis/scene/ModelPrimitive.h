@@ -90,6 +90,8 @@ public:
     const std::optional<glm::dvec3>& horizonOcclusionPoint() const noexcept { return _occlusionPoint; }
 
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its materials write every DepthStrategy's depth.
+    bool supportsLogarithmicDepth() const override { return true; }
 
     /// True once the first update() has made the buffers, textures and programs.
     bool resourcesCreated() const noexcept { return _resourcesCreated; }

@@ -80,12 +80,14 @@ public:
     /// The sphere around every drawn position; none while no polygon has triangles.
     std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its fills write every DepthStrategy's depth, with their depth offset scaled to it.
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     struct Item;
-    struct Gpu;
     void build(FrameState& frameState);
     void buildIndices(Device& device);
+    void writeColor(std::size_t index, std::vector<std::byte>& out) const;
 
     Ellipsoid _ellipsoid;
     PolygonCollectionOptions _options;
@@ -93,7 +95,7 @@ private:
     std::size_t _vertexCount = 0;
     std::size_t _triangleCount = 0;
     std::optional<BoundingSphere> _boundingSphere;
-    std::unique_ptr<Gpu> _gpu;
+    std::unique_ptr<detail::VectorBatch> _batch;
     bool _geometryDirty = true;
     bool _indicesDirty = true;
     std::vector<std::size_t> _colorDirty;

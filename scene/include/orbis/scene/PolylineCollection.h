@@ -16,6 +16,9 @@
 namespace orbis {
 
 class Geodesic;
+namespace detail {
+class VectorBatch;
+} // namespace detail
 
 /// How a vector collection's positions reach the GPU (ARCHITECTURE.md, precision rules).
 enum class VertexEncoding {
@@ -125,10 +128,11 @@ public:
     /// The sphere around every drawn position; none for an empty collection.
     std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
+    /// Its lines write every DepthStrategy's depth, with their depth offset scaled to it.
+    bool supportsLogarithmicDepth() const override { return true; }
 
 private:
     struct Line;
-    struct Gpu;
     void build(FrameState& frameState);
     void buildIndices(Device& device);
     void writeStyle(const Line& line, std::vector<std::byte>& out) const;
@@ -140,7 +144,7 @@ private:
     std::size_t _segmentCount = 0;
     std::optional<BoundingSphere> _boundingSphere;
     std::unique_ptr<const Geodesic> _geodesic; ///< CurveType::Geodesic only
-    std::unique_ptr<Gpu> _gpu;
+    std::unique_ptr<detail::VectorBatch> _batch;
     bool _geometryDirty = true;
     bool _indicesDirty = true;
     std::vector<std::size_t> _styleDirty; ///< lines whose style changed since the last upload
