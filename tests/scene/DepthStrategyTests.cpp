@@ -419,7 +419,7 @@ std::shared_ptr<MeshPrimitive> cubeNearEye(const Scene& scene, double distance)
     const glm::dvec3 right = glm::normalize(glm::cross(direction, camera.up()));
     const glm::dvec3 up = glm::cross(right, direction);
     const glm::dvec3 centre = camera.eye() + distance * (direction - 0.32 * right + 0.32 * up);
-    return std::make_shared<MeshPrimitive>(cube(centre, 0.02 * distance), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+    return std::make_shared<MeshPrimitive>(BoxTessellator::cube(centre, 0.02 * distance), glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
 }
 
 /// A geodetic rectangle as one ring of world positions, its edges cut every degree or less.
@@ -654,7 +654,7 @@ TEST_CASE("Billboards and labels keep their pixels under every depth strategy, a
             CHECK(whitePixels(tested.image) == white);
         }
         const glm::dvec3 halfway = 0.5 * (scene.camera().eye() + anchor);
-        scene.add(std::make_shared<MeshPrimitive>(cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
+        scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
         const RenderedFrame hidden = renderFrame(scene, size, size);
         CHECK(countNear(hidden.image, {255, 0, 0, 255}, 0) == 0);
         CHECK(whitePixels(hidden.image) == 0);
