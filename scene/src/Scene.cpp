@@ -8,15 +8,29 @@
 
 #include <glm/geometric.hpp>
 
+#include <cxxabi.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <memory>
+#include <string>
 #include <typeinfo>
 
 namespace orbis {
 
 namespace {
+
+/// The demangled class name of a primitive, for messages.
+std::string readableTypeName(const Primitive& primitive)
+{
+    int status = 0;
+    const char* mangled = typeid(primitive).name();
+    std::unique_ptr<char, void (*)(void*)> demangled(abi::__cxa_demangle(mangled, nullptr, nullptr, &status), std::free);
+    return status == 0 && demangled ? demangled.get() : mangled;
+}
 
 double millisecondsSince(std::chrono::steady_clock::time_point start)
 {
@@ -180,7 +194,7 @@ FrameStatistics Scene::render(Context& context)
         for (const Primitive* primitive : _survivors) {
             if (!primitive->supportsLogarithmicDepth()) {
                 throw Error(std::string("Scene: logarithmic depth needs every primitive to write it, and a ") +
-                            typeid(*primitive).name() + " does not (Primitive::supportsLogarithmicDepth)");
+                            readableTypeName(*primitive) + " does not (Primitive::supportsLogarithmicDepth)");
             }
         }
     }
