@@ -40,6 +40,8 @@ void addGeoJsonLayer(const GeoJsonLayer& layer, Scene& scene)
     if (layer.fill) {
         style.fillColor = layer.fill->color;
     }
+    style.granularityRadians = layer.path.granularityRadians;
+    style.curve = layer.path.curve;
     buildFeaturePrimitives(scene.ellipsoid(), loadGeoJson(layer.source), style).addTo(scene);
 }
 
@@ -48,7 +50,10 @@ void addPolylineLayer(const PolylineLayer& layer, Scene& scene)
     StrokeStyle stroke;
     stroke.color = layer.color;
     stroke.widthPixels = layer.widthPixels;
-    auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid());
+    PolylineCollectionOptions options;
+    options.granularityRadians = layer.path.granularityRadians;
+    options.curve = layer.path.curve;
+    auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid(), options);
     lines->add(std::span<const Geodetic3D>(layer.positions), polylineStyle(stroke));
     scene.add(std::move(lines));
 }

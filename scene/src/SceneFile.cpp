@@ -275,9 +275,10 @@ constexpr std::array<std::string_view, 3> kKeyframeKeys = {"time", "position", "
 constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 4> kGlobeKeys = {"method", "texture", "nightTexture", "grid"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
-constexpr std::array<std::string_view, 4> kGeoJsonKeys = {"type", "source", "stroke", "fill"};
+constexpr std::array<std::string_view, 6> kGeoJsonKeys = {"type", "source", "stroke", "fill", "granularity", "curve"};
 constexpr std::array<std::string_view, 4> kPointsKeys = {"type", "source", "billboard", "label"};
-constexpr std::array<std::string_view, 4> kPolylineKeys = {"type", "positions", "width", "color"};
+constexpr std::array<std::string_view, 6> kPolylineKeys = {"type",  "positions",   "width",
+                                                            "color", "granularity", "curve"};
 constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "position", "scale",
                                                         "heading", "pitch", "roll"};
 constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
@@ -301,6 +302,10 @@ constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
 constexpr std::array<Named<GlobeMethod>, 2> kGlobeMethods = {{
     {"raycast", GlobeMethod::RayCast},
     {"tessellated", GlobeMethod::Tessellated},
+}};
+constexpr std::array<Named<CurveType>, 2> kCurves = {{
+    {"section", CurveType::PlaneSection},
+    {"geodesic", CurveType::Geodesic},
 }};
 constexpr std::array<Named<Origin>, 9> kOrigins = {{
     {"center", Origin::Center},
@@ -344,6 +349,9 @@ constexpr Range kNonNegativePixels{0.0, kMaxPixels};
 /// would lose all precision, or overflow when squared).
 constexpr Range kHeightRange{-1.0e6, 1.0e12};
 constexpr Range kPixelOffsetRange{-16384.0, 16384.0};
+/// Degrees. Finer than 0.1 would cut the world's borders into millions of vertices and its
+/// countries into tens of millions of triangles; coarser than 10 lifts lines 24 km off the ground.
+constexpr Range kGranularityRange{0.1, 10.0};
 
 // ---------------------------------------------------------------------------------------------
 // The reader: one scene's text, origin and folder; every value checked where it is read.
@@ -843,6 +851,7 @@ private:
         if (!layer.stroke && !layer.fill) {
             layer.stroke = StrokeStyle{};
         }
+        layer.path = readLinePath(value, pointer);
         return layer;
     }
 
@@ -996,7 +1005,21 @@ private:
         if (const Json* color = member(value, "color")) {
             layer.color = readColor(*color, pointer + "/color");
         }
+        layer.path = readLinePath(value, pointer);
         return layer;
+    }
+
+    /// "granularity" and "curve" of a layer with lines.
+    LinePath readLinePath(const Json& layer, const std::string& pointer) const
+    {
+        LinePath path;
+        if (const Json* granularity = member(layer, "granularity")) {
+            path.granularityRadians = readDegrees(*granularity, pointer + "/granularity", kGranularityRange);
+        }
+        if (const Json* curve = member(layer, "curve")) {
+            path.curve = readEnum(*curve, pointer + "/curve", kCurves);
+        }
+        return path;
     }
 
     ModelLayer readModelLayer(const Json& value, const std::string& pointer) const

@@ -406,3 +406,51 @@ TEST_CASE("Scene files draw GeoJSON layers as borders and fills, and polyline la
     Scene other(kEarth);
     REQUIRE_THROWS_WITH(populateScene(unsupported, other), Catch::Contains("/layers/0: ") && Catch::Contains("m.glb: no such file"));
 }
+
+TEST_CASE("Scene file layers draw their lines at the granularity and along the curve they name", "[polyline][scenefile]")
+{
+    const Geodetic3D ends[] = {Geodetic3D::fromDegrees(-10, -30), Geodetic3D::fromDegrees(50, -30)};
+    const auto linesOf = [](const std::string& layer) {
+        const std::string text = R"({"version": 1, "layers": [)" + layer + "]}";
+        Scene scene(kEarth);
+        populateScene(parseSceneText(text, "lines.json", ORBIS_SOURCE_DIR "/data"), scene);
+        std::vector<std::shared_ptr<PolylineCollection>> lines;
+        for (const auto& primitive : scene.primitives()) {
+            if (auto collection = std::dynamic_pointer_cast<PolylineCollection>(primitive)) {
+                lines.push_back(std::move(collection));
+            }
+        }
+        return lines;
+    };
+
+    // A polyline layer draws what a PolylineCollection with the same options draws.
+    for (const auto& [curveName, curve] : {std::pair{"section", CurveType::PlaneSection}, std::pair{"geodesic", CurveType::Geodesic}}) {
+        INFO(curveName);
+        const auto fromFile = linesOf(std::string(R"({"type": "polyline", "positions": [[-10, -30], [50, -30]], "granularity": 0.5, "curve": ")") +
+                                      curveName + "\"}");
+        REQUIRE(fromFile.size() == 1);
+        PolylineCollectionOptions options;
+        options.granularityRadians = toRadians(0.5);
+        options.curve = curve;
+        PolylineCollection expected(kEarth, options);
+        expected.add(ends);
+        const auto drawn = fromFile[0]->positions(0);
+        REQUIRE(std::vector<glm::dvec3>(drawn.begin(), drawn.end()) ==
+                std::vector<glm::dvec3>(expected.positions(0).begin(), expected.positions(0).end()));
+    }
+    const auto coarse = linesOf(R"({"type": "polyline", "positions": [[-10, -30], [50, -30]]})");
+    const auto fine = linesOf(R"({"type": "polyline", "positions": [[-10, -30], [50, -30]], "granularity": 0.5})");
+    const auto geodesic = linesOf(R"({"type": "polyline", "positions": [[-10, -30], [50, -30]], "granularity": 0.5, "curve": "geodesic"})");
+    // 60 degrees of longitude at 30 S subtend 51.3 degrees: 52 pieces at 1 degree, 103 at 0.5.
+    REQUIRE(coarse[0]->positions(0).size() == 53);
+    REQUIRE(fine[0]->positions(0).size() == 104);
+    // The geodesic leaves the plane section by kilometres halfway (its own route, not a relabelling).
+    const std::size_t middle = fine[0]->positions(0).size() / 2;
+    REQUIRE(glm::distance(fine[0]->positions(0)[middle], geodesic[0]->positions(0)[middle]) > 1e3);
+
+    // A GeoJSON layer's borders follow its granularity too: finer cuts give more vertices.
+    const std::string borders = R"({"type": "geojson", "source": "natural-earth/countries-110m.geojson")";
+    const std::size_t atOneDegree = linesOf(borders + "}")[0]->vertexCount();
+    const std::size_t atQuarterDegree = linesOf(borders + R"(, "granularity": 0.25})")[0]->vertexCount();
+    REQUIRE(atQuarterDegree > 2 * atOneDegree);
+}

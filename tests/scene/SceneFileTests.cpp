@@ -212,6 +212,30 @@ TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[scene][sce
     REQUIRE_FALSE(layer.fill.has_value());
 }
 
+TEST_CASE("Lines take their granularity in degrees and their curve", "[scene][scenefile]")
+{
+    const auto geojson = std::get<GeoJsonLayer>(
+        parse(withLayer(R"({"type": "geojson", "source": "a.json", "granularity": 0.25, "curve": "geodesic"})")).layers[0]);
+    REQUIRE_THAT(geojson.path.granularityRadians, WithinAbs(toRadians(0.25), kAngleTolerance));
+    REQUIRE(geojson.path.curve == CurveType::Geodesic);
+
+    const auto polyline = std::get<PolylineLayer>(
+        parse(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "granularity": 10, "curve": "section"})")).layers[0]);
+    REQUIRE_THAT(polyline.path.granularityRadians, WithinAbs(toRadians(10.0), kAngleTolerance));
+    REQUIRE(polyline.path.curve == CurveType::PlaneSection);
+
+    const auto defaults = std::get<PolylineLayer>(parse(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]]})")).layers[0]);
+    REQUIRE(defaults.path == LinePath{});
+    REQUIRE_THAT(defaults.path.granularityRadians, WithinAbs(toRadians(1.0), kAngleTolerance));
+
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "granularity": 0.05})")) ==
+          "test.json:1:82: /layers/0/granularity: 0.05 is out of range [0.1, 10]");
+    CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "granularity": "fine"})")) ==
+          R"(test.json:1:94: /layers/0/granularity: expected a number, got "fine")");
+    CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "curve": "geodetic"})")) ==
+          R"(test.json:1:76: /layers/0/curve: unknown value "geodetic" (did you mean "geodesic"?))");
+}
+
 TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[scene][scenefile]")
 {
     const SceneDescription scene = parse(R"({"version": 1, "time": "2026-06-21T12:00:00Z"})");
@@ -312,7 +336,7 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[scene][s
             R"(test.json:1:44: /sun/elevation: unknown key "elevation"; expected one of "lon", "lat")");
     // A key that belongs to another layer type.
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "positions": []})")) ==
-            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill")");
+            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve")");
     // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
     CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
             R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "globe", "layers")");

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/scene/CurveType.h"
 #include "orbis/scene/FrameState.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -29,12 +30,6 @@ enum class VertexEncoding {
     /// section 5.2): 12 bytes a vertex, precise to about 1e-7 of the group's size (a fraction of a
     /// metre for a continent, millimetres for a city).
     RelativeToCenter,
-};
-
-/// The path a polyline follows between two consecutive positions.
-enum class CurveType {
-    PlaneSection, ///< the curve cut by the plane through the centre and both ends (Ellipsoid::computeCurve)
-    Geodesic,     ///< the shortest path (Geodesic::computeGeodesic); ellipsoids of revolution only
 };
 
 /// How one polyline looks. Widths are in pixels, whatever the distance.

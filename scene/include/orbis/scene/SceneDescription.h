@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/scene/Camera.h"
+#include "orbis/scene/CurveType.h"
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/GlobeMethod.h"
 
@@ -124,12 +125,21 @@ struct LabelStyle {
     friend bool operator==(const LabelStyle&, const LabelStyle&) = default;
 };
 
+/// How lines follow the ellipsoid between their positions, and how finely polygons are cut.
+struct LinePath {
+    double granularityRadians = toRadians(1.0); ///< the largest angle at the centre between drawn vertices
+    CurveType curve = CurveType::PlaneSection;  ///< lines only; polygon fills follow plane sections
+
+    friend bool operator==(const LinePath&, const LinePath&) = default;
+};
+
 /// Lines and polygons from a GeoJSON file. With neither style given, lines are stroked with
 /// the default StrokeStyle and polygons are outlined with it.
 struct GeoJsonLayer {
     std::filesystem::path source;
     std::optional<StrokeStyle> stroke;
     std::optional<FillStyle> fill;
+    LinePath path;
 
     friend bool operator==(const GeoJsonLayer&, const GeoJsonLayer&) = default;
 };
@@ -151,6 +161,7 @@ struct PolylineLayer {
     std::vector<Geodetic3D> positions; ///< radians, metres
     double widthPixels = 2.0;          ///< > 0
     glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
+    LinePath path;
 
     friend bool operator==(const PolylineLayer&, const PolylineLayer&) = default;
 };
