@@ -8,6 +8,7 @@ packages="
   libglm-dev libgeographiclib-dev catch2 libbenchmark-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   libstb-dev libtinygltf-dev nlohmann-json3-dev
+  libglfw3-dev xvfb xauth
   xplanet-images fonts-dejavu-core
   clang-14 libclang-rt-14-dev
 "

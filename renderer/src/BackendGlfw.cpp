@@ -68,6 +68,9 @@ public:
     {
         glfwDefaultWindowHints();
         glfwWindowHint(GLFW_CLIENT_API, GLFW_OPENGL_API);
+        // EGL, not GLX: libglvnd lets a thread have a current context of one window-system API
+        // only, so a GLX window would make every EGL device on its thread fail (EGL_BAD_ACCESS).
+        glfwWindowHint(GLFW_CONTEXT_CREATION_API, GLFW_EGL_CONTEXT_API);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, _request.majorVersion);
         glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, _request.minorVersion);
         glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

@@ -79,7 +79,7 @@ TEST_CASE("ORBIS_GL_BACKEND chooses the backend of an automatic device", "[rende
     REQUIRE_THROWS_WITH(Device(), Contains("ORBIS_GL_BACKEND=vulkan") && Contains("egl, osmesa"));
 }
 
-TEST_CASE("A version no backend can give is a clear error that says what each backend answered", "[renderer][device]")
+TEST_CASE("A version no backend can give is a clear error that says what each backend answered", "[renderer][device][headless]")
 {
     DeviceOptions options;
     options.glMajorVersion = 9;

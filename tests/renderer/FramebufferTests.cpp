@@ -93,7 +93,7 @@ TEST_CASE("An incomplete framebuffer is a clear error, never a crash", "[rendere
 }
 
 TEST_CASE("Drawing or clearing with no framebuffer on a headless context is a clear error",
-          "[renderer][framebuffer][errors]")
+          "[renderer][framebuffer][errors][headless]")
 {
     Context& context = test::sharedDevice().context();
     context.setFramebuffer(nullptr);

@@ -44,7 +44,7 @@ TEST_CASE("A window device draws into its window, or says clearly why there is n
 #endif
 }
 
-TEST_CASE("Headless devices have no window", "[renderer][window]")
+TEST_CASE("Headless devices have no window", "[renderer][window][headless]")
 {
     CHECK(test::sharedDevice().window() == nullptr);
 }
