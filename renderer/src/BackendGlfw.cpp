@@ -10,7 +10,9 @@
 #include "orbis/renderer/Window.h"
 
 #include <cstdlib>
+#include <memory>
 #include <mutex>
+#include <utility>
 
 namespace orbis::detail {
 namespace {
@@ -29,9 +31,48 @@ GlProc glfwProc(const char* name)
     return glfwGetProcAddress(name);
 }
 
+/// Input gathered by the visible window's callbacks (its user pointer) until Window::takeInput.
+struct GatheredInput {
+    WindowInput input;
+    glm::dvec2 cursor{0.0};
+    bool cursorKnown = false;
+};
+
+void onCursorMoved(GLFWwindow* window, double x, double y)
+{
+    auto* gathered = static_cast<GatheredInput*>(glfwGetWindowUserPointer(window));
+    const glm::dvec2 cursor(x, y);
+    if (gathered->cursorKnown && glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+        gathered->input.dragPixels += cursor - gathered->cursor;
+    }
+    gathered->cursor = cursor;
+    gathered->cursorKnown = true;
+}
+
+void onScrolled(GLFWwindow* window, double, double steps)
+{
+    static_cast<GatheredInput*>(glfwGetWindowUserPointer(window))->input.scrollSteps += steps;
+}
+
+void onKey(GLFWwindow* window, int key, int, int action, int)
+{
+    if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) {
+        glfwSetWindowShouldClose(window, GLFW_TRUE);
+    }
+}
+
 class GlfwContext final : public BackendContext {
 public:
-    GlfwContext(GLFWwindow* window, bool visible) noexcept : _window(window), _visible(visible) {}
+    GlfwContext(GLFWwindow* window, bool visible) : _window(window), _visible(visible)
+    {
+        if (visible) {
+            _input = std::make_unique<GatheredInput>();
+            glfwSetWindowUserPointer(window, _input.get());
+            glfwSetCursorPosCallback(window, &onCursorMoved);
+            glfwSetScrollCallback(window, &onScrolled);
+            glfwSetKeyCallback(window, &onKey);
+        }
+    }
     ~GlfwContext() override
     {
         if (glfwGetCurrentContext() == _window) {
@@ -51,6 +92,7 @@ public:
 private:
     GLFWwindow* _window;
     bool _visible;
+    std::unique_ptr<GatheredInput> _input; ///< the visible window's only
 };
 
 class GlfwBackend final : public Backend {
@@ -131,6 +173,12 @@ bool Window::shouldClose() const
 void Window::pollEvents()
 {
     glfwPollEvents();
+}
+
+WindowInput Window::takeInput()
+{
+    auto* gathered = static_cast<detail::GatheredInput*>(glfwGetWindowUserPointer(static_cast<GLFWwindow*>(_native)));
+    return std::exchange(gathered->input, WindowInput{});
 }
 
 void Window::swapBuffers()

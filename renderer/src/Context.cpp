@@ -634,6 +634,39 @@ Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
     return image;
 }
 
+void Context::blit(const Framebuffer& source, Framebuffer* destination)
+{
+    detail::ContextState& state = *_state;
+    const ErrorSource where{"Context::blit", {}};
+    if (&source == destination) {
+        throw Error("Context::blit: the source is the destination");
+    }
+    if (!destination && !state.backend->hasDefaultFramebuffer()) {
+        throw Error("Context::blit: no window to copy to (a headless context has no default framebuffer)");
+    }
+    // Binding checks each framebuffer and attaches its textures; the source is bound last, so it
+    // stays the framebuffer the context's shadow state knows as bound.
+    GLuint destinationName = 0;
+    if (destination) {
+        bindTarget(destination, where);
+        destinationName = destination->_name;
+    }
+    Framebuffer* read = bindTarget(const_cast<Framebuffer*>(&source), where);
+    if (!read->_colors[0]) {
+        throw Error("Context::blit: the source framebuffer has no colour attachment 0");
+    }
+    state.applyClearState(ClearState{}); // the scissor test would clip the copy
+    const detail::GlApi& gl = state.gl;
+    const Rectangle from = targetRectangle(read);
+    const Rectangle to = targetRectangle(destination);
+    gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, destinationName);
+    const bool sameSize = from.width == to.width && from.height == to.height;
+    gl.glBlitFramebuffer(0, 0, from.width, from.height, 0, 0, to.width, to.height, GL_COLOR_BUFFER_BIT,
+                         sameSize ? GL_NEAREST : GL_LINEAR);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read->_name);
+}
+
 void Context::resetState() noexcept
 {
     _state->forgetState();

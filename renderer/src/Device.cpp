@@ -87,6 +87,10 @@ bool Window::shouldClose() const
     return true;
 }
 void Window::pollEvents() {}
+WindowInput Window::takeInput()
+{
+    return {};
+}
 void Window::swapBuffers() {}
 int Window::framebufferWidth() const
 {

@@ -114,6 +114,7 @@ namespace orbis::detail {
     X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers)                                                 \
     X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)                                           \
     X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                                                 \
+    X(PFNGLBLITFRAMEBUFFERPROC, glBlitFramebuffer)                                                 \
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)                                       \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, glCheckFramebufferStatus)                                   \
     X(PFNGLFENCESYNCPROC, glFenceSync)                                                             \

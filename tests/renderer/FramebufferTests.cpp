@@ -107,3 +107,50 @@ TEST_CASE("A colour attachment can be read as a texture after rendering into it"
     const Image image = framebuffer.colorAttachment(0)->copyToImage();
     CHECK(test::pixelNear(image, 3, 3, {0, 255, 0, 255}));
 }
+
+TEST_CASE("Context::blit copies colour attachment 0, scaling to the destination, whatever the scissor", "[renderer][framebuffer]")
+{
+    Context& context = test::sharedDevice().context();
+    // Left half red, right half green; the scissor left enabled by the second clear must not clip
+    // the copy.
+    Framebuffer source = clearedFramebuffer(8, 8, {1.0f, 0.0f, 0.0f, 1.0f});
+    ClearState rightHalf;
+    rightHalf.color = {0.0f, 1.0f, 0.0f, 1.0f};
+    rightHalf.scissorTest.enabled = true;
+    rightHalf.scissorTest.rectangle = {4, 0, 4, 8};
+    context.clear(rightHalf, &source);
+
+    Framebuffer same = clearedFramebuffer(8, 8, {0.0f, 0.0f, 1.0f, 1.0f});
+    context.blit(source, &same);
+    const Image copied = context.readPixels(&same);
+    const Image original = context.readPixels(&source);
+    CHECK(copied.pixels == original.pixels);
+
+    Framebuffer larger = clearedFramebuffer(16, 12, {0.0f, 0.0f, 1.0f, 1.0f});
+    context.blit(source, &larger);
+    const Image scaled = context.readPixels(&larger);
+    for (int y : {0, 6, 11}) {
+        CHECK(test::pixelNear(scaled, 0, y, {255, 0, 0, 255}));
+        CHECK(test::pixelNear(scaled, 5, y, {255, 0, 0, 255}));
+        CHECK(test::pixelNear(scaled, 10, y, {0, 255, 0, 255}));
+        CHECK(test::pixelNear(scaled, 15, y, {0, 255, 0, 255}));
+    }
+
+    // The context still draws where it did: the source is the bound framebuffer afterwards.
+    ClearState white;
+    white.color = {1.0f, 1.0f, 1.0f, 1.0f};
+    context.clear(white, &larger);
+    CHECK(test::pixelNear(context.readPixels(&larger), 8, 6, {255, 255, 255, 255}));
+    CHECK(test::pixelNear(context.readPixels(&source), 0, 0, {255, 0, 0, 255}));
+
+    REQUIRE_THROWS_WITH(context.blit(source, &source), Contains("the source is the destination"));
+    Framebuffer empty;
+    REQUIRE_THROWS_WITH(context.blit(empty, &larger), Contains("Context::blit") && Contains("empty"));
+}
+
+TEST_CASE("Context::blit to the window of a headless context is a clear error", "[renderer][framebuffer][errors][headless]")
+{
+    Context& context = test::sharedDevice().context();
+    Framebuffer source = clearedFramebuffer(4, 4, {1.0f, 0.0f, 0.0f, 1.0f});
+    REQUIRE_THROWS_WITH(context.blit(source), Contains("Context::blit: no window"));
+}

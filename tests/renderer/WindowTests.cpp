@@ -36,8 +36,22 @@ TEST_CASE("A window device draws into its window, or says clearly why there is n
     const Image image = context.readPixels();
     CHECK(image.width == device.window()->framebufferWidth());
     CHECK(test::pixelNear(image, 0, 0, {0, 255, 0, 255}));
+
+    // A frame rendered offscreen, shown through blit.
+    Framebuffer offscreen = context.createFramebuffer(image.width, image.height);
+    ClearState magenta;
+    magenta.color = {1.0f, 0.0f, 1.0f, 1.0f};
+    context.clear(magenta, &offscreen);
+    context.blit(offscreen);
+    const Image shown = context.readPixels();
+    CHECK(test::pixelNear(shown, 0, 0, {255, 0, 255, 255}));
+    CHECK(test::pixelNear(shown, shown.width - 1, shown.height - 1, {255, 0, 255, 255}));
+
     device.window()->swapBuffers();
     device.window()->pollEvents();
+    const WindowInput input = device.window()->takeInput(); // nobody touched the virtual display
+    CHECK(input.dragPixels == glm::dvec2(0.0));
+    CHECK(input.scrollSteps == 0.0);
 #else
     (void)hasDisplay;
     REQUIRE_THROWS_WITH(Device(options), Contains("window backend") && Contains("no GLFW"));

@@ -109,6 +109,12 @@ public:
     /// first. Float formats are clamped to 0..1.
     Image readPixels(const Framebuffer* framebuffer = nullptr, int colorAttachment = 0);
 
+    /// Copies colour attachment 0 of `source` over the whole of `destination`, or of the window's
+    /// framebuffer when null (whatever framebuffer is current), filtering linearly when the sizes
+    /// differ: how a frame rendered offscreen, with a depth buffer the window cannot have, is shown.
+    /// Throws orbis::Error for a headless context with a null destination, as clear does.
+    void blit(const Framebuffer& source, Framebuffer* destination = nullptr);
+
     /// Sends the queued commands to the GPU.
     void flush();
     /// Waits until the GPU has executed every queued command.

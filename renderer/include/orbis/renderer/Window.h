@@ -1,6 +1,14 @@
 #pragma once
 
+#include <glm/vec2.hpp>
+
 namespace orbis {
+
+/// What the user did in a window since the last Window::takeInput().
+struct WindowInput {
+    glm::dvec2 dragPixels{0.0}; ///< pointer movement with the left button held, x right, y down
+    double scrollSteps = 0.0;   ///< wheel steps, positive away from the user
+};
 
 /// The window of a Device created with GlBackend::Window (only in builds with GLFW, and only where
 /// a display exists). Its Context draws into it when no framebuffer is set; swapBuffers shows the
@@ -25,8 +33,10 @@ public:
 
     /// True once the user asked to close the window.
     bool shouldClose() const;
-    /// Handles pending window-system events (input, resizing, closing).
+    /// Handles pending window-system events (input, resizing, closing). Escape asks to close.
     void pollEvents();
+    /// The input gathered by pollEvents since the last call, which starts afresh.
+    WindowInput takeInput();
     /// Shows what was drawn into the default framebuffer.
     void swapBuffers();
     /// The default framebuffer's size in pixels (which may differ from the window's size in
