@@ -3,10 +3,15 @@
 // 2 the command line is wrong.
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/renderer/Window.h>
+#include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/SceneFile.h>
 
+#include <glm/geometric.hpp>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -103,46 +108,63 @@ void showProgress(int done, int count, double elapsedSeconds)
     }
 }
 
-/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path
-/// PATH.json]: one frame of a scene file (the built-in default Earth without one), or a flight
-/// along a camera path as numbered PNGs, headless. Each PNG appears whole or not at all.
-int runRender(Arguments arguments)
-{
+/// The command line of render and view: a scene file and options, each at most once.
+struct SceneArguments {
     std::optional<std::string> scenePath;
-    std::string output = "orbis.png";
+    std::optional<std::string> output;
     std::optional<std::string> statisticsPath;
     std::optional<std::string> cameraPath;
     std::optional<int> width;
     std::optional<int> height;
     std::optional<int> frames;
+};
+
+/// Reads the arguments into `parsed`; false when they are malformed.
+bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
+{
     for (std::size_t i = 0; i < arguments.size(); ++i) {
         const std::string_view argument = arguments[i];
-        const bool hasValue = i + 1 < arguments.size();
-        auto count = [&](std::optional<int>& value, int maximum) {
-            const int parsed = std::atoi(arguments[++i]);
-            value = parsed;
-            return parsed >= 1 && parsed <= maximum;
-        };
-        if (argument == "--out" && hasValue) {
-            output = arguments[++i];
-        } else if (argument == "--stats" && hasValue) {
-            statisticsPath = arguments[++i];
-        } else if (argument == "--path" && hasValue) {
-            cameraPath = arguments[++i];
-        } else if ((argument == "--width" && hasValue && !count(width, 16384)) ||
-                   (argument == "--height" && hasValue && !count(height, 16384)) ||
-                   (argument == "--frames" && hasValue && !count(frames, 100000))) {
-            return kExitUsage;
-        } else if (argument == "--width" || argument == "--height" || argument == "--frames") {
-            if (!hasValue) {
-                return kExitUsage;
+        if (!argument.starts_with("--")) {
+            if (parsed.scenePath) {
+                return false;
             }
-        } else if (!argument.starts_with("--") && !scenePath) {
-            scenePath = std::string(argument);
-        } else {
-            return kExitUsage;
+            parsed.scenePath = std::string(argument);
+            continue;
+        }
+        if (i + 1 == arguments.size()) {
+            return false;
+        }
+        const char* value = arguments[++i];
+        auto count = [&](std::optional<int>& into, int maximum) {
+            into = std::atoi(value);
+            return *into >= 1 && *into <= maximum;
+        };
+        if (argument == "--out") {
+            parsed.output = value;
+        } else if (argument == "--stats") {
+            parsed.statisticsPath = value;
+        } else if (argument == "--path") {
+            parsed.cameraPath = value;
+        } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
+                     (argument == "--height" && count(parsed.height, 16384)) ||
+                     (argument == "--frames" && count(parsed.frames, 100000)))) {
+            return false;
         }
     }
+    return true;
+}
+
+/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path
+/// PATH.json]: one frame of a scene file (the built-in default Earth without one), or a flight
+/// along a camera path as numbered PNGs, headless. Each PNG appears whole or not at all.
+int runRender(Arguments arguments)
+{
+    SceneArguments parsed;
+    if (!parseSceneArguments(arguments, parsed)) {
+        return kExitUsage;
+    }
+    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames] = parsed;
+    const std::string output = outputOption.value_or("orbis.png");
     if (frames.value_or(1) > 1 && !cameraPath) {
         std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
         return kExitUsage;
@@ -208,6 +230,79 @@ int runRender(Arguments arguments)
     }
 }
 
+/// orbis view [SCENE.json] [--width W] [--height H] [--frames N --out PNG]: the scene in a window,
+/// turned by dragging with the left button and zoomed with the wheel (about the Earth's centre);
+/// Escape or closing the window ends it. Each frame is rendered offscreen, where the scene may have
+/// the float depth buffer a window lacks, and copied to the window. --frames stops after N frames,
+/// and --out then writes the last one as the window showed it.
+int runView(Arguments arguments)
+{
+    SceneArguments parsed;
+    if (!parseSceneArguments(arguments, parsed) || parsed.statisticsPath || parsed.cameraPath ||
+        (parsed.output && !parsed.frames)) {
+        return kExitUsage;
+    }
+    try {
+        const orbis::SceneDescription description =
+            parsed.scenePath ? orbis::parseSceneFile(*parsed.scenePath) : orbis::parseDefaultScene();
+        orbis::DeviceOptions options;
+        options.backend = orbis::GlBackend::Window;
+        options.windowWidth = parsed.width.value_or(description.width);
+        options.windowHeight = parsed.height.value_or(description.height);
+        options.windowTitle = "Orbis: " + parsed.scenePath.value_or("the default Earth");
+        orbis::Device device(options);
+        orbis::Context& context = device.context();
+        orbis::Window& window = *device.window();
+        orbis::Scene scene;
+        orbis::populateScene(description, scene);
+
+        // The file's camera until the first drag or wheel step; from then on an orbit about the
+        // centre, starting from where the eye is.
+        const glm::dvec3 eye = scene.camera().eye();
+        const double range = glm::length(eye);
+        orbis::OrbitController orbit(glm::dvec3(0.0), range, scene.ellipsoid().maximumRadius());
+        orbit.rotate(std::atan2(eye.y, eye.x), range > 0.0 ? std::asin(eye.z / range) : 0.0);
+
+        std::optional<orbis::Framebuffer> frame;
+        int shown = 0;
+        while (!window.shouldClose() && (!parsed.frames || shown < *parsed.frames)) {
+            window.pollEvents();
+            const orbis::WindowInput input = window.takeInput();
+            if (input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0) {
+                orbit.handle(orbis::InputEvent::drag(input.dragPixels.x, input.dragPixels.y));
+                orbit.handle(orbis::InputEvent::scroll(input.scrollSteps));
+                orbit.apply(scene.camera());
+            }
+            const int width = window.framebufferWidth();
+            const int height = window.framebufferHeight();
+            if (width == 0 || height == 0) { // minimised
+                continue;
+            }
+            if (!frame || frame->width() != width || frame->height() != height) {
+                frame = context.createFramebuffer(width, height);
+            }
+            context.setFramebuffer(&*frame);
+            const orbis::FrameStatistics statistics = scene.render(context);
+            context.blit(*frame);
+            if (shown == 0) {
+                std::printf("window %dx%d, %s\n%s", width, height, device.info().renderer.c_str(),
+                            statistics.toText().c_str());
+                std::fflush(stdout);
+            }
+            if (++shown == parsed.frames && parsed.output) {
+                context.setFramebuffer(nullptr);
+                orbis::writePng(context.readPixels(), *parsed.output);
+                std::printf("%s: frame %d as shown\n", parsed.output->c_str(), shown);
+            }
+            window.swapBuffers();
+        }
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis view: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
 /// orbis info: the OpenGL driver the headless device gets, and its limits.
 int runInfo(Arguments arguments)
 {
@@ -243,6 +338,9 @@ constexpr Subcommand kSubcommands[] = {
      "render a scene file (the default Earth without one) to a PNG, or a flight along a camera path to "
      "numbered PNGs, headless",
      runRender},
+    {"view", "[SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]",
+     "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, Escape to close",
+     runView},
     {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };
