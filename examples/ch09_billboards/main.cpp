@@ -1,6 +1,7 @@
 // Book chapter 9: billboards and labels. All 171,075 GeoNames cities as billboards in one
 // collection (one draw call), and the name of every Natural Earth country as a label with a halo,
-// over the textured globe. Cities and names behind the Earth are hidden by the horizon test.
+// over the textured globe. Cities and names behind the Earth are hidden by the horizon test, and
+// names that would overlap a larger country's are left out (LabelCollectionOptions::declutter).
 // Usage: ch09_billboards [--out file.png] [--width W] [--height H]
 // Data: data/ of the source tree, or the folder ORBIS_DATA_DIR names.
 #include "../common/SceneExample.h"
@@ -13,6 +14,7 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -62,8 +64,9 @@ glm::dvec3 vectorArea(const LinearRing& ring)
     return glm::dot(sum, mean) < 0.0 ? -sum : sum;
 }
 
-/// Where a country's name goes: the middle of its largest polygon's outer ring.
-std::optional<glm::dvec3> labelDirection(const Feature& feature)
+/// Where a country's name goes: the direction of the middle of its largest polygon's outer ring,
+/// with that polygon's size (twice its area on the unit sphere, roughly) as the length.
+std::optional<glm::dvec3> largestPolygonArea(const Feature& feature)
 {
     if (!feature.geometry) {
         return std::nullopt;
@@ -85,7 +88,7 @@ std::optional<glm::dvec3> labelDirection(const Feature& feature)
             }
         }
     }
-    return glm::length(best) > 0.0 ? std::optional(glm::normalize(best)) : std::nullopt;
+    return glm::length(best) > 0.0 ? std::optional(best) : std::nullopt;
 }
 
 } // namespace
@@ -103,23 +106,31 @@ int main(int argc, char** argv)
         scene.add(billboards);
 
         const FeatureCollection countries = loadGeoJson(dataDirectory() / "natural-earth" / "countries-110m.geojson");
-        auto labels = std::make_shared<LabelCollection>();
+        // Larger countries first: where names overlap, decluttering keeps the earlier one.
+        std::vector<std::pair<double, Label>> named;
         for (const Feature& country : countries.features) {
             const std::optional<std::string> name = country.stringProperty("name");
-            const std::optional<glm::dvec3> direction = labelDirection(country);
-            if (!name || !direction) {
+            const std::optional<glm::dvec3> area = largestPolygonArea(country);
+            if (!name || !area) {
                 continue;
             }
             Label label;
-            label.position = ellipsoid.scaleToGeocentricSurface(*direction * ellipsoid.maximumRadius());
+            label.position = ellipsoid.scaleToGeocentricSurface(glm::normalize(*area) * ellipsoid.maximumRadius());
             label.text = *name;
             label.fontSizePixels = 13.0f;
             label.verticalOrigin = VerticalOrigin::Center;
+            named.emplace_back(glm::length(*area), label);
+        }
+        std::stable_sort(named.begin(), named.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        LabelCollectionOptions labelOptions;
+        labelOptions.declutter = true;
+        auto labels = std::make_shared<LabelCollection>(labelOptions);
+        for (const auto& [size, label] : named) {
             labels->add(label);
         }
         scene.add(labels);
-        std::printf("%zu cities as billboards (%zu bytes each), %zu country labels\n", billboards->size(),
-                    BillboardCollection::vertexSizeInBytes(), labels->size());
+        std::printf("%zu cities as billboards (%zu bytes each), %zu country labels (decluttered)\n",
+                    billboards->size(), BillboardCollection::vertexSizeInBytes(), labels->size());
 
         examples::lookAtEarthFrom(scene, Geodetic3D::fromDegrees(20.0, 35.0, 1.1e7));
     });

@@ -6,7 +6,10 @@
 
 #include <orbis/renderer/Font.h>
 
+#include <glm/mat4x4.hpp>
+
 #include <algorithm>
+#include <cmath>
 
 namespace orbis {
 
@@ -27,6 +30,57 @@ int originShift(int origin, int size)
 {
     return origin == 0 ? 0 : origin == 1 ? size / 2 : size;
 }
+
+bool overlap(const PixelRectangle& a, const PixelRectangle& b) noexcept
+{
+    return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+}
+
+/// The boxes of the labels shown so far in a frame, in a grid of square cells so that a box is
+/// compared with its neighbours only.
+class ScreenOccupancy {
+public:
+    ScreenOccupancy(int width, int height)
+        : _columns(std::max(1, (width + kCell - 1) / kCell))
+        , _rows(std::max(1, (height + kCell - 1) / kCell))
+        , _cells(static_cast<std::size_t>(_columns) * static_cast<std::size_t>(_rows))
+    {
+    }
+
+    /// Takes the box unless it overlaps one taken before; false then.
+    bool take(const PixelRectangle& box)
+    {
+        const int x0 = std::clamp(floorDivide(box.x), 0, _columns);
+        const int x1 = std::clamp(floorDivide(box.x + box.width - 1) + 1, 0, _columns);
+        const int y0 = std::clamp(floorDivide(box.y), 0, _rows);
+        const int y1 = std::clamp(floorDivide(box.y + box.height - 1) + 1, 0, _rows);
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+                for (const PixelRectangle& taken : cell(x, y)) {
+                    if (overlap(box, taken)) {
+                        return false;
+                    }
+                }
+            }
+        }
+        for (int y = y0; y < y1; ++y) {
+            for (int x = x0; x < x1; ++x) {
+                cell(x, y).push_back(box);
+            }
+        }
+        return true;
+    }
+
+private:
+    static constexpr int kCell = 64; ///< pixels: a few cells for a typical label
+
+    static int floorDivide(int value) noexcept { return value >= 0 ? value / kCell : -((-value + kCell - 1) / kCell); }
+    std::vector<PixelRectangle>& cell(int x, int y) { return _cells[static_cast<std::size_t>(y) * _columns + x]; }
+
+    int _columns;
+    int _rows;
+    std::vector<std::vector<PixelRectangle>> _cells;
+};
 
 } // namespace
 
@@ -94,8 +148,8 @@ void LabelCollection::writeVertices(std::size_t index, bool mark)
     detail::setPosition(common, label.position);
     detail::packColor(label.fillColor, common.color);
     detail::packColor(label.haloColor, common.haloColor);
-    common.scaleOriginVisibility =
-        detail::packScaleOriginVisibility(1.0f, HorizontalOrigin::Left, VerticalOrigin::Top, label.visible);
+    common.scaleOriginVisibility = detail::packScaleOriginVisibility(1.0f, HorizontalOrigin::Left, VerticalOrigin::Top,
+                                                                     label.visible && !record.decluttered);
     std::vector<detail::GlyphVertex>& vertices = batch.batch.vertices();
     for (std::size_t q = 0; q < record.layout.quads.size(); ++q) {
         const GlyphQuad& quad = record.layout.quads[q];
@@ -237,6 +291,42 @@ std::optional<BoundingSphere> LabelCollection::boundingSphere() const
     return _bounds->sphere();
 }
 
+void LabelCollection::declutter(const FrameState& frameState)
+{
+    if (!_options.declutter && _lastDecluttered == 0) {
+        return; // nothing to do, nor to undo
+    }
+    // The window position of an anchor does not depend on the near and far distances.
+    const double aspectRatio = static_cast<double>(frameState.width) / std::max(frameState.height, 1);
+    const glm::dmat4 viewProjection =
+        frameState.camera.projectionMatrix(aspectRatio, 1.0, 2.0) * frameState.camera.viewMatrix();
+    ScreenOccupancy occupancy(frameState.width, frameState.height);
+    _lastDecluttered = 0;
+    for (std::size_t index = 0; index < _labels.size(); ++index) {
+        Record& record = _labels[index];
+        bool hidden = false;
+        if (_options.declutter && record.label.visible && frameState.occluder.isPointVisible(record.label.position)) {
+            const glm::dvec4 clip = viewProjection * glm::dvec4(record.label.position, 1.0);
+            if (clip.w > 0.0) {
+                // Where the billboard shader puts the anchor: the nearest pixel corner, y down here.
+                const double windowX = (clip.x / clip.w * 0.5 + 0.5) * frameState.width;
+                const double windowY = (clip.y / clip.w * 0.5 + 0.5) * frameState.height;
+                PixelRectangle box = placement(index);
+                box.x += static_cast<int>(std::floor(windowX + 0.5));
+                box.y += frameState.height - static_cast<int>(std::floor(windowY + 0.5));
+                hidden = !occupancy.take(box);
+            }
+        }
+        _lastDecluttered += hidden ? 1 : 0;
+        if (hidden != record.decluttered) {
+            record.decluttered = hidden;
+            if (!_sizes.at(record.label.fontSizePixels)->rebuild) {
+                writeVertices(index, true);
+            }
+        }
+    }
+}
+
 void LabelCollection::update(FrameState& frameState, CommandList& commands)
 {
     _lastUpload = {};
@@ -244,6 +334,7 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
     if (_labels.empty()) {
         return;
     }
+    declutter(frameState);
     std::vector<glm::dvec3> positions;
     if (_bounds->needsPositions(frameState.ellipsoid)) {
         positions.reserve(_labels.size());

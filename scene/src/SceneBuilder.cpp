@@ -172,6 +172,7 @@ void addPointsLayer(const PointsLayer& layer, Scene& scene)
     }
     LabelCollectionOptions options;
     options.haloPixels = static_cast<int>(std::lround(layer.label->outlineWidthPixels));
+    options.declutter = layer.label->declutter;
     auto labels = std::make_shared<LabelCollection>(options);
     for (std::size_t i = 0; i < points.positions.size(); ++i) {
         if (points.texts[i].empty()) {

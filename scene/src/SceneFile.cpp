@@ -284,7 +284,8 @@ constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "posit
 constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
 constexpr std::array<std::string_view, 1> kFillKeys = {"color"};
 constexpr std::array<std::string_view, 5> kBillboardKeys = {"image", "size", "color", "origin", "offset"};
-constexpr std::array<std::string_view, 5> kLabelKeys = {"field", "size", "color", "outlineColor", "outlineWidth"};
+constexpr std::array<std::string_view, 6> kLabelKeys = {"field",        "size",         "color",
+                                                        "outlineColor", "outlineWidth", "declutter"};
 
 template <class T>
 struct Named {
@@ -971,6 +972,9 @@ private:
         }
         if (const Json* width = member(value, "outlineWidth")) {
             label.outlineWidthPixels = readNumber(*width, pointer + "/outlineWidth", kNonNegativePixels);
+        }
+        if (const Json* declutter = member(value, "declutter")) {
+            label.declutter = readBoolean(*declutter, pointer + "/declutter");
         }
         return label;
     }

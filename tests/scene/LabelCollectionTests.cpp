@@ -6,6 +6,8 @@
 #include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
+#include <orbis/scene/SceneBuilder.h>
+#include <orbis/scene/SceneFile.h>
 
 #include <catch2/catch.hpp>
 
@@ -299,4 +301,100 @@ TEST_CASE("Labels over billboards on a globe render as their golden image", "[sc
     REQUIRE(frame.statistics.translucentPasses == 1);
     // Exact on llvmpipe; a GPU may round the globe's edge and blends differently.
     ORBIS_REQUIRE_GOLDEN(frame.image, "scene/labels", GoldenTolerance{2, 0.01});
+}
+
+TEST_CASE("Decluttering hides a label that overlaps an earlier one shown, and nothing else", "[scene][label][declutter]")
+{
+    Scene scene(kEarth);
+    lookFromAbove(scene);
+    auto labels = std::make_shared<LabelCollection>();
+    const auto colored = [](const std::string& text, const glm::vec4& color, int offsetY) {
+        Label label = whiteText(text);
+        label.fillColor = color;
+        label.pixelOffset = {0, offsetY};
+        return label;
+    };
+    // First, behind the Earth on the same line of sight: it takes no room.
+    Label antipode = colored("Antipode", {1, 1, 0, 1}, 0);
+    antipode.position = kEarth.toCartesian(Geodetic3D::fromDegrees(180, 0, 0));
+    labels->add(antipode);
+    labels->add(colored("Alpha", {1, 0, 0, 1}, 0));  // shown
+    labels->add(colored("Beta", {0, 1, 0, 1}, 0));   // on top of Alpha
+    labels->add(colored("Gamma", {0, 0, 1, 1}, 26)); // below Alpha, clear of it
+    scene.add(labels);
+    const auto count = [](const Image& image, const glm::ivec3& color) {
+        int n = 0;
+        for (int y = 0; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                const std::uint8_t* p = image.pixel(x, y);
+                n += (color.r ? p[0] > 128 : p[0] < 64) && (color.g ? p[1] > 128 : p[1] < 64) &&
+                             (color.b ? p[2] > 128 : p[2] < 64)
+                         ? 1
+                         : 0;
+            }
+        }
+        return n;
+    };
+    constexpr int kWidth = 96;
+    constexpr int kHeight = 80;
+    constexpr std::size_t kGlyphVertex = 48;
+
+    const Image cluttered = renderFrame(scene, kWidth, kHeight).image;
+    REQUIRE(labels->lastDecluttered() == 0);
+    REQUIRE(count(cluttered, {1, 0, 0}) > 10);
+    REQUIRE(count(cluttered, {0, 1, 0}) > 10);
+    REQUIRE(count(cluttered, {0, 0, 1}) > 10);
+    REQUIRE(count(cluttered, {1, 1, 0}) == 0); // the antipode's label is behind the horizon
+
+    labels->setDeclutter(true);
+    const Image decluttered = renderFrame(scene, kWidth, kHeight).image;
+    REQUIRE(labels->lastDecluttered() == 1);
+    REQUIRE(labels->lastUpload().bytesUploaded == 4 * kGlyphVertex); // Beta's glyphs alone
+    REQUIRE(count(decluttered, {0, 1, 0}) == 0);
+    REQUIRE(count(decluttered, {1, 0, 0}) > 10);
+    REQUIRE(count(decluttered, {0, 0, 1}) == count(cluttered, {0, 0, 1}));
+
+    // Steady view: nothing changes, nothing is uploaded.
+    renderFrame(scene, kWidth, kHeight);
+    REQUIRE(labels->lastUpload().bytesUploaded == 0);
+
+    // Earlier labels win only while shown: with Alpha hidden, Beta takes its place.
+    labels->setVisible(1, false);
+    const Image betaShown = renderFrame(scene, kWidth, kHeight).image;
+    REQUIRE(labels->lastDecluttered() == 0);
+    REQUIRE(count(betaShown, {0, 1, 0}) > 10);
+    REQUIRE(count(betaShown, {1, 0, 0}) == 0);
+
+    // Off again: every label as asked.
+    labels->setVisible(1, true);
+    labels->setDeclutter(false);
+    const Image again = renderFrame(scene, kWidth, kHeight).image;
+    REQUIRE(labels->lastDecluttered() == 0);
+    REQUIRE(again.pixels == cluttered.pixels);
+}
+
+TEST_CASE("A scene file's label declutter key turns decluttering on for its layer", "[scene][label][declutter][scenefile]")
+{
+    const auto labelsOf = [](const std::string& labelKeys) {
+        const std::string text = R"({"version": 1, "camera": {"position": {"lon": 10, "lat": 20, "height": 15000000}},
+            "layers": [{"type": "points", "source": "capitals.csv", "label": {"field": "name")" + labelKeys + "}}]}";
+        auto scene = std::make_unique<Scene>(kEarth);
+        populateScene(parseSceneText(text, "labels.json", ORBIS_SOURCE_DIR "/data/scenes"), *scene);
+        std::shared_ptr<LabelCollection> labels;
+        for (const auto& primitive : scene->primitives()) {
+            if (auto found = std::dynamic_pointer_cast<LabelCollection>(primitive)) {
+                labels = found;
+            }
+        }
+        REQUIRE(labels);
+        renderFrame(*scene, 160, 90);
+        return std::pair{labels->options().declutter, labels->lastDecluttered()};
+    };
+    // The capitals of Europe and Africa on 160 x 90 pixels: many names overlap (14 are left out).
+    const auto [on, hidden] = labelsOf(R"(, "declutter": true)");
+    REQUIRE(on);
+    REQUIRE(hidden >= 10);
+    const auto [off, none] = labelsOf("");
+    REQUIRE_FALSE(off);
+    REQUIRE(none == 0);
 }

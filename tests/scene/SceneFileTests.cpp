@@ -148,7 +148,8 @@ TEST_CASE("Every key reads into the description, degrees to radians", "[scene][s
           {"type": "geojson", "source": "a.geojson", "fill": {"color": "#ff000080"}},
           {"type": "points", "source": "p.geojson",
            "billboard": {"image": "dot.png", "size": 12, "color": "#00ff00", "origin": "bottom-left", "offset": [2, -3]},
-           "label": {"field": "name", "size": 11, "color": "#ffffff", "outlineColor": "#000000", "outlineWidth": 0}},
+           "label": {"field": "name", "size": 11, "color": "#ffffff", "outlineColor": "#000000", "outlineWidth": 0,
+                     "declutter": true}},
           {"type": "polyline", "positions": [[0, 0], [10, 20, 300]], "width": 4, "color": "#0000ff"},
           {"type": "model", "source": "m.glb", "position": {"lon": 1, "lat": 2, "height": 3}, "scale": 2.5,
            "heading": 90, "pitch": 10, "roll": -5}
@@ -188,6 +189,7 @@ TEST_CASE("Every key reads into the description, degrees to radians", "[scene][s
     REQUIRE(points.label->field == "name");
     REQUIRE(points.label->fontSizePixels == 11.0);
     REQUIRE(points.label->outlineWidthPixels == 0.0);
+    REQUIRE(points.label->declutter);
 
     const auto& polyline = std::get<PolylineLayer>(scene.layers[2]);
     REQUIRE(polyline.positions == std::vector<Geodetic3D>{Geodetic3D::fromDegrees(0.0, 0.0, 0.0),
@@ -379,6 +381,8 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[sce
             R"(test.json:1:35: /camera/fovY: expected a number, got "45")");
     CHECK(errorOf(R"({"version": 1, "layers": {}})") ==
             "test.json:1:26: /layers: expected an array of layers, got an empty object");
+    CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": "n", "declutter": 1}})")) ==
+          "test.json:1:102: /layers/0/label/declutter: expected true or false, got 1");
     CHECK(errorOf(R"({"version": 1, "globe": {"grid": "yes"}})") ==
             R"(test.json:1:34: /globe/grid: expected true or false, got "yes")");
     CHECK(errorOf(R"({"version": 1, "background": "black"})") ==

@@ -20,6 +20,9 @@ inline const std::filesystem::path kDejaVuSansPath = "/usr/share/fonts/truetype/
 struct LabelCollectionOptions {
     std::filesystem::path fontPath = kDejaVuSansPath;
     int haloPixels = 2; ///< width of the halo around the glyphs; 0 for none
+    /// Each frame, hide the labels whose box overlaps that of an earlier label shown (earlier
+    /// labels win, so add the most important first). Labels behind the horizon take no room.
+    bool declutter = false;
     BillboardDepthOptions depth;
 };
 
@@ -93,6 +96,10 @@ public:
 
     const LabelCollectionOptions& options() const noexcept { return _options; }
     void setDepthOptions(const BillboardDepthOptions& depth) noexcept { _options.depth = depth; }
+    /// Turns decluttering on or off from the next update (LabelCollectionOptions::declutter).
+    void setDeclutter(bool declutter) noexcept { _options.declutter = declutter; }
+    /// Labels the last update hid because they overlapped an earlier one.
+    std::size_t lastDecluttered() const noexcept { return _lastDecluttered; }
     /// What the last update() uploaded, over every font size.
     const BillboardUploadStatistics& lastUpload() const noexcept { return _lastUpload; }
     /// Draw calls (font sizes with glyphs) of the last update.
@@ -109,6 +116,7 @@ private:
         Label label;
         TextLayout layout;
         std::size_t firstVertex = 0; ///< in its size's batch
+        bool decluttered = false;    ///< hidden this frame by an overlapping earlier label
     };
 
     SizeBatch& sizeBatch(float fontSizePixels);
@@ -117,6 +125,8 @@ private:
     void writeVertices(std::size_t index, bool mark);
     /// Assigns vertex runs again for every label of a size and rewrites them all.
     void rebuild(SizeBatch& batch);
+    /// Sets each label's decluttered flag for the frame's view, rewriting the labels it changes.
+    void declutter(const FrameState& frameState);
 
     LabelCollectionOptions _options;
     std::shared_ptr<const Font> _font;
@@ -126,6 +136,7 @@ private:
     std::unique_ptr<detail::DepthPrograms> _programs;
     BillboardUploadStatistics _lastUpload;
     std::size_t _lastDrawCalls = 0;
+    std::size_t _lastDecluttered = 0;
 };
 
 } // namespace orbis

@@ -121,6 +121,7 @@ struct LabelStyle {
     glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
     glm::vec4 outlineColor{0.0f, 0.0f, 0.0f, 1.0f};
     double outlineWidthPixels = 1.0;             ///< 0: no outline
+    bool declutter = false;                      ///< hide labels overlapping earlier ones shown
 
     friend bool operator==(const LabelStyle&, const LabelStyle&) = default;
 };
