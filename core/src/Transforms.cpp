@@ -41,4 +41,16 @@ ViewOrientation headingPitchRollToView(const Ellipsoid& ellipsoid, const glm::dv
     return {glm::normalize(enu * localDirection), glm::normalize(enu * localUp)};
 }
 
+HeadingPitch viewToHeadingPitch(const Ellipsoid& ellipsoid, const glm::dvec3& position,
+                                const glm::dvec3& direction) noexcept
+{
+    const glm::dmat3 enu = eastNorthUpAxes(ellipsoid, position);
+    const glm::dvec3 local = glm::transpose(enu) * direction; // the axes are orthonormal
+    const double horizontal = std::hypot(local.x, local.y);
+    // Within rounding of the vertical the heading is noise (the axes themselves are good to an ulp
+    // or so): call it north. atan2 rather than asin: finite for any direction, zero included.
+    const bool vertical = horizontal <= 1e-12 * std::abs(local.z);
+    return {vertical ? 0.0 : std::atan2(local.x, local.y), std::atan2(local.z, horizontal)};
+}
+
 } // namespace orbis

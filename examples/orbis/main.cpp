@@ -8,10 +8,8 @@
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/SceneFile.h>
 
-#include <glm/geometric.hpp>
-
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -20,6 +18,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include <unistd.h>
 
@@ -232,6 +231,7 @@ int runRender(Arguments arguments)
 
 /// orbis view [SCENE.json] [--width W] [--height H] [--frames N --out PNG]: the scene in a window,
 /// turned by dragging with the left button and zoomed with the wheel (about the Earth's centre);
+/// F switches to flying (drag to look around, W A S D to move, E and Q up and down) and back;
 /// Escape or closing the window ends it. Each frame is rendered offscreen, where the scene may have
 /// the float depth buffer a window lacks, and copied to the window. --frames stops after N frames,
 /// and --out then writes the last one as the window showed it.
@@ -256,22 +256,45 @@ int runView(Arguments arguments)
         orbis::Scene scene;
         orbis::populateScene(description, scene);
 
-        // The file's camera until the first drag or wheel step; from then on an orbit about the
-        // centre, starting from where the eye is.
-        const glm::dvec3 eye = scene.camera().eye();
-        const double range = glm::length(eye);
-        orbis::OrbitController orbit(glm::dvec3(0.0), range, scene.ellipsoid().maximumRadius());
-        orbit.rotate(std::atan2(eye.y, eye.x), range > 0.0 ? std::asin(eye.z / range) : 0.0);
+        // The file's camera until the first input; from then on the controller's, which starts
+        // from the camera as it is.
+        orbis::ViewerController controller(scene.ellipsoid(), scene.camera());
+        using Key = orbis::InputEvent::Key;
+        constexpr std::pair<char, Key> kFlyKeys[] = {{'W', Key::Forward}, {'S', Key::Backward}, {'A', Key::Left},
+                                                     {'D', Key::Right},   {'E', Key::Up},       {'Q', Key::Down}};
+        auto lastFrame = std::chrono::steady_clock::now();
 
         std::optional<orbis::Framebuffer> frame;
         int shown = 0;
         while (!window.shouldClose() && (!parsed.frames || shown < *parsed.frames)) {
             window.pollEvents();
+            const auto now = std::chrono::steady_clock::now();
+            // Held keys move by the time since the last frame, at most a tenth of a second of it.
+            const double seconds = std::min(std::chrono::duration<double>(now - lastFrame).count(), 0.1);
+            lastFrame = now;
             const orbis::WindowInput input = window.takeInput();
-            if (input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0) {
-                orbit.handle(orbis::InputEvent::drag(input.dragPixels.x, input.dragPixels.y));
-                orbit.handle(orbis::InputEvent::scroll(input.scrollSteps));
-                orbit.apply(scene.camera());
+            bool moved = input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0;
+            for (const char letter : input.pressedLetters) {
+                if (letter == 'F') {
+                    const bool flying = controller.mode() == orbis::ViewerController::Mode::Fly;
+                    controller.setMode(flying ? orbis::ViewerController::Mode::Orbit : orbis::ViewerController::Mode::Fly,
+                                       scene.camera());
+                    std::printf("%s\n", flying ? "orbiting" : "flying");
+                    std::fflush(stdout);
+                }
+            }
+            controller.handle(orbis::InputEvent::drag(input.dragPixels.x, input.dragPixels.y));
+            controller.handle(orbis::InputEvent::scroll(input.scrollSteps));
+            if (controller.mode() == orbis::ViewerController::Mode::Fly) {
+                for (const auto& [letter, key] : kFlyKeys) {
+                    if (window.isKeyDown(letter)) {
+                        controller.handle(orbis::InputEvent::keyHeld(key, seconds));
+                        moved = true;
+                    }
+                }
+            }
+            if (moved) {
+                controller.apply(scene.camera());
             }
             const int width = window.framebufferWidth();
             const int height = window.framebufferHeight();
@@ -339,7 +362,8 @@ constexpr Subcommand kSubcommands[] = {
      "numbered PNGs, headless",
      runRender},
     {"view", "[SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]",
-     "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, Escape to close",
+     "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
+     "D, E Q), Escape to close",
      runView},
     {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},

@@ -56,8 +56,13 @@ void onScrolled(GLFWwindow* window, double, double steps)
 
 void onKey(GLFWwindow* window, int key, int, int action, int)
 {
-    if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) {
+    if (action != GLFW_PRESS) {
+        return;
+    }
+    if (key == GLFW_KEY_ESCAPE) {
         glfwSetWindowShouldClose(window, GLFW_TRUE);
+    } else if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) { // GLFW's letter keys are their ASCII capitals
+        static_cast<GatheredInput*>(glfwGetWindowUserPointer(window))->input.pressedLetters += static_cast<char>(key);
     }
 }
 
@@ -179,6 +184,11 @@ WindowInput Window::takeInput()
 {
     auto* gathered = static_cast<detail::GatheredInput*>(glfwGetWindowUserPointer(static_cast<GLFWwindow*>(_native)));
     return std::exchange(gathered->input, WindowInput{});
+}
+
+bool Window::isKeyDown(char letter) const
+{
+    return letter >= 'A' && letter <= 'Z' && glfwGetKey(static_cast<GLFWwindow*>(_native), letter) == GLFW_PRESS;
 }
 
 void Window::swapBuffers()

@@ -91,6 +91,10 @@ WindowInput Window::takeInput()
 {
     return {};
 }
+bool Window::isKeyDown(char) const
+{
+    return false;
+}
 void Window::swapBuffers() {}
 int Window::framebufferWidth() const
 {

@@ -97,7 +97,62 @@ void FlyController::handle(const InputEvent& event) noexcept
 void FlyController::apply(Camera& camera) const noexcept
 {
     const ViewOrientation view = headingPitchRollToView(_ellipsoid, _position, _heading, _pitch, 0.0);
-    camera.lookAt(_position, _position + view.direction, view.up);
+    // A target as far off as the eye is from the centre, so that target - eye keeps the direction
+    // to the last bits (one metre off, it would keep it to 1e-9 rad).
+    camera.lookAt(_position, _position + view.direction * std::max(1.0, glm::length(_position)), view.up);
+}
+
+namespace {
+
+OrbitController orbitFrom(const Ellipsoid& ellipsoid, const glm::dvec3& eye) noexcept
+{
+    const double range = glm::length(eye);
+    OrbitController orbit(glm::dvec3(0.0), range, ellipsoid.maximumRadius());
+    orbit.rotate(std::atan2(eye.y, eye.x), range > 0.0 ? std::asin(std::clamp(eye.z / range, -1.0, 1.0)) : 0.0);
+    return orbit;
+}
+
+FlyController flyFrom(const Ellipsoid& ellipsoid, const Camera& camera) noexcept
+{
+    const HeadingPitch view = viewToHeadingPitch(ellipsoid, camera.eye(), camera.target() - camera.eye());
+    return FlyController(ellipsoid, camera.eye(), view.heading, view.pitch);
+}
+
+} // namespace
+
+ViewerController::ViewerController(const Ellipsoid& ellipsoid, const Camera& camera) noexcept
+    : _ellipsoid(ellipsoid)
+    , _orbit(orbitFrom(ellipsoid, camera.eye()))
+    , _fly(flyFrom(ellipsoid, camera))
+{
+}
+
+void ViewerController::setMode(Mode mode, const Camera& camera) noexcept
+{
+    _mode = mode;
+    if (mode == Mode::Orbit) {
+        _orbit = orbitFrom(_ellipsoid, camera.eye());
+    } else {
+        _fly = flyFrom(_ellipsoid, camera);
+    }
+}
+
+void ViewerController::handle(const InputEvent& event) noexcept
+{
+    if (_mode == Mode::Orbit) {
+        _orbit.handle(event);
+    } else {
+        _fly.handle(event);
+    }
+}
+
+void ViewerController::apply(Camera& camera) const noexcept
+{
+    if (_mode == Mode::Orbit) {
+        _orbit.apply(camera);
+    } else {
+        _fly.apply(camera);
+    }
 }
 
 void CameraPath::add(const Keyframe& keyframe)

@@ -4,6 +4,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <random>
+
 using namespace orbis;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
@@ -70,4 +73,33 @@ TEST_CASE("East-north-up above the surface uses the geodetic normal of the point
     const Geodetic3D high = Geodetic3D::fromDegrees(30, 45, 1e6);
     const glm::dmat3 enu = eastNorthUpAxes(kEarth, kEarth.toCartesian(high));
     REQUIRE(near(enu[2], Ellipsoid::geodeticSurfaceNormal(high), 1e-15 * 4));
+}
+
+TEST_CASE("viewToHeadingPitch inverts headingPitchRollToView, and stays finite looking straight down or at the pole", "[core][transforms][hard]")
+{
+    std::mt19937_64 random(20261123);
+    std::uniform_real_distribution<double> longitude(-180.0, 180.0);
+    std::uniform_real_distribution<double> latitude(-90.0, 90.0);
+    std::uniform_real_distribution<double> height(-1e4, 4e7);
+    std::uniform_real_distribution<double> heading(-kPi + 1e-9, kPi);
+    std::uniform_real_distribution<double> pitch(-kHalfPi + 1e-6, kHalfPi - 1e-6);
+    for (int i = 0; i < 2000; ++i) {
+        const glm::dvec3 p = kEarth.toCartesian(Geodetic3D::fromDegrees(longitude(random), latitude(random), height(random)));
+        const double h = heading(random);
+        const double t = pitch(random);
+        const HeadingPitch back = viewToHeadingPitch(kEarth, p, headingPitchRollToView(kEarth, p, h, t, 0.0).direction);
+        // A few ulps of the angles; the heading is as good as cos(pitch) lets it be.
+        REQUIRE_THAT(back.pitch, WithinAbs(t, 1e-14));
+        REQUIRE_THAT(std::remainder(back.heading - h, kTwoPi), WithinAbs(0.0, 1e-14 / std::cos(t)));
+    }
+    for (const glm::dvec3 p : {kEarth.toCartesian(Geodetic2D::fromDegrees(0, 90)), glm::dvec3(0.0)}) {
+        for (const glm::dvec3 direction : {glm::dvec3(0, 0, -1), glm::dvec3(0, 0, 1), glm::dvec3(0.0)}) {
+            const HeadingPitch view = viewToHeadingPitch(kEarth, p, direction);
+            REQUIRE(std::isfinite(view.heading));
+            REQUIRE(std::isfinite(view.pitch));
+        }
+    }
+    const HeadingPitch down = viewToHeadingPitch(kEarth, kEarth.toCartesian(Geodetic2D::fromDegrees(0, 90)), {0, 0, -1});
+    REQUIRE(down.heading == 0.0);
+    REQUIRE(down.pitch == -kHalfPi);
 }

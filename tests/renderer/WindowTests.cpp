@@ -52,6 +52,9 @@ TEST_CASE("A window device draws into its window, or says clearly why there is n
     const WindowInput input = device.window()->takeInput(); // nobody touched the virtual display
     CHECK(input.dragPixels == glm::dvec2(0.0));
     CHECK(input.scrollSteps == 0.0);
+    CHECK(input.pressedLetters.empty());
+    CHECK_FALSE(device.window()->isKeyDown('W'));
+    CHECK_FALSE(device.window()->isKeyDown('?'));
 #else
     (void)hasDisplay;
     REQUIRE_THROWS_WITH(Device(options), Contains("window backend") && Contains("no GLFW"));

@@ -1,5 +1,7 @@
 #include <orbis/scene/CameraControllers.h>
 
+#include <orbis/core/Transforms.h>
+
 #include <glm/geometric.hpp>
 
 #include <catch2/catch.hpp>
@@ -86,4 +88,45 @@ TEST_CASE("Camera path passes through its keyframes and crosses the antimeridian
     REQUIRE_THAT(middle.height, WithinAbs(1.5e6, 1e-6));
     path.apply(99.0, camera); // clamped to the end
     REQUIRE(glm::length(camera.eye() - kEarth.toCartesian(Geodetic3D::fromDegrees(-170, 10, 2e6))) < 1e-6);
+}
+
+TEST_CASE("Viewer controller orbits from the camera's eye and flies on from the view as it is", "[scene][camera]")
+{
+    const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(-40, 30, 4e6));
+    // Looking north-east and down, not at the centre.
+    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(45.0), toRadians(-30.0), 0.0);
+    Camera camera(eye, eye + view.direction * 1e6, view.up, toRadians(45.0));
+    ViewerController controller(kEarth, camera);
+    REQUIRE(controller.mode() == ViewerController::Mode::Orbit);
+
+    // Orbit: the same eye, now looking at the centre.
+    Camera orbiting = camera;
+    controller.apply(orbiting);
+    REQUIRE(glm::distance(orbiting.eye(), eye) < 1e-6);
+    REQUIRE(glm::length(orbiting.target()) < 1e-6);
+    // Dragging right turns the eye west (the globe follows the pointer), at the same range.
+    controller.handle(InputEvent::drag(100.0, 0.0));
+    controller.apply(orbiting);
+    REQUIRE_THAT(glm::length(orbiting.eye()), WithinRel(glm::length(eye), 1e-12));
+    REQUIRE(kEarth.toGeodetic3D(orbiting.eye()).longitude < toRadians(-40.0 - 20.0));
+
+    // Fly from the original view: eye and direction kept.
+    controller.setMode(ViewerController::Mode::Fly, camera);
+    Camera flying = camera;
+    controller.apply(flying);
+    REQUIRE(glm::distance(flying.eye(), eye) < 1e-6);
+    REQUIRE(glm::distance(glm::normalize(flying.target() - flying.eye()), view.direction) < 1e-12);
+    // Keys move along the view at the speed of the height (4,000 km a second here); the wheel does nothing.
+    controller.handle(InputEvent::scroll(3.0));
+    controller.handle(InputEvent::keyHeld(InputEvent::Key::Forward, 0.25));
+    controller.apply(flying);
+    REQUIRE_THAT(glm::distance(flying.eye(), eye), WithinRel(1e6, 1e-9));
+    REQUIRE(glm::distance(glm::normalize(flying.eye() - eye), view.direction) < 1e-12);
+
+    // Back to orbiting from where the flight went: the eye stays, the view turns to the centre.
+    controller.setMode(ViewerController::Mode::Orbit, flying);
+    Camera back = flying;
+    controller.apply(back);
+    REQUIRE(glm::distance(back.eye(), flying.eye()) < 1e-6);
+    REQUIRE(glm::length(back.target()) < 1e-6);
 }

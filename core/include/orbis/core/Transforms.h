@@ -25,4 +25,13 @@ struct ViewOrientation {
 ViewOrientation headingPitchRollToView(const Ellipsoid& ellipsoid, const glm::dvec3& position, double heading,
                                        double pitch, double roll) noexcept;
 
+/// The heading and pitch (radians, as above) of a view direction at a position: the inverse of
+/// headingPitchRollToView's direction. Looking straight up or down, the heading is 0.
+struct HeadingPitch {
+    double heading = 0.0;
+    double pitch = 0.0;
+};
+HeadingPitch viewToHeadingPitch(const Ellipsoid& ellipsoid, const glm::dvec3& position,
+                                const glm::dvec3& direction) noexcept;
+
 } // namespace orbis

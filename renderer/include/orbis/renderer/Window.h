@@ -2,12 +2,15 @@
 
 #include <glm/vec2.hpp>
 
+#include <string>
+
 namespace orbis {
 
 /// What the user did in a window since the last Window::takeInput().
 struct WindowInput {
     glm::dvec2 dragPixels{0.0}; ///< pointer movement with the left button held, x right, y down
     double scrollSteps = 0.0;   ///< wheel steps, positive away from the user
+    std::string pressedLetters; ///< letter keys pressed, upper case, in order ("F", "WW", ...)
 };
 
 /// The window of a Device created with GlBackend::Window (only in builds with GLFW, and only where
@@ -37,6 +40,8 @@ public:
     void pollEvents();
     /// The input gathered by pollEvents since the last call, which starts afresh.
     WindowInput takeInput();
+    /// Whether the key of a letter ('A' to 'Z') is held down now; false for anything else.
+    bool isKeyDown(char letter) const;
     /// Shows what was drawn into the default framebuffer.
     void swapBuffers();
     /// The default framebuffer's size in pixels (which may differ from the window's size in

@@ -82,6 +82,30 @@ private:
     double _pitch;
 };
 
+/// Orbiting and flying behind one switch, as an interactive viewer offers them. It starts orbiting
+/// the ellipsoid's centre from a camera's eye; switching mode starts the other controller from the
+/// camera as it is: flying keeps the eye and the view direction; orbiting keeps the eye's
+/// direction and distance (raised to clear the equatorial radius, which orbiting never goes below)
+/// and turns to the centre.
+class ViewerController final {
+public:
+    enum class Mode { Orbit, Fly };
+
+    ViewerController(const Ellipsoid& ellipsoid, const Camera& camera) noexcept;
+
+    Mode mode() const noexcept { return _mode; }
+    void setMode(Mode mode, const Camera& camera) noexcept;
+    /// Drags and wheel steps go to the current controller; keys move only when flying.
+    void handle(const InputEvent& event) noexcept;
+    void apply(Camera& camera) const noexcept;
+
+private:
+    Ellipsoid _ellipsoid;
+    Mode _mode = Mode::Orbit;
+    OrbitController _orbit;
+    FlyController _fly;
+};
+
 /// A scripted camera flight: keyframes of geodetic eye and target positions at times, sampled
 /// with linear interpolation (longitude the short way round the antimeridian). Tests and
 /// benchmarks drive the scene with it.
