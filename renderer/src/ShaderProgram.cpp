@@ -216,6 +216,29 @@ bool isSampler(UniformType type) noexcept
     return type == UniformType::Sampler2D || type == UniformType::Sampler2DShadow;
 }
 
+/// Bytes of one value of a settable type, as glUniform*v reads it.
+std::size_t elementSize(UniformType type) noexcept
+{
+    switch (type) {
+    case UniformType::Bool:
+    case UniformType::Int:
+    case UniformType::Float:
+    case UniformType::Sampler2D:
+    case UniformType::Sampler2DShadow: return 4;
+    case UniformType::IntVec2:
+    case UniformType::FloatVec2: return 8;
+    case UniformType::IntVec3:
+    case UniformType::FloatVec3: return 12;
+    case UniformType::IntVec4:
+    case UniformType::FloatVec4:
+    case UniformType::FloatMat2: return 16;
+    case UniformType::FloatMat3: return 36;
+    case UniformType::FloatMat4: return 64;
+    case UniformType::Unsupported: return 0;
+    }
+    return 0;
+}
+
 /// og_texture0, og_texture1, ...: the unit in the name; -1 for other names.
 int ogTextureUnit(std::string_view name) noexcept
 {
@@ -446,10 +469,14 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
                 slot.automatic = id;
                 program._automaticSlots.emplace_back(id, static_cast<int>(program._uniforms.size()));
             }
-        } else if (size != 1 || uniform.type == UniformType::Unsupported) {
-            slot.hasValue = true; // not settable yet (arrays, other types): GL's zero stays
+        } else if (uniform.type == UniformType::Unsupported || (size != 1 && isSampler(uniform.type))) {
+            slot.hasValue = true; // not settable (other types, sampler arrays): GL's zero stays
         } else {
             slot.settable = true;
+            slot.count = size;
+            if (size != 1) {
+                slot.arrayValue.assign(static_cast<std::size_t>(size) * elementSize(uniform.type), 0);
+            }
             ++program._unsetCount;
         }
         if (isSampler(uniform.type)) {
@@ -545,6 +572,41 @@ bool ShaderProgram::setUniform(std::string_view name, const UniformValue& value)
     return setUniform(uniformIndex(name), value);
 }
 
+bool ShaderProgram::setUniformArrayBytes(std::string_view name, UniformType type, const void* values,
+                                         std::size_t elementSize, std::size_t count)
+{
+    const int index = ShaderProgramAccess::findSlot(*this, name);
+    const std::string where = "shader program '" + _name + "': uniform " + std::string(name);
+    if (index < 0) {
+        throw Error(where + " is not an active uniform");
+    }
+    Slot& slot = _slots[static_cast<std::size_t>(index)];
+    if (slot.count == 1 || !slot.settable) {
+        throw Error(where + (slot.count == 1 ? " is not an array: set it with setUniform"
+                                             : " is an array that cannot be set (samplers are set by unit)"));
+    }
+    if (type != slot.type && !(type == UniformType::Int && slot.type == UniformType::Bool)) {
+        throw Error(where + " is an array of " + uniformTypeName(slot.type) + ", not of " + uniformTypeName(type));
+    }
+    if (count == 0) {
+        throw Error(where + ": no values given");
+    }
+    const std::size_t bytes = std::min(count, static_cast<std::size_t>(slot.count)) * elementSize;
+    if (slot.hasValue && std::memcmp(slot.arrayValue.data(), values, bytes) == 0) {
+        return false;
+    }
+    std::memcpy(slot.arrayValue.data(), values, bytes);
+    if (!slot.hasValue) {
+        slot.hasValue = true;
+        --_unsetCount;
+    }
+    if (!slot.dirty) {
+        slot.dirty = true;
+        _dirtySlots.push_back(index);
+    }
+    return true;
+}
+
 bool ShaderProgram::setUniform(int index, const UniformValue& value)
 {
     if (index < 0 || index >= static_cast<int>(_slots.size())) {
@@ -590,15 +652,20 @@ bool ShaderProgramAccess::assignBytes(ShaderProgram& p, int slotIndex, UniformTy
                                       std::size_t size, const ErrorSource& source)
 {
     const ShaderProgram::Slot& slot = p._slots[slotIndex];
-    if (given != slot.type || !slot.settable) [[unlikely]] {
+    if (given != slot.type || !slot.settable || slot.count != 1) [[unlikely]] {
         const ShaderUniform& uniform = p._uniforms[slotIndex];
         if (uniform.automatic) {
             throw Error(source.text() + ": uniform " + uniform.name +
                         " is automatic (set by the Context from the SceneState)");
         }
+        if (uniform.arraySize != 1) {
+            throw Error(source.text() + ": uniform " + uniform.name + " is an array of " +
+                        std::to_string(uniform.arraySize) + " " + uniformTypeName(uniform.type) +
+                        "; set it with ShaderProgram::setUniformArray");
+        }
         if (!slot.settable) {
-            throw Error(source.text() + ": uniform " + uniform.name + " is an array or of an unsupported type (" +
-                        uniformTypeName(uniform.type) + "); only single values can be set");
+            throw Error(source.text() + ": uniform " + uniform.name + " is of an unsupported type (" +
+                        uniformTypeName(uniform.type) + ")");
         }
         const bool intForInt =
             given == UniformType::Int && (uniform.type == UniformType::Bool || isSampler(uniform.type));
@@ -679,7 +746,7 @@ void ShaderProgramAccess::markAllDirty(ShaderProgram& p)
 {
     for (std::size_t i = 0; i < p._slots.size(); ++i) {
         ShaderProgram::Slot& slot = p._slots[i];
-        if (slot.hasValue && !slot.dirty && slot.type != UniformType::Unsupported && p._uniforms[i].arraySize == 1) {
+        if (slot.hasValue && !slot.dirty && (slot.settable || slot.automatic >= 0)) {
             slot.dirty = true;
             p._dirtySlots.push_back(static_cast<int>(i));
         }
@@ -693,23 +760,25 @@ std::uint64_t ShaderProgramAccess::flush(ShaderProgram& p, const GlApi& gl)
         ShaderProgram::Slot& slot = p._slots[index];
         slot.dirty = false;
         const GLint location = slot.location;
-        const auto* f = reinterpret_cast<const GLfloat*>(slot.value);
-        const auto* i = reinterpret_cast<const GLint*>(slot.value);
+        const GLsizei n = slot.count;
+        const unsigned char* data = n == 1 ? slot.value : slot.arrayValue.data();
+        const auto* f = reinterpret_cast<const GLfloat*>(data);
+        const auto* i = reinterpret_cast<const GLint*>(data);
         switch (slot.type) {
         case UniformType::Bool:
         case UniformType::Int:
         case UniformType::Sampler2D:
-        case UniformType::Sampler2DShadow: gl.glUniform1iv(location, 1, i); break;
-        case UniformType::IntVec2: gl.glUniform2iv(location, 1, i); break;
-        case UniformType::IntVec3: gl.glUniform3iv(location, 1, i); break;
-        case UniformType::IntVec4: gl.glUniform4iv(location, 1, i); break;
-        case UniformType::Float: gl.glUniform1fv(location, 1, f); break;
-        case UniformType::FloatVec2: gl.glUniform2fv(location, 1, f); break;
-        case UniformType::FloatVec3: gl.glUniform3fv(location, 1, f); break;
-        case UniformType::FloatVec4: gl.glUniform4fv(location, 1, f); break;
-        case UniformType::FloatMat2: gl.glUniformMatrix2fv(location, 1, GL_FALSE, f); break;
-        case UniformType::FloatMat3: gl.glUniformMatrix3fv(location, 1, GL_FALSE, f); break;
-        case UniformType::FloatMat4: gl.glUniformMatrix4fv(location, 1, GL_FALSE, f); break;
+        case UniformType::Sampler2DShadow: gl.glUniform1iv(location, n, i); break;
+        case UniformType::IntVec2: gl.glUniform2iv(location, n, i); break;
+        case UniformType::IntVec3: gl.glUniform3iv(location, n, i); break;
+        case UniformType::IntVec4: gl.glUniform4iv(location, n, i); break;
+        case UniformType::Float: gl.glUniform1fv(location, n, f); break;
+        case UniformType::FloatVec2: gl.glUniform2fv(location, n, f); break;
+        case UniformType::FloatVec3: gl.glUniform3fv(location, n, f); break;
+        case UniformType::FloatVec4: gl.glUniform4fv(location, n, f); break;
+        case UniformType::FloatMat2: gl.glUniformMatrix2fv(location, n, GL_FALSE, f); break;
+        case UniformType::FloatMat3: gl.glUniformMatrix3fv(location, n, GL_FALSE, f); break;
+        case UniformType::FloatMat4: gl.glUniformMatrix4fv(location, n, GL_FALSE, f); break;
         case UniformType::Unsupported: break;
         }
     }

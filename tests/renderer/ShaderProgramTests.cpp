@@ -247,3 +247,74 @@ void main()
     REQUIRE_THROWS_WITH(device.createShaderProgram(description),
                         Contains("geometry shader broken.geom.glsl") && Contains("broken.geom.glsl:3:"));
 }
+
+TEST_CASE("Uniform arrays are set on the program, each element reaching the shader, unchanged ones not sent", "[renderer][shader][uniforms]")
+{
+    ShaderProgramDescription description = test::solidColorDescription();
+    description.name = "palette";
+    description.fragment = ShaderSource::fromText("test/palette.frag.glsl", R"(
+out vec4 fragmentColor;
+uniform vec4 u_palette[3];
+uniform float u_weights[3];
+void main()
+{
+    int i = min(int(gl_FragCoord.x), 2); // pixel column 0, 1, 2
+    fragmentColor = u_palette[i] * u_weights[i];
+}
+)");
+    test::QuadFixture quad(3, description);
+    auto& [device, context, framebuffer, program, array] = quad;
+    DrawCommand command;
+    command.vertexArray = &array;
+    command.shaderProgram = &program;
+    command.framebuffer = &framebuffer;
+
+    REQUIRE(program.uniforms().size() >= 2);
+    REQUIRE_THROWS_WITH(context.draw(command), Contains("never given a value") && Contains("u_palette (vec4)"));
+
+    const glm::vec4 palette[] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}};
+    const float weights[] = {1.0f, 0.5f, 1.0f};
+    REQUIRE(program.setUniformArray<glm::vec4>("u_palette", palette));
+    REQUIRE(program.setUniformArray<float>("u_weights", weights));
+    context.clear(ClearState{}, &framebuffer);
+    context.resetStatistics();
+    context.draw(command);
+    CHECK(context.statistics().uniformUploads >= 2); // the two arrays (and the matrix)
+    Image image = context.readPixels(&framebuffer);
+    CHECK(test::pixelNear(image, 0, 1, {255, 0, 0, 255}));
+    CHECK(test::pixelNear(image, 1, 1, {0, 128, 0, 128}));
+    CHECK(test::pixelNear(image, 2, 1, {0, 0, 255, 255}));
+
+    // The same values: nothing to send.
+    REQUIRE_FALSE(program.setUniformArray<glm::vec4>("u_palette", palette));
+    context.resetStatistics();
+    context.clear(ClearState{}, &framebuffer);
+    context.draw(command);
+    CHECK(context.statistics().uniformUploads == 0);
+
+    // A shorter span sets the leading elements and keeps the rest; a longer one is cut to the size.
+    const glm::vec4 white[] = {{1, 1, 1, 1}};
+    REQUIRE(program.setUniformArray<glm::vec4>("u_palette", white));
+    const float more[] = {1.0f, 1.0f, 0.0f, 7.0f, 7.0f};
+    REQUIRE(program.setUniformArray<float>("u_weights", more));
+    context.clear(ClearState{}, &framebuffer);
+    context.draw(command);
+    image = context.readPixels(&framebuffer);
+    CHECK(test::pixelNear(image, 0, 1, {255, 255, 255, 255}));
+    CHECK(test::pixelNear(image, 1, 1, {0, 255, 0, 255}));
+    CHECK(test::pixelNear(image, 2, 1, {0, 0, 0, 0}));
+
+    // Errors name the uniform and what was wrong.
+    command.uniforms.set("u_weights", 1.0f);
+    REQUIRE_THROWS_WITH(context.draw(command),
+                        Contains("u_weights is an array of 3 float; set it with ShaderProgram::setUniformArray"));
+    command.uniforms.clear();
+    REQUIRE_THROWS_WITH(program.setUniformArray<float>("u_palette", weights),
+                        Contains("u_palette is an array of vec4, not of float"));
+    REQUIRE_THROWS_WITH(program.setUniformArray<glm::vec4>("u_palette", std::span<const glm::vec4>()),
+                        Contains("u_palette: no values given"));
+    REQUIRE_THROWS_WITH(program.setUniformArray<float>("u_missing", weights), Contains("u_missing is not an active uniform"));
+    const glm::mat4 identity[] = {glm::mat4(1.0f)};
+    REQUIRE_THROWS_WITH(program.setUniformArray<glm::mat4>("og_modelViewProjectionMatrix", identity),
+                        Contains("og_modelViewProjectionMatrix is not an array"));
+}

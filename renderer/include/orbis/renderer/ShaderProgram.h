@@ -4,8 +4,10 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace orbis {
@@ -121,18 +123,36 @@ public:
     bool setUniform(std::string_view name, const UniformValue& value);
     bool setUniform(int index, const UniformValue& value);
 
+    /// Sets the first values.size() elements of a uniform array (float, int, their vectors and the
+    /// matrices), keeping the others; nothing is sent to GL when they are unchanged. Values past the
+    /// active size are dropped: drivers may report an array only as long as its last element used.
+    /// Arrays are set here, on the program, not in DrawCommand::uniforms. Throws orbis::Error when
+    /// the uniform is not an active array of that element type, or values is empty. Returns true
+    /// when the values changed.
+    template <class T>
+    bool setUniformArray(std::string_view name, std::span<const T> values)
+    {
+        static_assert(!std::is_same_v<T, bool>, "bool arrays: pass ints");
+        return setUniformArrayBytes(name, uniformTypeOf(UniformValue(T{})), values.data(), sizeof(T), values.size());
+    }
+
 private:
     friend class Device;
     friend struct detail::ShaderProgramAccess;
 
+    bool setUniformArrayBytes(std::string_view name, UniformType type, const void* values, std::size_t elementSize,
+                              std::size_t count);
+
     struct Slot {
         int location = -1;
         UniformType type = UniformType::Unsupported;
+        int count = 1; ///< elements: more than one for an array, whose values live in arrayValue
         int automatic = -1; ///< an AutomaticUniform, or -1
         bool settable = false; ///< by the application: not automatic, a single value of a supported type
         bool hasValue = false;
         bool dirty = false;
         alignas(16) unsigned char value[64] = {};
+        std::vector<unsigned char> arrayValue; ///< count elements, as glUniform*v takes them
     };
 
     Device* _device = nullptr;
