@@ -85,7 +85,14 @@ public:
         }
         glfwDestroyWindow(_window);
     }
-    void makeCurrent() override { glfwMakeContextCurrent(_window); }
+    void makeCurrent() override
+    {
+        glfwMakeContextCurrent(_window);
+        if (_visible && !_vsync) {
+            glfwSwapInterval(1); // show at the display's rate rather than spin a core
+            _vsync = true;
+        }
+    }
     void releaseCurrent() noexcept override { glfwMakeContextCurrent(nullptr); }
     bool hasDefaultFramebuffer() const noexcept override { return _visible; }
     void defaultFramebufferSize(int& width, int& height) const noexcept override
@@ -98,6 +105,7 @@ private:
     GLFWwindow* _window;
     bool _visible;
     std::unique_ptr<GatheredInput> _input; ///< the visible window's only
+    bool _vsync = false;                   ///< swap interval set (once current)
 };
 
 class GlfwBackend final : public Backend {
