@@ -2,8 +2,8 @@
 // subnormal distances) out to 1e150 m in awkward directions (the axes, the poles, a direction
 // with a subnormal component), with ray directions from subnormal to 1e300 long. The hard-case
 // tests of each file check the answers; this sweep checks that no combination of extremes turns
-// any answer into NaN or infinity. 1e150 m: beyond it a squared distance overflows, the limit the
-// headers document.
+// any answer into NaN or infinity. 1e150 m: a little further, squared distances overflow
+// (IntersectionTests.h and BoundingSphere.h say where).
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/EllipsoidTangentPlane.h>

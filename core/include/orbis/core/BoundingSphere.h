@@ -17,7 +17,8 @@ struct BoundingSphere {
     /// A sphere containing every point (contains() is true for each, exactly, not only up to
     /// rounding): the smaller of Ritter's sphere and the sphere about the bounding box's centre.
     /// Its radius is at most sqrt(3) times the smallest possible, typically within 5 to 20 percent.
-    /// No points give radius 0 at the origin.
+    /// No points give radius 0 at the origin. Distances are summed as squares: points farther
+    /// apart than about 1e154 m give an infinite radius.
     static BoundingSphere fromPoints(std::span<const glm::dvec3> points) noexcept;
 
     /// The smallest sphere containing both a and b (a or b itself when one contains the other);
