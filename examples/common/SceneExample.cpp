@@ -1,6 +1,7 @@
 #include "SceneExample.h"
 
 #include "PrecisionScenes.h"
+#include "Viewer.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/SunPosition.h>
@@ -13,20 +14,27 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <vector>
 
 namespace orbis::examples {
 
 namespace {
 
-/// Parses [--out file.png] [--width W] [--height H] over `defaults`, then runs `body` with a
-/// headless device's context and a framebuffer of the parsed size (not yet set on the context).
-/// Returns the process exit code: 0, 1 for an orbis::Error (printed), 2 for usage (printed).
-int runWithFramebuffer(int argc, char** argv, const ExampleSettings& defaults,
-                       const std::function<void(Context&, Framebuffer&, const ExampleSettings&)>& body)
+struct Arguments {
+    ExampleSettings settings;
+    bool view = false;         ///< --view: in a window instead of a PNG
+    std::optional<int> frames; ///< --frames N with --view: stop after N, the last one to the PNG
+};
+
+/// [--out file.png] [--width W] [--height H], and with `viewable` [--view [--frames N]], over
+/// `defaults`; empty (the usage printed) when the arguments are wrong.
+std::optional<Arguments> parseArguments(int argc, char** argv, const ExampleSettings& defaults, bool viewable)
 {
-    ExampleSettings settings = defaults;
-    for (int i = 1; i < argc; ++i) {
+    Arguments arguments{defaults, false, std::nullopt};
+    ExampleSettings& settings = arguments.settings;
+    bool valid = true;
+    for (int i = 1; i < argc && valid; ++i) {
         const bool hasValue = i + 1 < argc;
         if (std::strcmp(argv[i], "--out") == 0 && hasValue) {
             settings.output = argv[++i];
@@ -34,11 +42,34 @@ int runWithFramebuffer(int argc, char** argv, const ExampleSettings& defaults,
             settings.width = std::atoi(argv[++i]);
         } else if (std::strcmp(argv[i], "--height") == 0 && hasValue) {
             settings.height = std::atoi(argv[++i]);
+        } else if (viewable && std::strcmp(argv[i], "--view") == 0) {
+            arguments.view = true;
+        } else if (viewable && std::strcmp(argv[i], "--frames") == 0 && hasValue) {
+            arguments.frames = std::atoi(argv[++i]);
+            valid = *arguments.frames >= 1;
         } else {
-            std::fprintf(stderr, "usage: %s [--out file.png] [--width W] [--height H]\n", argv[0]);
-            return 2;
+            valid = false;
         }
     }
+    if (!valid || (arguments.frames && !arguments.view)) {
+        std::fprintf(stderr, "usage: %s [--out file.png] [--width W] [--height H]%s\n", argv[0],
+                     viewable ? " [--view [--frames N]]" : "");
+        return std::nullopt;
+    }
+    return arguments;
+}
+
+/// Parses the arguments (parseArguments, no --view), then runs `body` with a headless device's
+/// context and a framebuffer of the parsed size (not yet set on the context). Returns the process
+/// exit code: 0, 1 for an orbis::Error (printed), 2 for usage (printed).
+int runWithFramebuffer(int argc, char** argv, const ExampleSettings& defaults,
+                       const std::function<void(Context&, Framebuffer&, const ExampleSettings&)>& body)
+{
+    const std::optional<Arguments> parsed = parseArguments(argc, argv, defaults, false);
+    if (!parsed) {
+        return 2;
+    }
+    const ExampleSettings& settings = parsed->settings;
     try {
         Device device;
         Context& context = device.context();
@@ -58,12 +89,38 @@ int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
 {
     ExampleSettings defaults;
     defaults.output = defaultOutput;
+    auto makeScene = [&](const ExampleSettings& settings) {
+        auto scene = std::make_unique<Scene>();
+        scene->setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T12:00:00Z")));
+        setup(*scene, settings);
+        return scene;
+    };
+    const std::optional<Arguments> parsed = parseArguments(argc, argv, defaults, true);
+    if (!parsed) {
+        return 2;
+    }
+    if (parsed->view) {
+        try {
+            ViewerOptions options;
+            options.width = parsed->settings.width;
+            options.height = parsed->settings.height;
+            options.title = argv[0];
+            options.frames = parsed->frames;
+            if (parsed->frames) {
+                options.output = parsed->settings.output;
+            }
+            Device device = createViewerDevice(options);
+            runViewer(device, *makeScene(parsed->settings), options);
+            return 0;
+        } catch (const Error& error) {
+            std::fprintf(stderr, "%s: %s\n", argv[0], error.what());
+            return 1;
+        }
+    }
     auto render = [&](Context& context, Framebuffer& framebuffer, const ExampleSettings& settings) {
         context.setFramebuffer(&framebuffer);
-        Scene scene;
-        scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T12:00:00Z")));
-        setup(scene, settings);
-        const FrameStatistics statistics = scene.render(context);
+        const std::unique_ptr<Scene> scene = makeScene(settings);
+        const FrameStatistics statistics = scene->render(context);
         writePng(context.readPixels(), settings.output);
         std::printf("%s: %dx%d\n%s", settings.output.c_str(), settings.width, settings.height,
                     statistics.toText().c_str());

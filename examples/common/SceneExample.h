@@ -25,7 +25,9 @@ struct ExampleSettings {
 };
 
 /// Parses [--out file.png] [--width W] [--height H], builds the scene with `setup`, renders one
-/// frame and writes the PNG. Returns the process exit code: 0, 1 for an orbis::Error, 2 for usage.
+/// frame and writes the PNG. With --view [--frames N], shows the scene in a window instead
+/// (runViewer; with --frames, the last frame shown goes to the PNG). Returns the process exit
+/// code: 0, 1 for an orbis::Error, 2 for usage.
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
                     const std::function<void(Scene&, const ExampleSettings&)>& setup);
 

@@ -1,14 +1,13 @@
 // The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
 // from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
 // 2 the command line is wrong.
+#include "../common/Viewer.h"
+
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/Device.h>
-#include <orbis/renderer/Window.h>
-#include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/SceneFile.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -18,7 +17,6 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <utility>
 
 #include <unistd.h>
 
@@ -245,80 +243,16 @@ int runView(Arguments arguments)
     try {
         const orbis::SceneDescription description =
             parsed.scenePath ? orbis::parseSceneFile(*parsed.scenePath) : orbis::parseDefaultScene();
-        orbis::DeviceOptions options;
-        options.backend = orbis::GlBackend::Window;
-        options.windowWidth = parsed.width.value_or(description.width);
-        options.windowHeight = parsed.height.value_or(description.height);
-        options.windowTitle = "Orbis: " + parsed.scenePath.value_or("the default Earth");
-        orbis::Device device(options);
-        orbis::Context& context = device.context();
-        orbis::Window& window = *device.window();
+        orbis::examples::ViewerOptions options;
+        options.width = parsed.width.value_or(description.width);
+        options.height = parsed.height.value_or(description.height);
+        options.title = "Orbis: " + parsed.scenePath.value_or("the default Earth");
+        options.frames = parsed.frames;
+        options.output = parsed.output;
+        orbis::Device device = orbis::examples::createViewerDevice(options);
         orbis::Scene scene;
         orbis::populateScene(description, scene);
-
-        // The file's camera until the first input; from then on the controller's, which starts
-        // from the camera as it is.
-        orbis::ViewerController controller(scene.ellipsoid(), scene.camera());
-        using Key = orbis::InputEvent::Key;
-        constexpr std::pair<char, Key> kFlyKeys[] = {{'W', Key::Forward}, {'S', Key::Backward}, {'A', Key::Left},
-                                                     {'D', Key::Right},   {'E', Key::Up},       {'Q', Key::Down}};
-        auto lastFrame = std::chrono::steady_clock::now();
-
-        std::optional<orbis::Framebuffer> frame;
-        int shown = 0;
-        while (!window.shouldClose() && (!parsed.frames || shown < *parsed.frames)) {
-            window.pollEvents();
-            const auto now = std::chrono::steady_clock::now();
-            // Held keys move by the time since the last frame, at most a tenth of a second of it.
-            const double seconds = std::min(std::chrono::duration<double>(now - lastFrame).count(), 0.1);
-            lastFrame = now;
-            const orbis::WindowInput input = window.takeInput();
-            bool moved = input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0;
-            for (const char letter : input.pressedLetters) {
-                if (letter == 'F') {
-                    const bool flying = controller.mode() == orbis::ViewerController::Mode::Fly;
-                    controller.setMode(flying ? orbis::ViewerController::Mode::Orbit : orbis::ViewerController::Mode::Fly,
-                                       scene.camera());
-                    std::printf("%s\n", flying ? "orbiting" : "flying");
-                    std::fflush(stdout);
-                }
-            }
-            controller.handle(orbis::InputEvent::drag(input.dragPixels.x, input.dragPixels.y));
-            controller.handle(orbis::InputEvent::scroll(input.scrollSteps));
-            if (controller.mode() == orbis::ViewerController::Mode::Fly) {
-                for (const auto& [letter, key] : kFlyKeys) {
-                    if (window.isKeyDown(letter)) {
-                        controller.handle(orbis::InputEvent::keyHeld(key, seconds));
-                        moved = true;
-                    }
-                }
-            }
-            if (moved) {
-                controller.apply(scene.camera());
-            }
-            const int width = window.framebufferWidth();
-            const int height = window.framebufferHeight();
-            if (width == 0 || height == 0) { // minimised
-                continue;
-            }
-            if (!frame || frame->width() != width || frame->height() != height) {
-                frame = context.createFramebuffer(width, height);
-            }
-            context.setFramebuffer(&*frame);
-            const orbis::FrameStatistics statistics = scene.render(context);
-            context.blit(*frame);
-            if (shown == 0) {
-                std::printf("window %dx%d, %s\n%s", width, height, device.info().renderer.c_str(),
-                            statistics.toText().c_str());
-                std::fflush(stdout);
-            }
-            if (++shown == parsed.frames && parsed.output) {
-                context.setFramebuffer(nullptr);
-                orbis::writePng(context.readPixels(), *parsed.output);
-                std::printf("%s: frame %d as shown\n", parsed.output->c_str(), shown);
-            }
-            window.swapBuffers();
-        }
+        orbis::examples::runViewer(device, scene, options);
         return kExitOk;
     } catch (const orbis::Error& error) {
         std::fprintf(stderr, "orbis view: %s\n", error.what());

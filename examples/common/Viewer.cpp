@@ -1,0 +1,88 @@
+#include "Viewer.h"
+
+#include <orbis/renderer/Window.h>
+#include <orbis/scene/CameraControllers.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <utility>
+
+namespace orbis::examples {
+
+Device createViewerDevice(const ViewerOptions& options)
+{
+    DeviceOptions deviceOptions;
+    deviceOptions.backend = GlBackend::Window;
+    deviceOptions.windowWidth = options.width;
+    deviceOptions.windowHeight = options.height;
+    deviceOptions.windowTitle = options.title;
+    return Device(deviceOptions);
+}
+
+void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
+{
+    Context& context = device.context();
+    Window& window = *device.window();
+    ViewerController controller(scene.ellipsoid(), scene.camera());
+    using Key = InputEvent::Key;
+    constexpr std::pair<char, Key> kFlyKeys[] = {{'W', Key::Forward}, {'S', Key::Backward}, {'A', Key::Left},
+                                                 {'D', Key::Right},   {'E', Key::Up},       {'Q', Key::Down}};
+    auto lastFrame = std::chrono::steady_clock::now();
+
+    std::optional<Framebuffer> frame;
+    int shown = 0;
+    while (!window.shouldClose() && (!options.frames || shown < *options.frames)) {
+        window.pollEvents();
+        const auto now = std::chrono::steady_clock::now();
+        // Held keys move by the time since the last frame, at most a tenth of a second of it.
+        const double seconds = std::min(std::chrono::duration<double>(now - lastFrame).count(), 0.1);
+        lastFrame = now;
+        const WindowInput input = window.takeInput();
+        bool moved = input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0;
+        for (const char letter : input.pressedLetters) {
+            if (letter == 'F') {
+                const bool flying = controller.mode() == ViewerController::Mode::Fly;
+                controller.setMode(flying ? ViewerController::Mode::Orbit : ViewerController::Mode::Fly, scene.camera());
+                std::printf("%s\n", flying ? "orbiting" : "flying");
+                std::fflush(stdout);
+            }
+        }
+        controller.handle(InputEvent::drag(input.dragPixels.x, input.dragPixels.y));
+        controller.handle(InputEvent::scroll(input.scrollSteps));
+        if (controller.mode() == ViewerController::Mode::Fly) {
+            for (const auto& [letter, key] : kFlyKeys) {
+                if (window.isKeyDown(letter)) {
+                    controller.handle(InputEvent::keyHeld(key, seconds));
+                    moved = true;
+                }
+            }
+        }
+        if (moved) {
+            controller.apply(scene.camera());
+        }
+        const int width = window.framebufferWidth();
+        const int height = window.framebufferHeight();
+        if (width == 0 || height == 0) { // minimised
+            continue;
+        }
+        if (!frame || frame->width() != width || frame->height() != height) {
+            frame = context.createFramebuffer(width, height);
+        }
+        context.setFramebuffer(&*frame);
+        const FrameStatistics statistics = scene.render(context);
+        context.blit(*frame);
+        if (shown == 0) {
+            std::printf("window %dx%d, %s\n%s", width, height, device.info().renderer.c_str(), statistics.toText().c_str());
+            std::fflush(stdout);
+        }
+        if (++shown == options.frames && options.output) {
+            context.setFramebuffer(nullptr);
+            writePng(context.readPixels(), *options.output);
+            std::printf("%s: frame %d as shown\n", options.output->c_str(), shown);
+        }
+        window.swapBuffers();
+    }
+}
+
+} // namespace orbis::examples
