@@ -580,7 +580,7 @@ bool ShaderProgram::setUniformArrayBytes(std::string_view name, UniformType type
     if (index < 0) {
         throw Error(where + " is not an active uniform");
     }
-    Slot& slot = _slots[static_cast<std::size_t>(index)];
+    const Slot& slot = _slots[static_cast<std::size_t>(index)];
     if (slot.count == 1 || !slot.settable) {
         throw Error(where + (slot.count == 1 ? " is not an array: set it with setUniform"
                                              : " is an array that cannot be set (samplers are set by unit)"));
@@ -592,19 +592,7 @@ bool ShaderProgram::setUniformArrayBytes(std::string_view name, UniformType type
         throw Error(where + ": no values given");
     }
     const std::size_t bytes = std::min(count, static_cast<std::size_t>(slot.count)) * elementSize;
-    if (slot.hasValue && std::memcmp(slot.arrayValue.data(), values, bytes) == 0) {
-        return false;
-    }
-    std::memcpy(slot.arrayValue.data(), values, bytes);
-    if (!slot.hasValue) {
-        slot.hasValue = true;
-        --_unsetCount;
-    }
-    if (!slot.dirty) {
-        slot.dirty = true;
-        _dirtySlots.push_back(index);
-    }
-    return true;
+    return ShaderProgramAccess::assignRaw(*this, index, values, bytes);
 }
 
 bool ShaderProgram::setUniform(int index, const UniformValue& value)
@@ -698,10 +686,10 @@ bool sameBytes(const void* a, const void* b, std::size_t size) noexcept
 bool ShaderProgramAccess::assignRaw(ShaderProgram& p, int slotIndex, const void* data, std::size_t size) noexcept
 {
     ShaderProgram::Slot& slot = p._slots[slotIndex];
-    if (slot.hasValue && sameBytes(slot.value, data, size)) {
+    if (slot.hasValue && sameBytes(slot.bytes(), data, size)) {
         return false;
     }
-    std::memcpy(slot.value, data, size);
+    std::memcpy(slot.bytes(), data, size);
     if (!slot.hasValue) {
         slot.hasValue = true;
         if (slot.automatic < 0) {
@@ -761,9 +749,8 @@ std::uint64_t ShaderProgramAccess::flush(ShaderProgram& p, const GlApi& gl)
         slot.dirty = false;
         const GLint location = slot.location;
         const GLsizei n = slot.count;
-        const unsigned char* data = n == 1 ? slot.value : slot.arrayValue.data();
-        const auto* f = reinterpret_cast<const GLfloat*>(data);
-        const auto* i = reinterpret_cast<const GLint*>(data);
+        const auto* f = reinterpret_cast<const GLfloat*>(slot.bytes());
+        const auto* i = reinterpret_cast<const GLint*>(slot.bytes());
         switch (slot.type) {
         case UniformType::Bool:
         case UniformType::Int:

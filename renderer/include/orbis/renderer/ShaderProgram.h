@@ -153,6 +153,10 @@ private:
         bool dirty = false;
         alignas(16) unsigned char value[64] = {};
         std::vector<unsigned char> arrayValue; ///< count elements, as glUniform*v takes them
+
+        /// Where the value lives: inline for one element, arrayValue for an array.
+        unsigned char* bytes() noexcept { return count == 1 ? value : arrayValue.data(); }
+        const unsigned char* bytes() const noexcept { return count == 1 ? value : arrayValue.data(); }
     };
 
     Device* _device = nullptr;
