@@ -38,20 +38,25 @@ struct GatheredInput {
     bool cursorKnown = false;
 };
 
+GatheredInput& gatheredInput(GLFWwindow* window)
+{
+    return *static_cast<GatheredInput*>(glfwGetWindowUserPointer(window));
+}
+
 void onCursorMoved(GLFWwindow* window, double x, double y)
 {
-    auto* gathered = static_cast<GatheredInput*>(glfwGetWindowUserPointer(window));
+    GatheredInput& gathered = gatheredInput(window);
     const glm::dvec2 cursor(x, y);
-    if (gathered->cursorKnown && glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
-        gathered->input.dragPixels += cursor - gathered->cursor;
+    if (gathered.cursorKnown && glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+        gathered.input.dragPixels += cursor - gathered.cursor;
     }
-    gathered->cursor = cursor;
-    gathered->cursorKnown = true;
+    gathered.cursor = cursor;
+    gathered.cursorKnown = true;
 }
 
 void onScrolled(GLFWwindow* window, double, double steps)
 {
-    static_cast<GatheredInput*>(glfwGetWindowUserPointer(window))->input.scrollSteps += steps;
+    gatheredInput(window).input.scrollSteps += steps;
 }
 
 void onKey(GLFWwindow* window, int key, int, int action, int)
@@ -62,7 +67,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int)
     if (key == GLFW_KEY_ESCAPE) {
         glfwSetWindowShouldClose(window, GLFW_TRUE);
     } else if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) { // GLFW's letter keys are their ASCII capitals
-        static_cast<GatheredInput*>(glfwGetWindowUserPointer(window))->input.pressedLetters += static_cast<char>(key);
+        gatheredInput(window).input.pressedLetters += static_cast<char>(key);
     }
 }
 
@@ -190,8 +195,7 @@ void Window::pollEvents()
 
 WindowInput Window::takeInput()
 {
-    auto* gathered = static_cast<detail::GatheredInput*>(glfwGetWindowUserPointer(static_cast<GLFWwindow*>(_native)));
-    return std::exchange(gathered->input, WindowInput{});
+    return std::exchange(detail::gatheredInput(static_cast<GLFWwindow*>(_native)).input, WindowInput{});
 }
 
 bool Window::isKeyDown(char letter) const

@@ -309,11 +309,10 @@ void LabelCollection::declutter(const FrameState& frameState)
             const glm::dvec4 clip = viewProjection * glm::dvec4(record.label.position, 1.0);
             if (clip.w > 0.0) {
                 // Where the billboard shader puts the anchor: the nearest pixel corner, y down here.
-                const double windowX = (clip.x / clip.w * 0.5 + 0.5) * frameState.width;
-                const double windowY = (clip.y / clip.w * 0.5 + 0.5) * frameState.height;
+                const glm::dvec2 window = clipToWindow(clip, frameState.width, frameState.height);
                 PixelRectangle box = placement(index);
-                box.x += static_cast<int>(std::floor(windowX + 0.5));
-                box.y += frameState.height - static_cast<int>(std::floor(windowY + 0.5));
+                box.x += static_cast<int>(std::floor(window.x + 0.5));
+                box.y += frameState.height - static_cast<int>(std::floor(window.y + 0.5));
                 hidden = !occupancy.take(box);
             }
         }

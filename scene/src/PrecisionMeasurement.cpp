@@ -20,12 +20,6 @@ namespace orbis {
 
 namespace {
 
-/// Window position (pixels, y up) of a clip-space position, in double.
-glm::dvec2 toWindow(const glm::dvec4& clip, int width, int height) noexcept
-{
-    return {(clip.x / clip.w * 0.5 + 0.5) * width, (clip.y / clip.w * 0.5 + 0.5) * height};
-}
-
 /// The next float above x's float, as a double.
 double floatAbove(double x) noexcept
 {
@@ -118,8 +112,8 @@ JitterResult measureVertexJitter(Context& context, VertexTransform transform, co
         const glm::dvec4 gpu(clip[4 * i], clip[4 * i + 1], clip[4 * i + 2], clip[4 * i + 3]);
         const glm::dvec4 reference = viewProjection * glm::dvec4(positions[i], 1.0);
         // A vertex the GPU put at or behind the eye has no window position: unbounded error.
-        const double pixels = gpu.w > 0.0 ? glm::length(toWindow(gpu, options.width, options.height) -
-                                                         toWindow(reference, options.width, options.height))
+        const double pixels = gpu.w > 0.0 ? glm::length(clipToWindow(gpu, options.width, options.height) -
+                                                         clipToWindow(reference, options.width, options.height))
                                           : std::numeric_limits<double>::infinity();
         const double depth = glm::dot(positions[i] - eye, camera.direction());
         const double metersPerPixel = 2.0 * depth * std::tan(0.5 * options.fieldOfViewYRadians) / options.height;

@@ -37,9 +37,8 @@ glm::ivec2 projectToPixel(const Scene& scene, const glm::dvec3& position, int wi
     const Camera& camera = scene.camera();
     const glm::dvec4 clip = camera.projectionMatrix(static_cast<double>(width) / height, 1.0, 1e8) *
                             camera.viewMatrix() * glm::dvec4(position, 1.0);
-    const double x = (clip.x / clip.w * 0.5 + 0.5) * width;
-    const double y = (1.0 - (clip.y / clip.w * 0.5 + 0.5)) * height;
-    return {static_cast<int>(std::floor(x)), static_cast<int>(std::floor(y))};
+    const glm::dvec2 window = clipToWindow(clip, width, height);
+    return {static_cast<int>(std::floor(window.x)), static_cast<int>(std::floor(height - window.y))};
 }
 
 } // namespace orbis::test

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace orbis {
 
@@ -37,5 +39,12 @@ private:
     glm::dvec3 _up{0.0, 1.0, 0.0};
     double _fieldOfViewY = 0.7853981633974483; // 45 degrees
 };
+
+/// Window position (pixels, y up from the bottom edge) of a clip-space position with w > 0, in
+/// double.
+inline glm::dvec2 clipToWindow(const glm::dvec4& clip, int width, int height) noexcept
+{
+    return {(clip.x / clip.w * 0.5 + 0.5) * width, (clip.y / clip.w * 0.5 + 0.5) * height};
+}
 
 } // namespace orbis
