@@ -10,6 +10,7 @@
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/EmulatedDouble.h>
 #include <orbis/core/IntersectionTests.h>
+#include <orbis/core/Math.h>
 #include <orbis/core/Transforms.h>
 
 #include <glm/geometric.hpp>
@@ -24,11 +25,6 @@ using namespace orbis;
 namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
-
-bool finite(const glm::dvec3& v)
-{
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
 
 std::vector<glm::dvec3> directions()
 {
@@ -59,13 +55,13 @@ TEST_CASE("Geodetic conversions, normals and surface projections stay finite for
         REQUIRE(std::isfinite(g.longitude));
         REQUIRE(std::isfinite(g.latitude));
         REQUIRE(std::isfinite(g.height));
-        REQUIRE(finite(kEarth.geodeticSurfaceNormal(p)));
-        REQUIRE(finite(kEarth.scaleToGeodeticSurface(p)));
-        REQUIRE(finite(kEarth.scaleToGeocentricSurface(p)));
+        REQUIRE(isFinite(kEarth.geodeticSurfaceNormal(p)));
+        REQUIRE(isFinite(kEarth.scaleToGeodeticSurface(p)));
+        REQUIRE(isFinite(kEarth.scaleToGeocentricSurface(p)));
         const glm::dmat3 enu = eastNorthUpAxes(kEarth, p);
-        REQUIRE((finite(enu[0]) && finite(enu[1]) && finite(enu[2])));
+        REQUIRE((isFinite(enu[0]) && isFinite(enu[1]) && isFinite(enu[2])));
         const ViewOrientation view = headingPitchRollToView(kEarth, p, 1.0, -0.5, 0.2);
-        REQUIRE((finite(view.direction) && finite(view.up)));
+        REQUIRE((isFinite(view.direction) && isFinite(view.up)));
         for (const glm::dvec3& direction : directions()) {
             const HeadingPitch back = viewToHeadingPitch(kEarth, p, direction);
             REQUIRE((std::isfinite(back.heading) && std::isfinite(back.pitch)));
@@ -102,15 +98,15 @@ TEST_CASE("Curves, tangent planes and horizon culling stay finite for extreme po
     for (const glm::dvec3& p : points) {
         INFO("p = (" << p.x << ", " << p.y << ", " << p.z << ")");
         const EllipsoidTangentPlane plane(kEarth, p);
-        REQUIRE((finite(plane.origin()) && finite(plane.xAxis()) && finite(plane.yAxis()) && finite(plane.normal())));
+        REQUIRE((isFinite(plane.origin()) && isFinite(plane.xAxis()) && isFinite(plane.yAxis()) && isFinite(plane.normal())));
         for (const double q : {0.0, 1.0, 1e7, 1e20, 1e300}) {
-            REQUIRE(finite(plane.projectPointOntoEllipsoid({q, -q})));
+            REQUIRE(isFinite(plane.projectPointOntoEllipsoid({q, -q})));
         }
 
         const EllipsoidalOccluder occluder(kEarth, p);
         for (const glm::dvec3& direction : directions()) {
             const auto point = occluder.horizonOcclusionPoint(direction, std::span<const glm::dvec3>(points).first(24));
-            REQUIRE((!point || finite(*point)));
+            REQUIRE((!point || isFinite(*point)));
         }
 
         for (const glm::dvec3& q : points) {
@@ -120,11 +116,11 @@ TEST_CASE("Curves, tangent planes and horizon culling stay finite for extreme po
             }
             REQUIRE(std::isfinite(plane.cosineFromNormal(q)));
             for (const glm::dvec3& c : kEarth.computeCurve(p, q, 0.25)) {
-                REQUIRE(finite(c));
+                REQUIRE(isFinite(c));
             }
             const glm::dvec3 pair[] = {p, q};
             const BoundingSphere sphere = BoundingSphere::fromPoints(pair);
-            REQUIRE((finite(sphere.centre) && std::isfinite(sphere.radius)));
+            REQUIRE((isFinite(sphere.centre) && std::isfinite(sphere.radius)));
             REQUIRE(sphere.contains(p));
         }
     }
