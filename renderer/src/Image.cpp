@@ -12,15 +12,6 @@
 
 namespace orbis {
 
-Image::Image(int width_, int height_, int channels_)
-    : width(width_)
-    , height(height_)
-    , channels(channels_)
-    , pixels(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * static_cast<std::size_t>(channels_))
-{
-    assert(width_ >= 0 && height_ >= 0 && channels_ >= 1 && channels_ <= 4);
-}
-
 Image readImage(const std::filesystem::path& path, int desiredChannels)
 {
     int width = 0;
