@@ -1,5 +1,7 @@
 #include "orbis/core/TileMesh.h"
 
+#include "GeodeticGrid.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -45,31 +47,18 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const GeodeticExtent& exten
     mesh.skirt = skirtDepth > 0.0;
     mesh.centre = ellipsoid.toCartesian(extent.centre());
 
-    // Normals from trigonometry computed once per row and column; then each vertex is the surface
-    // point r^2 n / sqrt(r^2 n . n) plus its height along n, as Ellipsoid::toCartesian does.
-    std::vector<double> cosLongitude(columns);
-    std::vector<double> sinLongitude(columns);
-    for (int i = 0; i < columns; ++i) {
-        const double longitude = extent.west + extent.width() * i / (columns - 1);
-        cosLongitude[i] = std::cos(longitude);
-        sinLongitude[i] = std::sin(longitude);
-    }
-    const glm::dvec3 radiiSquared = ellipsoid.radii() * ellipsoid.radii();
+    const GeodeticGrid grid(ellipsoid, extent, columns, rows);
     const std::size_t skirtVertices = mesh.skirt ? static_cast<std::size_t>(2 * (columns + rows)) : 0;
     mesh.vertices.resize((static_cast<std::size_t>(columns) * rows + skirtVertices) * kFloatsPerVertex);
     double lowest = std::numeric_limits<double>::infinity();
     double highest = -std::numeric_limits<double>::infinity();
     std::vector<glm::dvec3> normals(static_cast<std::size_t>(columns) * rows);
     for (int j = 0; j < rows; ++j) {
-        const double latitude = j + 1 == rows ? extent.south : extent.north - extent.height() * j / (rows - 1);
-        const double cosLatitude = std::cos(latitude);
-        const double sinLatitude = std::sin(latitude);
         for (int i = 0; i < columns; ++i) {
             const std::size_t index = static_cast<std::size_t>(j) * columns + i;
-            const glm::dvec3 n(cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude);
-            const glm::dvec3 k = radiiSquared * n;
+            const glm::dvec3 n = grid.normal(i, j);
             const double height = heights.empty() ? 0.0 : static_cast<double>(heights[index]);
-            const glm::dvec3 p = k / std::sqrt(glm::dot(k, n)) + height * n - mesh.centre;
+            const glm::dvec3 p = grid.surface(n) + height * n - mesh.centre;
             float* v = &mesh.vertices[index * kFloatsPerVertex];
             v[0] = static_cast<float>(p.x);
             v[1] = static_cast<float>(p.y);

@@ -51,8 +51,9 @@ public:
     /// padding added to the box and to the heights of the horizon samples.
     double padding() const noexcept { return _padding; }
 
-    /// Samples along each side of the grid the volumes are computed from.
-    static constexpr int kSamplesPerSide = 17;
+    /// Samples along each side of the grid the volumes are computed from: 17 for regions wider or
+    /// taller than 5 degrees, 9 for smaller ones.
+    static constexpr int kMaximumSamplesPerSide = 17;
 
 private:
     GeodeticExtent _extent;
