@@ -102,14 +102,17 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
 
     const double distance = tile.region.distanceTo(view.eye);
     const double error = orbis::screenSpaceError(tile.geometricError, distance, view.viewportHeightPixels, view.fieldOfViewY);
-    auto drawOrRequest = [&] {
+    // A tile at the level asked for is drawn when it can be, and loads what it still lacks (its
+    // own imagery, say) while it is drawn; a stand-in only loads when it cannot be drawn at all.
+    auto drawOrRequest = [&](bool standIn) {
+        const bool wanted = tile.wantsLoad && (!standIn || !tile.renderable);
+        if (wanted) {
+            selection.loads.push_back({&tile, loadPriority(tile, view, distance)});
+        }
         if (tile.renderable) {
             selection.drawn.push_back(&tile);
             selection.drawnScreenSpaceErrors.push_back(error);
             return Coverage::Covered;
-        }
-        if (tile.wantsLoad) {
-            selection.loads.push_back({&tile, loadPriority(tile, view, distance)});
         }
         return Coverage::Uncovered;
     };
@@ -117,7 +120,7 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
     const bool refine = error > options.maximumScreenSpaceError && tile.refinable && tile.key.level < options.maximumLevel;
     if (!refine) {
         ++selection.selected;
-        return drawOrRequest();
+        return drawOrRequest(false);
     }
 
     if (!tile.hasChildren()) {
@@ -154,7 +157,7 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
         });
         selection.loads.erase(keep, selection.loads.end());
     }
-    const Coverage coverage = drawOrRequest();
+    const Coverage coverage = drawOrRequest(true);
     if (coverage == Coverage::Covered) {
         ++selection.standIns;
     }

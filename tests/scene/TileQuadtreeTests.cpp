@@ -139,7 +139,10 @@ TEST_CASE("Tile selection over 10,000 random views covers every visible point ex
           "[scene][tiles]")
 {
     const Ellipsoid wgs84 = Ellipsoid::wgs84();
-    TileQuadtree quadtree(wgs84, TilingScheme::geographic(), 64, [](QuadtreeTile& tile) { tile.renderable = true; });
+    TileQuadtree quadtree(wgs84, TilingScheme::geographic(), 64, [](QuadtreeTile& tile) {
+        tile.renderable = true;
+        tile.wantsLoad = false;
+    });
     TileSelectionOptions options;
     options.maximumLevel = 22;
     std::mt19937_64 random(20261201);

@@ -36,7 +36,9 @@ struct QuadtreeTile {
     bool renderable = false;
     /// Whether finer tiles below it may exist (false where the data ends).
     bool refinable = true;
-    /// Whether it has data of its own still to load (false once loaded, missing or failed).
+    /// Whether it has data of its own still to load (false once everything is loaded, missing or
+    /// failed). A tile drawn at the level the view asks for keeps asking while this is true (for
+    /// its own imagery while it shows an ancestor's, say).
     bool wantsLoad = true;
     std::uint64_t lastVisitedFrame = 0;
     std::unique_ptr<TileData> data;
