@@ -39,6 +39,21 @@ public:
         }
     }
 
+    /// A grid through the given longitudes (west to east) and latitudes (north to south).
+    GeodeticGrid(const Ellipsoid& ellipsoid, const std::vector<double>& longitudes, const std::vector<double>& latitudes)
+        : _radiiSquared(ellipsoid.radii() * ellipsoid.radii())
+        , _columns(static_cast<int>(longitudes.size()))
+    {
+        for (const double longitude : longitudes) {
+            _cosLongitude.push_back(std::cos(longitude));
+            _sinLongitude.push_back(std::sin(longitude));
+        }
+        for (const double latitude : latitudes) {
+            _cosLatitude.push_back(std::cos(latitude));
+            _sinLatitude.push_back(std::sin(latitude));
+        }
+    }
+
     int columns() const noexcept { return _columns; }
     int rows() const noexcept { return static_cast<int>(_cosLatitude.size()); }
 
