@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 namespace orbis::scene {
@@ -162,6 +163,37 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
         ++selection.standIns;
     }
     return coverage;
+}
+
+EdgeCoarsening edgeCoarsening(const TilingScheme& scheme, const TileKey& key, const DrawnTileSet& drawn)
+{
+    const std::uint32_t columns = scheme.tilesX(key.level);
+    const std::uint32_t rows = scheme.tilesY(key.level);
+    const bool rowsFromSouth = scheme.projection() == TilingProjection::Geographic;
+    auto levelsCoarser = [&](std::optional<TileKey> neighbour) {
+        if (!neighbour) {
+            return 0;
+        }
+        for (std::uint32_t level = key.level; level-- > 0;) {
+            if (drawn.contains(neighbour->ancestor(level))) {
+                return static_cast<int>(key.level - level);
+            }
+        }
+        return 0;
+    };
+    auto row = [&](bool towardsNorth) -> std::optional<TileKey> {
+        const bool up = towardsNorth == rowsFromSouth; // the direction y grows
+        if (up ? key.y + 1 >= rows : key.y == 0) {
+            return std::nullopt; // a pole
+        }
+        return TileKey{key.level, key.x, up ? key.y + 1 : key.y - 1};
+    };
+    EdgeCoarsening coarsening;
+    coarsening.north = levelsCoarser(row(true));
+    coarsening.south = levelsCoarser(row(false));
+    coarsening.east = levelsCoarser(TileKey{key.level, (key.x + 1) % columns, key.y});
+    coarsening.west = levelsCoarser(TileKey{key.level, (key.x + columns - 1) % columns, key.y});
+    return coarsening;
 }
 
 } // namespace orbis::scene

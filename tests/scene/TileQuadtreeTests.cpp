@@ -3,6 +3,7 @@
 
 #include <orbis/core/Geodetic.h>
 #include <orbis/core/IntersectionTests.h>
+#include <orbis/core/TileMesh.h>
 #include <orbis/core/Transforms.h>
 
 #include <catch2/catch.hpp>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <tuple>
 #include <map>
 #include <optional>
 
@@ -236,4 +238,96 @@ TEST_CASE("While tiles load, parents stand in for children not yet there: no hol
     // No drawn tile asks for more than the limit at once (the two roots, each a stand-in at first).
     CHECK(maximumLoads <= 2 * options.loadingDescendantLimit);
     CHECK(maximumLoads >= options.loadingDescendantLimit);
+}
+
+namespace {
+
+using Point = std::tuple<double, double, double>;
+
+/// A mesh's open edges (no triangle of the same list runs them backwards) and the tile side each
+/// lies on (0 north, 1 east, 2 south, 3 west), as positions. Edges of no length (along a pole) are
+/// left out.
+std::map<std::pair<Point, Point>, int> openEdges(const TileMesh& mesh, const std::vector<std::uint32_t>& indices)
+{
+    std::set<std::pair<std::uint32_t, std::uint32_t>> directed;
+    for (std::size_t t = 0; t < indices.size(); t += 3) {
+        for (int e = 0; e < 3; ++e) {
+            directed.insert({indices[t + e], indices[t + (e + 1) % 3]});
+        }
+    }
+    std::map<std::pair<Point, Point>, int> open;
+    for (const auto& [a, b] : directed) {
+        if (directed.contains({b, a})) {
+            continue;
+        }
+        const glm::dvec3 pa = mesh.position(a);
+        const glm::dvec3 pb = mesh.position(b);
+        if (pa == pb) {
+            continue;
+        }
+        const float* va = &mesh.vertices[a * TileMesh::kFloatsPerVertex];
+        const float* vb = &mesh.vertices[b * TileMesh::kFloatsPerVertex];
+        const int side = va[7] == 1.0f && vb[7] == 1.0f   ? 0
+                         : va[6] == 1.0f && vb[6] == 1.0f ? 1
+                         : va[7] == 0.0f && vb[7] == 0.0f ? 2
+                                                          : 3;
+        open[{{pa.x, pa.y, pa.z}, {pb.x, pb.y, pb.z}}] = side;
+    }
+    return open;
+}
+
+} // namespace
+
+TEST_CASE("Drawn tiles stitched to their coarser neighbours share every edge of the surface", "[scene][tiles]")
+{
+    const Ellipsoid wgs84 = Ellipsoid::wgs84();
+    const TilingScheme scheme = TilingScheme::geographic();
+    TileQuadtree quadtree(wgs84, scheme, 64, [](QuadtreeTile& tile) {
+        tile.renderable = true;
+        tile.wantsLoad = false;
+    });
+    TileSelectionOptions options;
+    options.maximumLevel = 22;
+    std::mt19937_64 random(77);
+    TileSelection selection;
+    std::size_t sharedEdges = 0;
+    for (int viewIndex = 0; viewIndex < 60; ++viewIndex) {
+        const Camera camera = randomCamera(random, wgs84);
+        quadtree.select(viewOf(camera, wgs84), options, static_cast<std::uint64_t>(viewIndex) + 1, selection);
+        DrawnTileSet drawn;
+        for (const QuadtreeTile* tile : selection.drawn) {
+            drawn.insert(tile->key);
+        }
+        std::map<std::pair<Point, Point>, int> allOpen;
+        std::vector<std::pair<TileKey, std::map<std::pair<Point, Point>, int>>> perTile;
+        for (const QuadtreeTile* tile : selection.drawn) {
+            const TileMesh mesh = TileMesh::build(wgs84, scheme, tile->key, 3, {}, 0.0);
+            auto open = openEdges(mesh, TileMesh::indices(3, edgeCoarsening(scheme, tile->key, drawn), false));
+            allOpen.insert(open.begin(), open.end());
+            perTile.emplace_back(tile->key, std::move(open));
+        }
+        // An edge with a neighbour drawn at the same level or coarser must meet that neighbour's
+        // edge exactly, the other way round.
+        for (const auto& [key, open] : perTile) {
+            const std::uint32_t columns = scheme.tilesX(key.level);
+            const std::array<std::optional<TileKey>, 4> across{
+                key.y + 1 < scheme.tilesY(key.level) ? std::optional(TileKey{key.level, key.x, key.y + 1}) : std::nullopt,
+                TileKey{key.level, (key.x + 1) % columns, key.y},
+                key.y > 0 ? std::optional(TileKey{key.level, key.x, key.y - 1}) : std::nullopt,
+                TileKey{key.level, (key.x + columns - 1) % columns, key.y}};
+            for (const auto& [segment, side] : open) {
+                const auto& neighbour = across[static_cast<std::size_t>(side)];
+                bool coarserOrSame = false;
+                for (std::uint32_t level = 0; neighbour && level <= key.level; ++level) {
+                    coarserOrSame = coarserOrSame || drawn.contains(neighbour->ancestor(level));
+                }
+                if (coarserOrSame) {
+                    ++sharedEdges;
+                    INFO("view " << viewIndex << " tile " << key.level << "/" << key.x << "/" << key.y << " side " << side);
+                    REQUIRE(allOpen.contains({segment.second, segment.first}));
+                }
+            }
+        }
+    }
+    CHECK(sharedEdges > 10000);
 }

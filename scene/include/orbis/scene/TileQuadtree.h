@@ -5,6 +5,7 @@
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
 #include <orbis/core/TileKey.h>
+#include <orbis/core/TileMesh.h>
 #include <orbis/core/TilingScheme.h>
 
 #include <glm/vec3.hpp>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <unordered_set>
 #include <vector>
 
 namespace orbis::scene {
@@ -132,5 +134,13 @@ private:
     EllipsoidalOccluder _occluder;
     std::vector<std::unique_ptr<QuadtreeTile>> _roots;
 };
+
+/// The drawn tiles' keys, for finding each drawn tile's neighbours.
+using DrawnTileSet = std::unordered_set<TileKey, TileKeyHash>;
+
+/// How much coarser the tiles drawn across each edge of a drawn tile are: the nearest drawn
+/// ancestor of the same-level neighbour across the edge (the antimeridian wraps; nothing lies
+/// across a pole). 0 where the neighbour is drawn at the same level or finer, or not at all.
+EdgeCoarsening edgeCoarsening(const TilingScheme& scheme, const TileKey& key, const DrawnTileSet& drawn);
 
 } // namespace orbis::scene
