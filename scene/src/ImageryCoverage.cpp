@@ -118,4 +118,18 @@ std::optional<ImageryPlacement> placeImagery(const GeodeticExtent& imageryExtent
     return placement;
 }
 
+std::vector<double> mercatorRowEdges(const GeodeticExtent& extent, int rows)
+{
+    const double south = TilingScheme::mercatorY(extent.south);
+    const double north = TilingScheme::mercatorY(extent.north);
+    std::vector<double> edges(static_cast<std::size_t>(rows) + 1);
+    for (int k = 0; k <= rows; ++k) {
+        const double latitude = k == rows ? extent.north : extent.south + (extent.north - extent.south) * k / rows;
+        edges[static_cast<std::size_t>(k)] = (TilingScheme::mercatorY(latitude) - south) / (north - south);
+    }
+    edges.front() = 0.0;
+    edges.back() = 1.0;
+    return edges;
+}
+
 } // namespace orbis::scene

@@ -53,4 +53,9 @@ struct ImageryPlacement {
 std::optional<ImageryPlacement> placeImagery(const GeodeticExtent& imageryExtent, const GeodeticExtent& surfaceExtent,
                                              const std::optional<GeodeticExtent>& clip = std::nullopt) noexcept;
 
+/// For reprojecting a Web Mercator tile over `extent` into a texture of `rows` rows linear in
+/// latitude (course 3.7): where each of the rows + 1 row edges (south to north) samples the
+/// Mercator tile, as its vertical texture coordinate (0 south, 1 north), computed in doubles.
+std::vector<double> mercatorRowEdges(const GeodeticExtent& extent, int rows);
+
 } // namespace orbis::scene
