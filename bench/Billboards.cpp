@@ -9,11 +9,11 @@
 #include <orbis/core/Math.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/BillboardCollection.h>
-#include <orbis/scene/CsvPoints.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
 
 #include <algorithm>
 #include <chrono>

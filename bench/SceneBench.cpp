@@ -10,6 +10,7 @@
 #include <orbis/scene/CommandBinner.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 #include <glm/geometric.hpp>
 

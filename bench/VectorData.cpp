@@ -6,8 +6,8 @@
 #include <orbis/renderer/GlyphAtlas.h>
 #include <orbis/renderer/TextureAtlas.h>
 #include <orbis/renderer/Utf8.h>
-#include <orbis/scene/CsvPoints.h>
-#include <orbis/scene/GeoJson.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
 
 #include <filesystem>
 #include <random>

@@ -9,9 +9,9 @@
 #include <orbis/core/ScreenSpaceError.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/FeaturePrimitives.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 

@@ -1,6 +1,7 @@
 // Chapter 3's first example: one triangle, drawn headless through the renderer layer and written
 // to a PNG. Usage: ch03_triangle [out.png] [--backend egl|osmesa] [--size N]
 #include <orbis/renderer/Device.h>
+#include <orbis/world/ImageFile.h>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>

@@ -4,8 +4,8 @@
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/FeaturePrimitives.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 

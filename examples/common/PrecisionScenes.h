@@ -3,9 +3,9 @@
 // The scenes of the chapter 5 and 6 examples (the bench times the chapter 6 one too), and what
 // their side-by-side PNGs need: tiles composed into one image, with captions.
 
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
 #include <orbis/scene/VertexTransform.h>
+#include <orbis/world/ImageFile.h>
 
 #include <string>
 #include <vector>

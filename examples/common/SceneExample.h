@@ -3,8 +3,8 @@
 // What every scene example shares: arguments, a headless device, a framebuffer, one frame of a
 // Scene (or a row of captioned tiles) written to a PNG, and the frame statistics printed.
 
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 #include <cstddef>
 #include <functional>

@@ -2,6 +2,7 @@
 
 #include <orbis/renderer/Window.h>
 #include <orbis/scene/CameraControllers.h>
+#include <orbis/world/ImageFile.h>
 
 #include <algorithm>
 #include <chrono>

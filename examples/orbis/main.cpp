@@ -5,8 +5,10 @@
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/ImageFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <chrono>
 #include <cstdio>

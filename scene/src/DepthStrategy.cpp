@@ -8,19 +8,6 @@
 
 namespace orbis {
 
-const char* depthStrategyName(DepthStrategy strategy) noexcept
-{
-    switch (strategy) {
-    case DepthStrategy::Automatic: return "auto";
-    case DepthStrategy::MultiFrustum: return "multi-frustum";
-    case DepthStrategy::Logarithmic: return "logarithmic";
-    case DepthStrategy::LogarithmicVertex: return "logarithmic (vertex)";
-    case DepthStrategy::Complementary: return "complementary";
-    case DepthStrategy::Single: return "single";
-    }
-    return "?";
-}
-
 std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
 {
     switch (strategy) {

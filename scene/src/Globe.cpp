@@ -1,7 +1,6 @@
 #include "orbis/scene/Globe.h"
 
 #include "orbis/scene/Effect.h"
-#include "orbis/scene/TileMapService.h"
 
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/CubeMapEllipsoidTessellator.h>
@@ -9,6 +8,7 @@
 #include <orbis/core/SubdivisionEllipsoidTessellator.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/world/TileMapService.h>
 
 #include <glm/geometric.hpp>
 

@@ -1,14 +1,15 @@
 #include "orbis/scene/SceneBuilder.h"
 
 #include "orbis/scene/BillboardCollection.h"
-#include "orbis/scene/CsvPoints.h"
 #include "orbis/scene/FeaturePrimitives.h"
-#include "orbis/scene/GeoJson.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
 #include "orbis/scene/ModelPrimitive.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
+#include <orbis/world/ImageFile.h>
 
 #include <algorithm>
 #include <cmath>

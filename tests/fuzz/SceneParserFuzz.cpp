@@ -2,7 +2,9 @@
 // keeps the documented invariants or throws orbis::SceneFileError with a well-formed message.
 // Any other exception, a crash, a sanitizer report or a broken invariant is a bug.
 // Built and run by scripts/fuzz.sh (clang, -fsanitize=fuzzer,address,undefined).
-#include <orbis/scene/SceneFile.h>
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/scene/Camera.h>
+#include <orbis/world/SceneFile.h>
 
 #include <glm/geometric.hpp>
 

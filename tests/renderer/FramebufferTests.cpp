@@ -2,8 +2,11 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/world/ImageFile.h>
 
 #include <catch2/catch.hpp>
+
+#include <filesystem>
 
 #include <unistd.h>
 

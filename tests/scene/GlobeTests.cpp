@@ -4,7 +4,7 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/scene/Globe.h>
-#include <orbis/scene/TileMapService.h>
+#include <orbis/world/TileMapService.h>
 
 #include <catch2/catch.hpp>
 

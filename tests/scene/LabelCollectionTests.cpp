@@ -7,7 +7,7 @@
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <catch2/catch.hpp>
 

@@ -4,8 +4,8 @@
 // and satellites: BoxTessellator::cube).
 
 #include <orbis/scene/MeshPrimitive.h>
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 namespace orbis::test {
 

@@ -5,9 +5,9 @@
 
 #include "RendererTestSupport.h"
 
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/common.hpp>
 

@@ -1,7 +1,7 @@
 // A user's program built against the installed orbis package.
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/EmbeddedShaders.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <cstdio>
 

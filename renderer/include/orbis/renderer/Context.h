@@ -4,7 +4,7 @@
 #include "orbis/renderer/ClearState.h"
 #include "orbis/renderer/DrawCommand.h"
 #include "orbis/renderer/Framebuffer.h"
-#include "orbis/renderer/Image.h"
+#include "orbis/core/Image.h"
 #include "orbis/renderer/RenderStatistics.h"
 #include "orbis/renderer/SceneState.h"
 #include "orbis/renderer/VertexArray.h"

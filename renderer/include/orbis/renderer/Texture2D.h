@@ -1,6 +1,6 @@
 #pragma once
 
-#include "orbis/renderer/Image.h"
+#include "orbis/core/Image.h"
 #include "orbis/renderer/RenderState.h"
 
 #include <cstddef>

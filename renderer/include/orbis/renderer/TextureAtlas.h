@@ -3,7 +3,7 @@
 // Packs many small images into one, so that a collection of billboards or glyphs draws with one
 // texture bound. CPU only: the atlas image is uploaded by whoever draws it.
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
 
 #include <cstddef>
 #include <cstdint>

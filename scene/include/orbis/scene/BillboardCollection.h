@@ -2,7 +2,7 @@
 
 #include "orbis/scene/FrameState.h"
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
 #include <orbis/renderer/TextureAtlas.h>
 
 #include <glm/vec2.hpp>

@@ -7,6 +7,9 @@
 
 namespace orbis {
 
+class Ellipsoid;
+struct CameraDescription; // orbis/world/SceneDescription.h
+
 /// A perspective camera in double precision: world positions in metres, angles in radians.
 /// The view matrix is built from eye, target and up; the projection from the vertical field of
 /// view, the aspect ratio and the near and far distances a frame chooses.
@@ -39,6 +42,11 @@ private:
     glm::dvec3 _up{0.0, 1.0, 0.0};
     double _fieldOfViewY = 0.7853981633974483; // 45 degrees
 };
+
+/// The camera a scene file's description asks for on an ellipsoid: up is the local vertical, or
+/// north where the view is vertical; a heading-pitch-roll aim puts the target ahead of the eye, as
+/// far as the eye is from the centre.
+Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipsoid);
 
 /// Window position (pixels, y up from the bottom edge) of a clip-space position with w > 0, in
 /// double.

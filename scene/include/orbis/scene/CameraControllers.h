@@ -3,6 +3,7 @@
 #include "orbis/scene/Camera.h"
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/world/CameraKeyframe.h>
 
 #include <vector>
 
@@ -111,11 +112,7 @@ private:
 /// benchmarks drive the scene with it.
 class CameraPath final {
 public:
-    struct Keyframe {
-        double seconds;
-        Geodetic3D eye;
-        Geodetic3D target;
-    };
+    using Keyframe = CameraKeyframe;
 
     explicit CameraPath(const Ellipsoid& ellipsoid) : _ellipsoid(ellipsoid) {}
 

@@ -1,8 +1,9 @@
 #pragma once
 
-#include "orbis/scene/Feature.h"
 #include "orbis/scene/PolygonCollection.h"
 #include "orbis/scene/PolylineCollection.h"
+
+#include <orbis/world/Feature.h>
 
 #include <functional>
 #include <memory>

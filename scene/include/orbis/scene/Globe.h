@@ -1,7 +1,7 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
-#include "orbis/scene/GlobeMethod.h"
+#include <orbis/world/GlobeMethod.h>
 
 #include <orbis/core/Tessellation.h>
 

@@ -1,13 +1,13 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
-#include "orbis/scene/GltfModel.h"
-#include "orbis/scene/SceneDescription.h"
 
 #include <orbis/core/Geodetic.h>
+#include <orbis/core/HeadingPitchRoll.h>
 #include <orbis/renderer/Sampler.h>
 #include <orbis/renderer/Texture2D.h>
 #include <orbis/renderer/VertexArray.h>
+#include <orbis/world/GltfModel.h>
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>

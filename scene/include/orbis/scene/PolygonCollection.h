@@ -1,9 +1,9 @@
 #pragma once
 
-#include "orbis/scene/Feature.h"
 #include "orbis/scene/PolylineCollection.h"
 
 #include <orbis/core/Mesh.h>
+#include <orbis/world/Feature.h>
 
 #include <string>
 #include <string_view>

@@ -1,8 +1,8 @@
 #pragma once
 
-#include "orbis/scene/CurveType.h"
 #include "orbis/scene/FrameState.h"
 
+#include <orbis/core/CurveType.h>
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/Math.h>
 

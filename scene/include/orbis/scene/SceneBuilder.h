@@ -1,7 +1,7 @@
 #pragma once
 
 #include "orbis/scene/Scene.h"
-#include "orbis/scene/SceneDescription.h"
+#include <orbis/world/SceneDescription.h>
 
 namespace orbis {
 

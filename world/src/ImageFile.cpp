@@ -1,4 +1,4 @@
-#include "orbis/renderer/Image.h"
+#include "orbis/world/ImageFile.h"
 
 #include "orbis/core/Error.h"
 

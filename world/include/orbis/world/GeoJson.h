@@ -1,6 +1,6 @@
 #pragma once
 
-#include <orbis/scene/Feature.h>
+#include <orbis/world/Feature.h>
 
 #include <filesystem>
 #include <string_view>

@@ -1,4 +1,4 @@
-#include "orbis/scene/SceneFile.h"
+#include "orbis/world/SceneFile.h"
 
 namespace orbis {
 

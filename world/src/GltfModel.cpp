@@ -1,4 +1,4 @@
-#include "orbis/scene/GltfModel.h"
+#include "orbis/world/GltfModel.h"
 
 #include "TinyGltf.h"
 

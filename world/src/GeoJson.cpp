@@ -1,4 +1,4 @@
-#include "orbis/scene/GeoJson.h"
+#include "orbis/world/GeoJson.h"
 
 #include "orbis/core/Error.h"
 #include "orbis/core/Math.h"

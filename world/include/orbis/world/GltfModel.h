@@ -1,8 +1,8 @@
 #pragma once
 
+#include <orbis/core/Image.h>
 #include <orbis/core/Mesh.h>
-#include <orbis/renderer/Image.h>
-#include <orbis/renderer/Sampler.h>
+#include <orbis/core/SamplerDescription.h>
 
 #include <glm/vec4.hpp>
 

@@ -1,4 +1,4 @@
-#include "orbis/scene/CsvPoints.h"
+#include "orbis/world/CsvPoints.h"
 
 #include "orbis/core/Error.h"
 

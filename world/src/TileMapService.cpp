@@ -1,4 +1,6 @@
-#include "orbis/scene/TileMapService.h"
+#include "orbis/world/TileMapService.h"
+
+#include "orbis/world/ImageFile.h"
 
 #include <orbis/core/Error.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 
-#include "orbis/scene/CameraControllers.h"
-#include "orbis/scene/SceneDescription.h"
+#include "orbis/world/CameraKeyframe.h"
+#include "orbis/world/SceneDescription.h"
 
 #include <orbis/core/Error.h>
 
@@ -62,8 +62,8 @@ SceneDescription parseSceneText(std::string_view text, std::string_view originNa
 /// Reads a camera path file for `orbis render --path` (docs/scene-format.md): {"version": 1,
 /// "keyframes": [{"time": s, "position": {lon, lat, height}, "target": {...}}, ...]}, at least two
 /// keyframes in increasing time. Throws SceneFileError like parseSceneFile.
-std::vector<CameraPath::Keyframe> parseCameraPathFile(const std::filesystem::path& path);
-std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName);
+std::vector<CameraKeyframe> parseCameraPathFile(const std::filesystem::path& path);
+std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::string_view originName);
 
 /// The text of data/scenes/default.json, embedded in the library at build time.
 std::string_view defaultSceneText() noexcept;
