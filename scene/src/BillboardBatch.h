@@ -267,7 +267,7 @@ public:
                 out += 4;
             }
         }
-        _texture->copyFromSystemMemory(texels, Rectangle{region.x, region.y, region.width, region.height});
+        _texture->copyFromSystemMemory(texels, region);
         return texels.size();
     }
 

@@ -135,7 +135,7 @@ private:
     Context(Device& device, std::unique_ptr<detail::ContextState> state);
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);
-    Rectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+    PixelRectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;

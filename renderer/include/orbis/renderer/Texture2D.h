@@ -59,8 +59,8 @@ public:
     /// Replaces a whole level. Throws orbis::Error unless texels holds exactly
     /// width x height x bytesPerTexel of that level.
     void copyFromSystemMemory(std::span<const std::byte> texels, int level = 0);
-    /// Replaces a rectangle of a level (rows bottom to top). Throws when it leaves the level.
-    void copyFromSystemMemory(std::span<const std::byte> texels, const Rectangle& region, int level = 0);
+    /// Replaces a rectangle of a level (origin and rows bottom to top). Throws when it leaves the level.
+    void copyFromSystemMemory(std::span<const std::byte> texels, const PixelRectangle& region, int level = 0);
     /// Replaces level 0 with an image (flipped to bottom-up). RGBA8 takes 4 channels, RGB8 3;
     /// throws for other formats or sizes.
     void copyFromImage(const Image& image);

@@ -4,6 +4,7 @@
 // texture bound. CPU only: the atlas image is uploaded by whoever draws it.
 
 #include <orbis/core/Image.h>
+#include <orbis/renderer/PixelRectangle.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -12,16 +13,6 @@
 #include <vector>
 
 namespace orbis {
-
-/// A rectangle of pixels: (x, y) is its top-left pixel, rows counted from the top as in Image.
-struct PixelRectangle {
-    int x = 0;
-    int y = 0;
-    int width = 0;
-    int height = 0;
-
-    friend constexpr bool operator==(const PixelRectangle&, const PixelRectangle&) = default;
-};
 
 /// Texture coordinates of a rectangle, in [0, 1]: (u0, v0) is the outer corner of its top-left
 /// pixel and (u1, v1) the outer corner of its bottom-right pixel. v grows with the image's row, so
