@@ -21,6 +21,10 @@
 #include <numeric>
 #include <random>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::bench {
 namespace {
 

@@ -17,6 +17,10 @@
 #include <chrono>
 #include <random>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::bench {
 namespace {
 

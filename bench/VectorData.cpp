@@ -13,6 +13,9 @@
 #include <random>
 #include <unordered_set>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+
 namespace orbis::bench {
 namespace {
 

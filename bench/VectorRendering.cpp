@@ -19,6 +19,10 @@
 #include <cmath>
 #include <filesystem>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::bench {
 namespace {
 

@@ -12,6 +12,8 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::world;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch07_vector_data.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
         globe.dayTexture = examples::xplanetDayImage();

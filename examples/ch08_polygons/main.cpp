@@ -14,6 +14,8 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::world;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch08_polygons.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
         globe.color = {0.08f, 0.16f, 0.32f, 1.0f};

@@ -22,6 +22,8 @@
 namespace {
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 
 std::filesystem::path dataDirectory()
 {

@@ -17,6 +17,10 @@
 #include <optional>
 #include <vector>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::examples {
 
 namespace {

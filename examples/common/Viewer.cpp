@@ -9,6 +9,10 @@
 #include <cstdio>
 #include <utility>
 
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::examples {
 
 Device createViewerDevice(const ViewerOptions& options)

@@ -19,7 +19,7 @@
 #include <cmath>
 #include <cstring>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 using detail::AutomaticUniform;
@@ -695,4 +695,4 @@ void Context::resetStatistics() noexcept
     _state->glCallsAtReset = detail::tlsGlCallCount;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

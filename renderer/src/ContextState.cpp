@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <string>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 thread_local ContextState* tlsCurrentState = nullptr;
 
 namespace {
@@ -534,4 +534,4 @@ void ContextState::bindTextureForUpload(std::uint64_t serial, GLuint name)
     }
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -17,11 +17,11 @@
 #include <cstdint>
 #include <memory>
 
-namespace orbis {
+namespace orbis::renderer {
 class Device;
 }
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 /// Texture units the shadow tracks; the last usable one is kept for uploads.
 inline constexpr int kMaxTrackedTextureUnits = 32;
@@ -124,4 +124,4 @@ ContextState& requireCurrent(const Device* device, const char* what);
 /// The current state when it belongs to `device`, for destructors; null otherwise.
 ContextState* currentStateOf(const Device* device) noexcept;
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

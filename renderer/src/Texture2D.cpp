@@ -10,7 +10,7 @@
 #include <cstring>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 struct GlFormat {
@@ -275,4 +275,4 @@ Image Texture2D::copyToImage() const
     return image;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

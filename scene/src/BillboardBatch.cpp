@@ -2,11 +2,11 @@
 
 #include <orbis/renderer/ShaderCache.h>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 namespace {
 
-void setIfActive(DrawCommand& command, const char* name, const UniformValue& value)
+void setIfActive(renderer::DrawCommand& command, const char* name, const renderer::UniformValue& value)
 {
     if (command.shaderProgram->hasUniform(name)) {
         command.uniforms.set(name, value);
@@ -17,12 +17,12 @@ void setIfActive(DrawCommand& command, const char* name, const UniformValue& val
 
 std::unique_ptr<DepthPrograms> billboardPrograms(bool label)
 {
-    return std::make_unique<DepthPrograms>([label](DepthStrategy, Pass) {
-        ShaderProgramDescription description;
+    return std::make_unique<DepthPrograms>([label](DepthStrategy, renderer::Pass) {
+        renderer::ShaderProgramDescription description;
         description.name = label ? "label" : "billboard";
-        description.vertex = ShaderSource::embedded("scene/billboard/billboard.vert.glsl");
-        description.geometry = ShaderSource::embedded("scene/billboard/billboard.geom.glsl");
-        description.fragment = ShaderSource::embedded("scene/billboard/billboard.frag.glsl");
+        description.vertex = renderer::ShaderSource::embedded("scene/billboard/billboard.vert.glsl");
+        description.geometry = renderer::ShaderSource::embedded("scene/billboard/billboard.geom.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/billboard/billboard.frag.glsl");
         if (label) {
             description.defines.push_back({"LABEL"});
         }
@@ -30,22 +30,22 @@ std::unique_ptr<DepthPrograms> billboardPrograms(bool label)
     });
 }
 
-void prepareBillboardCommand(DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
-                             const TextureAtlas& atlas)
+void prepareBillboardCommand(renderer::DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
+                             const renderer::TextureAtlas& atlas)
 {
     assert(command.shaderProgram);
     command.primitiveType = PrimitiveType::Points;
-    command.pass = Pass::Translucent;
-    RenderState& state = command.renderState;
+    command.pass = renderer::Pass::Translucent;
+    renderer::RenderState& state = command.renderState;
     state.facetCulling.enabled = false;
     state.depthTest.enabled = depth.depthTest;
-    state.depthTest.function = CompareFunction::LessOrEqual;
+    state.depthTest.function = renderer::CompareFunction::LessOrEqual;
     state.depthMask = false;
     // The shader writes premultiplied colour (the atlas is premultiplied, so linear filtering
     // of a scaled image does not darken its edges with the transparent padding): "over".
-    state.blending = Blending::alphaBlending();
-    state.blending.sourceRgbFactor = SourceBlendingFactor::One;
-    state.blending.sourceAlphaFactor = SourceBlendingFactor::One;
+    state.blending = renderer::Blending::alphaBlending();
+    state.blending.sourceRgbFactor = renderer::SourceBlendingFactor::One;
+    state.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
     if (!depth.horizonCulling) {
         command.horizonOcclusionPoint.reset(); // the scene would cull the command by it
     }
@@ -72,4 +72,4 @@ void prepareBillboardCommand(DrawCommand& command, const FrameState& frameState,
                 glm::vec2(1.0f / static_cast<float>(atlas.width()), 1.0f / static_cast<float>(atlas.height())));
 }
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

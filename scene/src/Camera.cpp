@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <variant>
 
-namespace orbis {
+namespace orbis::scene {
 
 Camera::Camera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fieldOfViewYRadians)
     : _fieldOfViewY(fieldOfViewYRadians)
@@ -50,7 +50,7 @@ glm::dmat4 Camera::projectionMatrix(double aspectRatio, double nearDistance, dou
     return glm::perspectiveRH_NO(_fieldOfViewY, aspectRatio, nearDistance, farDistance);
 }
 
-Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipsoid)
+Camera makeCamera(const world::CameraDescription& description, const Ellipsoid& ellipsoid)
 {
     const glm::dvec3 eye = ellipsoid.toCartesian(description.position);
     if (const auto* orientation = std::get_if<HeadingPitchRoll>(&description.aim)) {
@@ -69,4 +69,4 @@ Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipso
     return Camera(eye, target, vertical ? eastNorthUp[1] : eastNorthUp[2], description.fieldOfViewY);
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -6,16 +6,16 @@
 #include <cmath>
 #include <limits>
 
-namespace orbis {
+namespace orbis::scene {
 
-std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
+std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, renderer::Pass pass)
 {
     switch (strategy) {
     case DepthStrategy::Logarithmic: return {{"OG_DEPTH_LOGARITHMIC"}};
     case DepthStrategy::LogarithmicVertex: return {{"OG_DEPTH_LOGARITHMIC_VERTEX"}};
     case DepthStrategy::Complementary: return {{"OG_DEPTH_COMPLEMENTARY"}};
     case DepthStrategy::MultiFrustum:
-        if (pass == Pass::Translucent) {
+        if (pass == renderer::Pass::Translucent) {
             return {{"OG_DEPTH_OWNED_RANGE"}};
         }
         return {};
@@ -50,4 +50,4 @@ double analyticMinimumSeparation(DepthStrategy strategy, double distance, double
     return infinity;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

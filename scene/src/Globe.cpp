@@ -14,7 +14,7 @@
 
 #include <cmath>
 
-namespace orbis {
+namespace orbis::scene {
 
 TessellationResult Globe::tessellate(const Ellipsoid& ellipsoid, GlobeTessellation tessellation, int level,
                                      Deviation deviation)
@@ -57,17 +57,17 @@ double Globe::gridSpacing(double metersPerPixelOnGround, double radius) noexcept
     return toRadians(30.0);
 }
 
-ShaderProgram& Globe::program(FrameState& frameState)
+renderer::ShaderProgram& Globe::program(FrameState& frameState)
 {
-    std::shared_ptr<ShaderProgram>& program = _programs[static_cast<std::size_t>(frameState.depthStrategy)];
+    std::shared_ptr<renderer::ShaderProgram>& program = _programs[static_cast<std::size_t>(frameState.depthStrategy)];
     if (program) {
         return *program;
     }
     const bool rayCast = _options.method == GlobeMethod::RayCast;
-    ShaderProgramDescription description;
+    renderer::ShaderProgramDescription description;
     description.name = rayCast ? "globe (ray cast)" : "globe (tessellated)";
-    description.vertex = ShaderSource::embedded("scene/globe/globe.vert.glsl");
-    description.fragment = ShaderSource::embedded("scene/globe/globe.frag.glsl");
+    description.vertex = renderer::ShaderSource::embedded("scene/globe/globe.vert.glsl");
+    description.fragment = renderer::ShaderSource::embedded("scene/globe/globe.frag.glsl");
     if (rayCast) {
         description.defines.push_back({"RAY_CAST"});
     }
@@ -83,7 +83,7 @@ ShaderProgram& Globe::program(FrameState& frameState)
     if (_options.grid) {
         description.defines.push_back({"GRID"});
     }
-    for (ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
+    for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, renderer::Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
     if (frameState.device.info().gpuShader5) {
@@ -103,10 +103,10 @@ void Globe::createResources(FrameState& frameState)
     _vertexArray = frameState.context.createVertexArray(mesh, program(frameState));
 
     if (!_options.dayTexture.empty()) {
-        _dayTexture = frameState.device.createTexture2D(readGlobeImage(_options.dayTexture), true);
+        _dayTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.dayTexture), true);
     }
     if (!_options.nightTexture.empty()) {
-        _nightTexture = frameState.device.createTexture2D(readGlobeImage(_options.nightTexture), true);
+        _nightTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.nightTexture), true);
     }
     SamplerDescription sampler;
     sampler.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
@@ -120,9 +120,9 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     if (!_vertexArray) {
         createResources(frameState);
     }
-    ShaderProgram& shaderProgram = program(frameState);
+    renderer::ShaderProgram& shaderProgram = program(frameState);
     const bool rayCast = _options.method == GlobeMethod::RayCast;
-    DrawCommand command;
+    renderer::DrawCommand command;
     command.debugName = "globe";
     command.tags = static_cast<std::uint32_t>(Effect::Globe);
     if (_options.lighting) {
@@ -150,10 +150,10 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         command.farthestDistance = std::sqrt(std::max(0.0, eyeDistance * eyeDistance - b * b)) + std::sqrt(a * a - b * b);
     }
     // The box is drawn from inside out so that the globe still shows with the eye inside it.
-    command.renderState.facetCulling.face = rayCast ? CullFace::Front : CullFace::Back;
+    command.renderState.facetCulling.face = rayCast ? renderer::CullFace::Front : renderer::CullFace::Back;
 
     // Each variant uses some of these; the GLSL compiler removes the others.
-    auto set = [&](std::string_view name, const UniformValue& value) {
+    auto set = [&](std::string_view name, const renderer::UniformValue& value) {
         if (shaderProgram.hasUniform(name)) {
             command.uniforms.set(name, value);
         }
@@ -181,4 +181,4 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     commands.push_back(std::move(command));
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -16,7 +16,7 @@
 #include <cassert>
 #include <cmath>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 namespace {
 
@@ -102,7 +102,7 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
     return bounds;
 }
 
-void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+void boundDepth(renderer::DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
                 double maxHeight) noexcept
 {
     if (!(eyeHeight > 0.0)) {
@@ -148,33 +148,33 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
     return {static_cast<float>(steps), static_cast<float>(fractionOfDistance), static_cast<float>(meters), radius};
 }
 
-RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept
+renderer::RenderState vectorRenderState(renderer::Pass pass, bool cullBackFaces, bool blend) noexcept
 {
-    RenderState state;
+    renderer::RenderState state;
     state.facetCulling.enabled = cullBackFaces;
-    if (blend || pass == Pass::Translucent) {
-        state.blending = Blending::alphaBlending();
-        state.blending.sourceAlphaFactor = SourceBlendingFactor::One;
+    if (blend || pass == renderer::Pass::Translucent) {
+        state.blending = renderer::Blending::alphaBlending();
+        state.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
     }
-    state.depthMask = pass != Pass::Translucent;
+    state.depthMask = pass != renderer::Pass::Translucent;
     return state;
 }
 
-ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
+renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
 {
-    ShaderProgramDescription description;
-    description.vertex = ShaderSource::embedded("scene/vector/vector.vert.glsl");
+    renderer::ShaderProgramDescription description;
+    description.vertex = renderer::ShaderSource::embedded("scene/vector/vector.vert.glsl");
     if (shape == VectorShape::Polylines) {
         description.name = "polylines";
-        description.geometry = ShaderSource::embedded("scene/vector/polyline.geom.glsl");
-        description.fragment = ShaderSource::embedded("scene/vector/polyline.frag.glsl");
+        description.geometry = renderer::ShaderSource::embedded("scene/vector/polyline.geom.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/vector/polyline.frag.glsl");
         description.defines.push_back({"POLYLINE"});
     } else {
         description.name = "polygons";
         if (strategy == DepthStrategy::LogarithmicVertex) {
-            description.geometry = ShaderSource::embedded("scene/vector/polygon.geom.glsl");
+            description.geometry = renderer::ShaderSource::embedded("scene/vector/polygon.geom.glsl");
         }
-        description.fragment = ShaderSource::embedded("scene/vector/polygon.frag.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/vector/polygon.frag.glsl");
     }
     if (description.geometry) {
         description.defines.push_back({"DEPTH_IN_GEOMETRY_SHADER"});
@@ -189,7 +189,7 @@ VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool rel
     : _ellipsoid(ellipsoid)
     , _shape(shape)
     , _relativeToEye(relativeToEye)
-    , _programs([shape, relativeToEye](DepthStrategy strategy, Pass) {
+    , _programs([shape, relativeToEye](DepthStrategy strategy, renderer::Pass) {
         return vectorProgramDescription(shape, relativeToEye, strategy);
     })
 {
@@ -245,20 +245,20 @@ void VectorBatch::build(FrameState& frameState, std::span<const VectorItem> item
         }
     }
     assert(attributeData.size() == vertexCount * bytesPerVertex);
-    Device& device = frameState.device;
+    renderer::Device& device = frameState.device;
     _positions = device.createVertexBuffer(std::as_bytes(std::span(positionData)));
-    _attributes = device.createVertexBuffer(std::span<const std::byte>(attributeData), BufferUsage::DynamicDraw);
+    _attributes = device.createVertexBuffer(std::span<const std::byte>(attributeData), renderer::BufferUsage::DynamicDraw);
     _vertexArray = frameState.context.createVertexArray();
     if (_relativeToEye) {
-        _vertexArray.setAttribute(VertexAttributeLocation::PositionHigh, _positions,
-                                  {ComponentType::Float, 3, false, false, 24, 0});
-        _vertexArray.setAttribute(VertexAttributeLocation::PositionLow, _positions,
-                                  {ComponentType::Float, 3, false, false, 24, 12});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::PositionHigh, _positions,
+                                  {renderer::ComponentType::Float, 3, false, false, 24, 0});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::PositionLow, _positions,
+                                  {renderer::ComponentType::Float, 3, false, false, 24, 12});
     } else {
-        _vertexArray.setAttribute(VertexAttributeLocation::Position, _positions, {ComponentType::Float, 3});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::Position, _positions, {renderer::ComponentType::Float, 3});
     }
     _ranges.clear();
-    _indices = IndexBuffer();
+    _indices = renderer::IndexBuffer();
 }
 
 void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes)
@@ -278,16 +278,16 @@ void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const Attri
     items.clear();
 }
 
-void VectorBatch::buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
+void VectorBatch::buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
                                const IndexWriter& writeIndices)
 {
     std::vector<std::uint32_t> indices;
     _ranges.clear();
     for (std::size_t g = 0; g < _groups.size(); ++g) {
-        for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
+        for (const renderer::Pass pass : {renderer::Pass::Opaque, renderer::Pass::Translucent}) {
             const std::size_t first = indices.size();
             for (const std::size_t index : _groups[g].items) {
-                if ((pass == Pass::Opaque) == opaque(index)) {
+                if ((pass == renderer::Pass::Opaque) == opaque(index)) {
                     writeIndices(index, static_cast<std::uint32_t>(_firstVertex[index]), indices);
                 }
             }
@@ -297,7 +297,7 @@ void VectorBatch::buildIndices(Device& device, const std::function<bool(std::siz
         }
     }
     _vertexArray.setIndexBuffer(nullptr);
-    _indices = IndexBuffer();
+    _indices = renderer::IndexBuffer();
     if (!indices.empty()) {
         _indices = device.createIndexBuffer(std::span<const std::uint32_t>(indices));
         _vertexArray.setIndexBuffer(&_indices);
@@ -311,7 +311,7 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
     const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Range& range : _ranges) {
         const Group& group = _groups[range.group];
-        DrawCommand command;
+        renderer::DrawCommand command;
         command.debugName = lines ? "polylines" : "polygons";
         command.tags = static_cast<std::uint32_t>(lines ? Effect::Polylines : Effect::Polygons);
         command.vertexArray = &_vertexArray;
@@ -336,4 +336,4 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
     }
 }
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

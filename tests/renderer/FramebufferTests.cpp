@@ -11,6 +11,8 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {

@@ -17,6 +17,9 @@
 #include <random>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

@@ -9,6 +9,8 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using Catch::Matchers::WithinAbs;
 
 namespace {

@@ -15,6 +15,8 @@
 #include <string>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

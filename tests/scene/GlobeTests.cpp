@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::Contains;
 

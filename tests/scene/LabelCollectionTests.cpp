@@ -14,6 +14,9 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

@@ -26,6 +26,8 @@
 #include <sstream>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;

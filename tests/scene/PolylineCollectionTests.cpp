@@ -18,6 +18,8 @@
 #include <span>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::WithinAbs;
 

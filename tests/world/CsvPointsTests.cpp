@@ -11,6 +11,7 @@
 #include <algorithm>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 

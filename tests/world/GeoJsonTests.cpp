@@ -12,6 +12,7 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 

@@ -12,6 +12,7 @@
 #include <sstream>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 namespace fs = std::filesystem;

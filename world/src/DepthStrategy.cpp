@@ -1,6 +1,6 @@
 #include "orbis/world/DepthStrategy.h"
 
-namespace orbis {
+namespace orbis::world {
 
 const char* depthStrategyName(DepthStrategy strategy) noexcept
 {
@@ -15,4 +15,4 @@ const char* depthStrategyName(DepthStrategy strategy) noexcept
     return "?";
 }
 
-} // namespace orbis
+} // namespace orbis::world

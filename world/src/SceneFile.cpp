@@ -22,7 +22,7 @@
 #include <sstream>
 #include <system_error>
 
-namespace orbis {
+namespace orbis::world {
 
 SceneFileError::SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
                                std::string reason)
@@ -1225,4 +1225,4 @@ SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& o
     return parseSceneText(text, path.string(), parent.empty() ? fs::path(".") : parent, options);
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -9,7 +9,7 @@
 #include <regex>
 #include <sstream>
 
-namespace orbis {
+namespace orbis::world {
 
 namespace {
 
@@ -112,4 +112,4 @@ Image readGlobeImage(const std::filesystem::path& path)
     return readImage(path, 3);
 }
 
-} // namespace orbis
+} // namespace orbis::world

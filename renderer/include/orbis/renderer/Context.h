@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 class ShaderProgram;
@@ -45,7 +45,7 @@ struct FramebufferOptions {
 /// context.setFramebuffer(&target);
 /// context.clear(ClearState{});
 /// context.draw(command, sceneState);
-/// writePng(context.readPixels(), "frame.png");
+/// world::writePng(context.readPixels(), "frame.png"); // orbis/world/ImageFile.h
 /// ```
 class Context final {
 public:
@@ -141,4 +141,4 @@ private:
     Framebuffer* _framebuffer = nullptr;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Framebuffer;
 class Sampler;
@@ -72,4 +72,4 @@ struct DrawCommand {
     std::uint32_t tags = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -1,6 +1,6 @@
 #pragma once
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// A rectangle of whole pixels. Which corner (x, y) is depends on where it is used, and each use
 /// says so: the bottom-left pixel for GL's viewport, scissor and texture regions, the top-left one
@@ -14,4 +14,4 @@ struct PixelRectangle {
     friend constexpr bool operator==(const PixelRectangle&, const PixelRectangle&) = default;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -10,7 +10,7 @@
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Comparison used by the depth and stencil tests.
 enum class CompareFunction : std::uint8_t { Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always };
@@ -152,4 +152,4 @@ struct RenderState {
     friend bool operator==(const RenderState&, const RenderState&) = default;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

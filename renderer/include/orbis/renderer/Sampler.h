@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 
@@ -36,4 +36,4 @@ private:
     float _appliedAnisotropy = 1.0f;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

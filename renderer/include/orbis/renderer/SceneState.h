@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// How clip-space depth becomes window depth in a frame; the projection matrix must match.
 enum class DepthConvention : std::uint8_t {
@@ -46,4 +46,4 @@ struct SceneState {
     double ownedFarDistance = std::numeric_limits<double>::infinity();
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 
@@ -36,7 +36,7 @@ struct TextureDescription {
 /// are flipped on the way in and out so that an image looks upright when drawn with t up.
 ///
 /// ```
-/// Texture2D texture = device.createTexture2D(readImage("earth.png"), true); // with mipmaps
+/// Texture2D texture = device.createTexture2D(world::readImage("earth.png"), true); // mipmapped; world/ImageFile.h
 /// command.textures.push_back({0, &texture, &sampler}); // read by og_texture0
 /// ```
 class Texture2D final {
@@ -86,4 +86,4 @@ private:
     int _levels = 1;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Texture coordinates of a rectangle, in [0, 1]: (u0, v0) is the outer corner of its top-left
 /// pixel and (u1, v1) the outer corner of its bottom-right pixel. v grows with the image's row, so
@@ -38,7 +38,7 @@ struct TextureAtlasOptions {
 /// any more are all images packed again from scratch, tallest first.
 ///
 ///     TextureAtlas atlas;
-///     const std::size_t marker = atlas.add(readImage("marker.png")).first;
+///     const std::size_t marker = atlas.add(world::readImage("marker.png")).first;
 ///     const TextureRectangle uv = atlas.textureCoordinates(marker);
 class TextureAtlas {
 public:
@@ -106,4 +106,4 @@ private:
     std::uint64_t _version = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// A user input, as an interactive window or a scripted test produces it.
 struct InputEvent {
@@ -112,7 +112,7 @@ private:
 /// benchmarks drive the scene with it.
 class CameraPath final {
 public:
-    using Keyframe = CameraKeyframe;
+    using Keyframe = world::CameraKeyframe;
 
     explicit CameraPath(const Ellipsoid& ellipsoid) : _ellipsoid(ellipsoid) {}
 
@@ -130,4 +130,4 @@ private:
     std::vector<Keyframe> _keyframes;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -5,17 +5,24 @@
 #include <cstdint>
 #include <vector>
 
-namespace orbis {
-
-// What the scene does with a depth strategy (the enumeration is world/DepthStrategy.h, where scene
-// files name it). Kept free of renderer headers.
+namespace orbis::renderer {
 enum class Pass : std::uint8_t; // orbis/renderer/DrawCommand.h
 struct ShaderDefine;            // orbis/renderer/ShaderProgram.h
+} // namespace orbis::renderer
+
+namespace orbis::scene {
+
+// The depth strategy is named in scene files, so the enumeration is the world layer's; the scene
+// layer names it as its own (scene::DepthStrategy is world::DepthStrategy) and adds what drawing
+// with one takes. Kept free of renderer headers.
+using world::DepthStrategy;
+using world::depthStrategyName;
+using world::kAllDepthStrategies;
 
 /// The defines a program drawn under a (resolved) strategy needs from the built-in depth.glsl:
 /// OG_DEPTH_LOGARITHMIC, OG_DEPTH_LOGARITHMIC_VERTEX or OG_DEPTH_COMPLEMENTARY, and for blended
 /// (Translucent) draws under MultiFrustum OG_DEPTH_OWNED_RANGE.
-std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass);
+std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, renderer::Pass pass);
 
 /// The analytic minimum separation, metres, between two surfaces at `distance` that the strategy
 /// still orders: the separation that moves the window depth by one step of the buffer, for a frame
@@ -28,4 +35,4 @@ std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass
 double analyticMinimumSeparation(DepthStrategy strategy, double distance, double nearDistance, double farDistance,
                                  double farToNearRatio = 1000.0) noexcept;
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -11,15 +11,17 @@
 #include <cstdint>
 #include <vector>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Context;
 class Device;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
 struct FrameState {
-    Context& context;
-    Device& device;
+    renderer::Context& context;
+    renderer::Device& device;
     const Camera& camera;
     const Ellipsoid& ellipsoid;
     int width;
@@ -37,7 +39,7 @@ struct FrameState {
 };
 
 /// The draw commands primitives append to during Scene::render.
-using CommandList = std::vector<DrawCommand>;
+using CommandList = std::vector<renderer::DrawCommand>;
 
 /// Something drawn in a Scene. update() creates or refreshes its GPU resources lazily and appends
 /// DrawCommands; a primitive with nothing to show appends nothing and allocates nothing.
@@ -59,4 +61,4 @@ public:
     virtual bool supportsLogarithmicDepth() const { return false; }
 };
 
-} // namespace orbis
+} // namespace orbis::scene

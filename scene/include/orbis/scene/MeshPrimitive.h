@@ -11,10 +11,12 @@
 #include <memory>
 #include <optional>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class ShaderProgram;
 struct DeviceInfo;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// A core Mesh with world positions in one colour: opaque, or translucent (blended, drawn after
 /// the opaque commands of each frustum). Lit by the Sun when the mesh has normals. Its vertices
@@ -24,7 +26,7 @@ class MeshPrimitive final : public Primitive {
 public:
     /// The mesh must have triangles (or points, for measurements) and at least one position
     /// (asserted).
-    MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass = Pass::Opaque,
+    MeshPrimitive(Mesh mesh, const glm::vec4& color, renderer::Pass pass = renderer::Pass::Opaque,
                   VertexTransform transform = VertexTransform::RelativeToCenter);
     ~MeshPrimitive() override;
 
@@ -45,13 +47,13 @@ public:
 
     /// The program a MeshPrimitive draws with under a concrete transform and a resolved depth
     /// strategy: shaders/scene/mesh with the built-in library's defines.
-    static ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
-                                                       bool lit, const DeviceInfo& device);
+    static renderer::ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, renderer::Pass pass,
+                                                       bool lit, const renderer::DeviceInfo& device);
 
 private:
     BoundingSphere _boundingSphere;
     glm::vec4 _color;
-    Pass _pass;
+    renderer::Pass _pass;
     bool _lit;
     PrimitiveType _primitiveType;
     VertexTransform _transform;
@@ -59,7 +61,7 @@ private:
     std::optional<glm::dvec3> _occlusionPoint;
     std::unique_ptr<VertexTransformArrays> _arrays;
     /// By concrete transform, then by depth strategy: each variant compiled on first use.
-    std::array<std::array<std::shared_ptr<ShaderProgram>, 6>, 5> _programs;
+    std::array<std::array<std::shared_ptr<renderer::ShaderProgram>, 6>, 5> _programs;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -2,7 +2,7 @@
 
 #include <orbis/core/Geodetic.h>
 
-namespace orbis {
+namespace orbis::world {
 
 /// One keyframe of a camera path file (`orbis render --path`, docs/scene-format.md): where the eye
 /// is and what it looks at, at a time. The scene's CameraPath flies through them.
@@ -12,4 +12,4 @@ struct CameraKeyframe {
     Geodetic3D target; ///< radians, metres
 };
 
-} // namespace orbis
+} // namespace orbis::world

@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::world {
 
 /// How a Scene resolves depth across its view distance (book chapter 6, SIGGRAPH 2013 course
 /// chapter 2). docs/precision.md measures each; FrameStatistics::depthStrategy says which ran.
@@ -43,4 +43,4 @@ inline constexpr DepthStrategy kAllDepthStrategies[] = {DepthStrategy::Automatic
 /// "auto", "multi-frustum", "logarithmic", "logarithmic (vertex)", "complementary", "single".
 const char* depthStrategyName(DepthStrategy strategy) noexcept;
 
-} // namespace orbis
+} // namespace orbis::world

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// How a glTF material's alpha is used (glTF 2.0, material.alphaMode).
 enum class AlphaMode : std::uint8_t {
@@ -95,4 +95,4 @@ struct GltfModel {
     Image decodeImage(std::size_t index) const;
 };
 
-} // namespace orbis
+} // namespace orbis::world

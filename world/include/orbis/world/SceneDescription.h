@@ -19,7 +19,7 @@
 #include <variant>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 // What a scene file (docs/scene-format.md) describes, as plain values: angles in radians, heights
 // in metres, sizes in pixels, colours as non-premultiplied RGBA in 0..1, paths absolute. A scene
@@ -185,4 +185,4 @@ struct SceneDescription {
     friend bool operator==(const SceneDescription&, const SceneDescription&) = default;
 };
 
-} // namespace orbis
+} // namespace orbis::world

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// The scene-file version this build reads; files with a higher "version" are refused.
 inline constexpr int kSceneFileVersion = 1;
@@ -72,4 +72,4 @@ std::string_view defaultSceneText() noexcept;
 /// against the current directory). Throws SceneFileError when a file it names is missing.
 SceneDescription parseDefaultScene(const SceneParseOptions& options = {});
 
-} // namespace orbis
+} // namespace orbis::world
