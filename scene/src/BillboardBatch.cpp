@@ -17,7 +17,7 @@ void setIfActive(renderer::DrawCommand& command, const char* name, const rendere
 
 std::unique_ptr<DepthPrograms> billboardPrograms(bool label)
 {
-    return std::make_unique<DepthPrograms>([label](DepthStrategy, renderer::Pass) {
+    return std::make_unique<DepthPrograms>([label](DepthStrategy, Pass) {
         renderer::ShaderProgramDescription description;
         description.name = label ? "label" : "billboard";
         description.vertex = renderer::ShaderSource::embedded("scene/billboard/billboard.vert.glsl");
@@ -30,13 +30,13 @@ std::unique_ptr<DepthPrograms> billboardPrograms(bool label)
     });
 }
 
-void prepareBillboardCommand(renderer::DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
+void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
                              const renderer::TextureAtlas& atlas)
 {
-    assert(command.shaderProgram);
-    command.primitiveType = PrimitiveType::Points;
-    command.pass = renderer::Pass::Translucent;
-    renderer::RenderState& state = command.renderState;
+    assert(command.draw.shaderProgram);
+    command.draw.primitiveType = PrimitiveType::Points;
+    command.pass = Pass::Translucent;
+    renderer::RenderState& state = command.draw.renderState;
     state.facetCulling.enabled = false;
     state.depthTest.enabled = depth.depthTest;
     state.depthTest.function = renderer::CompareFunction::LessOrEqual;
@@ -55,11 +55,11 @@ void prepareBillboardCommand(renderer::DrawCommand& command, const FrameState& f
     const double horizon = glm::dot(eyeScaled, eyeScaled) - 1.0;
     // A camera on or under the surface hides nothing behind the ellipsoid (EllipsoidalOccluder).
     const bool cull = depth.horizonCulling && horizon > 0.0;
-    setIfActive(command, "u_oneOverRadii", glm::vec3(oneOverRadii));
-    setIfActive(command, "u_eyeScaled", glm::vec3(eyeScaled));
-    setIfActive(command, "u_horizonDistanceSquared", cull ? static_cast<float>(horizon) : -1.0f);
+    setIfActive(command.draw, "u_oneOverRadii", glm::vec3(oneOverRadii));
+    setIfActive(command.draw, "u_eyeScaled", glm::vec3(eyeScaled));
+    setIfActive(command.draw, "u_horizonDistanceSquared", cull ? static_cast<float>(horizon) : -1.0f);
     const float depthOffset = std::clamp(depth.depthOffsetFraction, 0.0f, 1.0f);
-    setIfActive(command, "u_depthScale", 1.0f - depthOffset);
+    setIfActive(command.draw, "u_depthScale", 1.0f - depthOffset);
     // The depth is taken up to depthOffsetFraction of the distance nearer the eye than the
     // anchors: the sphere the scene bins by must reach there, or the near plane clips the quads
     // (twice that, so float rounding of the depth cannot put a quad on the plane).
@@ -68,7 +68,7 @@ void prepareBillboardCommand(renderer::DrawCommand& command, const FrameState& f
         command.boundingSphere->radius += 2.0 * static_cast<double>(depthOffset) *
                                           (distance + command.boundingSphere->radius);
     }
-    setIfActive(command, "u_inverseAtlasSize",
+    setIfActive(command.draw, "u_inverseAtlasSize",
                 glm::vec2(1.0f / static_cast<float>(atlas.width()), 1.0f / static_cast<float>(atlas.height())));
 }
 

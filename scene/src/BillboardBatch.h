@@ -282,7 +282,7 @@ private:
 
 /// The uniforms, render state and pass every billboard or label command shares; the command's
 /// bounding sphere (set before) grows to cover the points the depth is taken at.
-void prepareBillboardCommand(renderer::DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
+void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
                              const renderer::TextureAtlas& atlas);
 
 /// The billboard program (LABEL: the glyph variant) under every depth strategy: the quads keep

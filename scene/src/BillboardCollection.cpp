@@ -206,7 +206,7 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
     if (_billboards.empty()) {
         return;
     }
-    renderer::ShaderProgram& program = _programs->get(frameState, renderer::Pass::Translucent);
+    renderer::ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
     _lastUpload.textureBytesUploaded = _texture->synchronize(frameState.device, _atlas);
     _batch->upload(frameState, program, _lastUpload);
 
@@ -217,15 +217,15 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
             positions.push_back(b.position);
         }
     }
-    renderer::DrawCommand command;
-    command.debugName = "billboards";
+    SceneCommand command;
+    command.draw.debugName = "billboards";
     command.tags = static_cast<std::uint32_t>(Effect::Billboards);
     command.horizonOcclusionPoint = _bounds->refresh(frameState.ellipsoid, positions);
     command.boundingSphere = _bounds->sphere();
-    command.vertexArray = _batch->vertexArray();
-    command.shaderProgram = &program;
-    command.count = _billboards.size();
-    command.textures.push_back({0, _texture->texture(), nullptr});
+    command.draw.vertexArray = _batch->vertexArray();
+    command.draw.shaderProgram = &program;
+    command.draw.count = _billboards.size();
+    command.draw.textures.push_back({0, _texture->texture(), nullptr});
     detail::prepareBillboardCommand(command, frameState, _options.depth, _atlas);
     commands.push_back(std::move(command));
 }

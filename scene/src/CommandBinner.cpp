@@ -6,7 +6,7 @@
 
 namespace orbis::scene {
 
-void CommandBinner::cullAndBin(std::span<const renderer::DrawCommand> commands, const Frustum& cullingVolume,
+void CommandBinner::cullAndBin(std::span<const SceneCommand> commands, const Frustum& cullingVolume,
                                const EllipsoidalOccluder& occluder, const glm::dvec3& eye,
                                const glm::dvec3& viewDirection, double cosHalfDiagonal,
                                FrameStatistics& statistics)
@@ -17,7 +17,7 @@ void CommandBinner::cullAndBin(std::span<const renderer::DrawCommand> commands, 
     _intervals.clear();
     statistics.commandsSubmitted += commands.size();
     for (std::uint32_t i = 0; i < commands.size(); ++i) {
-        const renderer::DrawCommand& command = commands[i];
+        const SceneCommand& command = commands[i];
         if (command.boundingSphere && cullingVolume.intersect(*command.boundingSphere) == Intersect::Outside) {
             ++statistics.commandsCulledByFrustum;
             continue;
@@ -26,7 +26,7 @@ void CommandBinner::cullAndBin(std::span<const renderer::DrawCommand> commands, 
             ++statistics.commandsCulledByHorizon;
             continue;
         }
-        if (command.pass == renderer::Pass::Overlay) {
+        if (command.pass == Pass::Overlay) {
             _overlay.push_back(i);
             continue;
         }

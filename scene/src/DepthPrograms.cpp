@@ -12,12 +12,12 @@ DepthPrograms::DepthPrograms(Describe describe)
 {
 }
 
-renderer::ShaderProgram& DepthPrograms::get(FrameState& frameState, renderer::Pass pass)
+renderer::ShaderProgram& DepthPrograms::get(FrameState& frameState, Pass pass)
 {
     const DepthStrategy strategy = frameState.depthStrategy;
-    const renderer::Pass drawn = pass == renderer::Pass::Translucent ? renderer::Pass::Translucent : renderer::Pass::Opaque;
+    const Pass drawn = pass == Pass::Translucent ? Pass::Translucent : Pass::Opaque;
     std::shared_ptr<renderer::ShaderProgram>& program =
-        _programs[static_cast<std::size_t>(strategy)][drawn == renderer::Pass::Translucent ? 1 : 0];
+        _programs[static_cast<std::size_t>(strategy)][drawn == Pass::Translucent ? 1 : 0];
     if (!program) {
         renderer::ShaderProgramDescription description = _describe(strategy, drawn);
         description.name += std::string(" (") + depthStrategyName(strategy) + ")";

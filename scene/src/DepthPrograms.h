@@ -25,13 +25,13 @@ class DepthPrograms {
 public:
     /// The program's description under a strategy (before its depth defines, which get() adds, with
     /// the strategy's name after the program's).
-    using Describe = std::function<renderer::ShaderProgramDescription(DepthStrategy strategy, renderer::Pass pass)>;
+    using Describe = std::function<renderer::ShaderProgramDescription(DepthStrategy strategy, Pass pass)>;
 
     explicit DepthPrograms(Describe describe);
 
     /// The variant for frameState.depthStrategy and `pass` (Overlay draws as Opaque). Throws
     /// orbis::Error when it does not compile.
-    renderer::ShaderProgram& get(FrameState& frameState, renderer::Pass pass = renderer::Pass::Opaque);
+    renderer::ShaderProgram& get(FrameState& frameState, Pass pass = Pass::Opaque);
 
 private:
     Describe _describe;

@@ -1,6 +1,7 @@
 #include "orbis/scene/DepthStrategy.h"
 
-#include <orbis/renderer/DrawCommand.h>
+#include "orbis/scene/SceneCommand.h"
+
 #include <orbis/renderer/ShaderProgram.h>
 
 #include <cmath>
@@ -8,14 +9,14 @@
 
 namespace orbis::scene {
 
-std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, renderer::Pass pass)
+std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
 {
     switch (strategy) {
     case DepthStrategy::Logarithmic: return {{"OG_DEPTH_LOGARITHMIC"}};
     case DepthStrategy::LogarithmicVertex: return {{"OG_DEPTH_LOGARITHMIC_VERTEX"}};
     case DepthStrategy::Complementary: return {{"OG_DEPTH_COMPLEMENTARY"}};
     case DepthStrategy::MultiFrustum:
-        if (pass == renderer::Pass::Translucent) {
+        if (pass == Pass::Translucent) {
             return {{"OG_DEPTH_OWNED_RANGE"}};
         }
         return {};

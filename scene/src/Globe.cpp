@@ -83,7 +83,7 @@ renderer::ShaderProgram& Globe::program(FrameState& frameState)
     if (_options.grid) {
         description.defines.push_back({"GRID"});
     }
-    for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, renderer::Pass::Opaque)) {
+    for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
     if (frameState.device.info().gpuShader5) {
@@ -122,8 +122,8 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     }
     renderer::ShaderProgram& shaderProgram = program(frameState);
     const bool rayCast = _options.method == GlobeMethod::RayCast;
-    renderer::DrawCommand command;
-    command.debugName = "globe";
+    SceneCommand command;
+    command.draw.debugName = "globe";
     command.tags = static_cast<std::uint32_t>(Effect::Globe);
     if (_options.lighting) {
         command.tags = command.tags | Effect::Lighting;
@@ -134,8 +134,8 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     if (_options.grid) {
         command.tags = command.tags | Effect::Grid;
     }
-    command.vertexArray = &*_vertexArray;
-    command.shaderProgram = &shaderProgram;
+    command.draw.vertexArray = &*_vertexArray;
+    command.draw.shaderProgram = &shaderProgram;
     command.boundingSphere = boundingSphere();
     // Nothing on the ellipsoid is nearer than the eye's height above it. Nothing visible is farther
     // than the tangent to the inscribed sphere (radius b: a sight line through it would hit the
@@ -150,12 +150,12 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         command.farthestDistance = std::sqrt(std::max(0.0, eyeDistance * eyeDistance - b * b)) + std::sqrt(a * a - b * b);
     }
     // The box is drawn from inside out so that the globe still shows with the eye inside it.
-    command.renderState.facetCulling.face = rayCast ? renderer::CullFace::Front : renderer::CullFace::Back;
+    command.draw.renderState.facetCulling.face = rayCast ? renderer::CullFace::Front : renderer::CullFace::Back;
 
     // Each variant uses some of these; the GLSL compiler removes the others.
     auto set = [&](std::string_view name, const renderer::UniformValue& value) {
         if (shaderProgram.hasUniform(name)) {
-            command.uniforms.set(name, value);
+            command.draw.uniforms.set(name, value);
         }
     };
     set("u_oneOverRadii", glm::vec3(_ellipsoid.oneOverRadii()));
@@ -173,10 +173,10 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         set("u_gridColor", _options.gridColor);
     }
     if (_dayTexture) {
-        command.textures.push_back({0, &*_dayTexture, &*_sampler});
+        command.draw.textures.push_back({0, &*_dayTexture, &*_sampler});
     }
     if (_nightTexture) {
-        command.textures.push_back({1, &*_nightTexture, &*_sampler});
+        command.draw.textures.push_back({1, &*_nightTexture, &*_sampler});
     }
     commands.push_back(std::move(command));
 }

@@ -349,19 +349,19 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
         if (batch->batch.vertices().empty()) {
             continue;
         }
-        renderer::ShaderProgram& program = _programs->get(frameState, renderer::Pass::Translucent);
+        renderer::ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
         _lastUpload.textureBytesUploaded += batch->texture.synchronize(frameState.device, batch->glyphs.atlas());
         batch->batch.upload(frameState, program, _lastUpload);
 
-        renderer::DrawCommand command;
-        command.debugName = "labels";
+        SceneCommand command;
+        command.draw.debugName = "labels";
         command.tags = static_cast<std::uint32_t>(Effect::Labels);
         command.horizonOcclusionPoint = occlusionPoint;
         command.boundingSphere = _bounds->sphere();
-        command.vertexArray = batch->batch.vertexArray();
-        command.shaderProgram = &program;
-        command.count = batch->batch.vertices().size();
-        command.textures.push_back({0, batch->texture.texture(), nullptr});
+        command.draw.vertexArray = batch->batch.vertexArray();
+        command.draw.shaderProgram = &program;
+        command.draw.count = batch->batch.vertices().size();
+        command.draw.textures.push_back({0, batch->texture.texture(), nullptr});
         detail::prepareBillboardCommand(command, frameState, _options.depth, batch->glyphs.atlas());
         commands.push_back(std::move(command));
         ++_lastDrawCalls;

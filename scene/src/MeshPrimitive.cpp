@@ -9,7 +9,7 @@
 
 namespace orbis::scene {
 
-MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, renderer::Pass pass, VertexTransform transform)
+MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass, VertexTransform transform)
     : _boundingSphere(BoundingSphere::fromPoints(mesh.positions))
     , _color(color)
     , _pass(pass)
@@ -25,7 +25,7 @@ MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, renderer::Pass p
 
 MeshPrimitive::~MeshPrimitive() = default;
 
-renderer::ShaderProgramDescription MeshPrimitive::programDescription(VertexTransform transform, DepthStrategy depth, renderer::Pass pass,
+renderer::ShaderProgramDescription MeshPrimitive::programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
                                                            bool lit, const renderer::DeviceInfo& device)
 {
     renderer::ShaderProgramDescription description;
@@ -52,22 +52,22 @@ void MeshPrimitive::update(FrameState& frameState, CommandList& commands)
         program = frameState.device.shaderCache().get(
             programDescription(transform, frameState.depthStrategy, _pass, _lit, frameState.device.info()));
     }
-    renderer::DrawCommand command;
-    command.debugName = "mesh";
+    SceneCommand command;
+    command.draw.debugName = "mesh";
     command.tags = static_cast<std::uint32_t>(Effect::Meshes);
-    command.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
-    command.primitiveType = _primitiveType;
-    command.shaderProgram = program.get();
-    command.modelMatrix = _arrays->modelMatrix(transform);
-    command.uniforms.set("u_color", _color);
+    command.draw.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
+    command.draw.primitiveType = _primitiveType;
+    command.draw.shaderProgram = program.get();
+    command.draw.modelMatrix = _arrays->modelMatrix(transform);
+    command.draw.uniforms.set("u_color", _color);
     command.pass = _pass;
     command.boundingSphere = _boundingSphere;
     command.horizonOcclusionPoint = _occlusionPoint;
-    if (_pass == renderer::Pass::Translucent) {
-        command.renderState.blending = renderer::Blending::alphaBlending();
+    if (_pass == Pass::Translucent) {
+        command.draw.renderState.blending = renderer::Blending::alphaBlending();
         // "Over" for alpha too, so an opaque background stays opaque.
-        command.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
-        command.renderState.depthMask = false;
+        command.draw.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
+        command.draw.renderState.depthMask = false;
     }
     commands.push_back(std::move(command));
 }

@@ -22,7 +22,7 @@ struct ModelPrimitive::Batch {
     std::size_t material = 0;
     BoundingSphere localSphere;
     BoundingSphere sphere; ///< world
-    renderer::Pass pass = renderer::Pass::Opaque;
+    Pass pass = Pass::Opaque;
     std::optional<detail::DepthPrograms> programs; ///< made with the other resources
     std::optional<renderer::VertexArray> vertexArray;
 };
@@ -59,7 +59,7 @@ ModelPrimitive::ModelPrimitive(world::GltfModel model, const Ellipsoid& ellipsoi
         Batch out;
         out.material = batch.material;
         out.localSphere = BoundingSphere::fromPoints(batch.mesh.positions);
-        out.pass = _model.materials[batch.material].alphaMode == world::AlphaMode::Blend ? renderer::Pass::Translucent : renderer::Pass::Opaque;
+        out.pass = _model.materials[batch.material].alphaMode == world::AlphaMode::Blend ? Pass::Translucent : Pass::Opaque;
         _triangleCount += batch.mesh.triangleCount();
         all.insert(all.end(), batch.mesh.positions.begin(), batch.mesh.positions.end());
         out.mesh = std::move(batch.mesh);
@@ -149,7 +149,7 @@ void ModelPrimitive::createResources(FrameState& frameState)
         } else if (material.alphaMode == world::AlphaMode::Blend) {
             description.defines.push_back({"ALPHA_BLEND"});
         }
-        programs.emplace_back([description](DepthStrategy, renderer::Pass) { return description; });
+        programs.emplace_back([description](DepthStrategy, Pass) { return description; });
         // Standard attribute names only: the array fits the program of every depth strategy.
         vertexArrays.push_back(
             frameState.context.createVertexArray(batch.mesh, programs.back().get(frameState, batch.pass)));
@@ -177,29 +177,29 @@ void ModelPrimitive::update(FrameState& frameState, CommandList& commands)
     }
     for (Batch& batch : _batches) {
         const world::GltfMaterial& material = _model.materials[batch.material];
-        renderer::DrawCommand command;
-        command.debugName = "model";
+        SceneCommand command;
+        command.draw.debugName = "model";
         command.tags = _options.lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
-        command.vertexArray = &*batch.vertexArray;
-        command.shaderProgram = &batch.programs->get(frameState, batch.pass);
-        command.modelMatrix = _modelMatrix;
-        command.uniforms.set("u_baseColorFactor", material.baseColorFactor);
+        command.draw.vertexArray = &*batch.vertexArray;
+        command.draw.shaderProgram = &batch.programs->get(frameState, batch.pass);
+        command.draw.modelMatrix = _modelMatrix;
+        command.draw.uniforms.set("u_baseColorFactor", material.baseColorFactor);
         if (material.alphaMode == world::AlphaMode::Mask) {
-            command.uniforms.set("u_alphaCutoff", material.alphaCutoff);
+            command.draw.uniforms.set("u_alphaCutoff", material.alphaCutoff);
         }
         if (material.baseColorTexture) {
             const world::GltfTexture& texture = _model.textures[*material.baseColorTexture];
-            command.textures.push_back({0, &_textures[texture.image], &_samplers[*material.baseColorTexture]});
+            command.draw.textures.push_back({0, &_textures[texture.image], &_samplers[*material.baseColorTexture]});
         }
-        command.renderState.facetCulling.enabled = !material.doubleSided;
+        command.draw.renderState.facetCulling.enabled = !material.doubleSided;
         command.pass = batch.pass;
         command.boundingSphere = batch.sphere;
         command.horizonOcclusionPoint = _occlusionPoint;
-        if (batch.pass == renderer::Pass::Translucent) {
-            command.renderState.blending = renderer::Blending::alphaBlending();
+        if (batch.pass == Pass::Translucent) {
+            command.draw.renderState.blending = renderer::Blending::alphaBlending();
             // "Over" for alpha too, so an opaque background stays opaque.
-            command.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
-            command.renderState.depthMask = false;
+            command.draw.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
+            command.draw.renderState.depthMask = false;
         }
         commands.push_back(std::move(command));
     }

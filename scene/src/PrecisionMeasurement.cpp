@@ -92,7 +92,7 @@ JitterResult measureVertexJitter(renderer::Context& context, VertexTransform tra
     const VertexTransform concrete = resolveVertexTransform(transform, sphere, frameState);
     VertexTransformArrays arrays(std::move(mesh), sphere.centre, concrete);
     renderer::ShaderProgramDescription description =
-        MeshPrimitive::programDescription(concrete, DepthStrategy::MultiFrustum, renderer::Pass::Opaque, false, device.info());
+        MeshPrimitive::programDescription(concrete, DepthStrategy::MultiFrustum, Pass::Opaque, false, device.info());
     description.transformFeedbackVaryings = {"gl_Position"};
     const std::shared_ptr<renderer::ShaderProgram> program = device.shaderCache().get(description);
 
@@ -159,9 +159,9 @@ ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strat
         scene.options().background = {0.0f, 0.0f, 0.0f, 1.0f};
         constexpr VertexTransform exact = VertexTransform::RelativeToEyeDsfun90;
         auto far = std::make_shared<MeshPrimitive>(facingSquare(eye, farDistance, farScale * half, farScale * tilt),
-                                                   glm::vec4(1, 0, 0, 1), renderer::Pass::Opaque, exact);
+                                                   glm::vec4(1, 0, 0, 1), Pass::Opaque, exact);
         auto near = std::make_shared<MeshPrimitive>(facingSquare(eye, nearDistance, half, tilt), glm::vec4(0, 1, 0, 1),
-                                                    renderer::Pass::Opaque, exact);
+                                                    Pass::Opaque, exact);
         scene.add(farFirst ? far : near);
         scene.add(farFirst ? near : far);
         if (options.nearObjectDistance > 0.0) {
@@ -169,7 +169,7 @@ ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strat
             const double d = options.nearObjectDistance;
             const double e = d * std::tan(0.5 * fieldOfView);
             const Mesh cube = BoxTessellator::cube(eye + glm::dvec3(-0.75 * e, 0.75 * e, d), 0.04 * d);
-            scene.add(std::make_shared<MeshPrimitive>(cube, glm::vec4(1, 1, 1, 1), renderer::Pass::Opaque, exact));
+            scene.add(std::make_shared<MeshPrimitive>(cube, glm::vec4(1, 1, 1, 1), Pass::Opaque, exact));
         }
         renderer::Framebuffer* previous = context.framebuffer();
         renderer::Framebuffer framebuffer = context.createFramebuffer(options.size, options.size);

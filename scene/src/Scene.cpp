@@ -289,17 +289,17 @@ FrameStatistics Scene::render(renderer::Context& context)
         sceneState.ownedFarDistance = plan.ownedRanges && f + 1 < frustums.size()
                                           ? frustums[f].farDistance
                                           : std::numeric_limits<double>::infinity();
-        for (const renderer::Pass pass : {renderer::Pass::Opaque, renderer::Pass::Translucent}) {
+        for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
             std::size_t drawn = 0;
             for (const std::uint32_t binned : bins[f]) {
-                const renderer::DrawCommand& command = _commands[visible[binned]];
+                const SceneCommand& command = _commands[visible[binned]];
                 if (command.pass == pass) {
-                    context.draw(command, sceneState);
+                    context.draw(command.draw, sceneState);
                     statistics.effects |= command.tags;
                     ++drawn;
                 }
             }
-            (pass == renderer::Pass::Opaque ? statistics.opaquePasses : statistics.translucentPasses) += drawn > 0 ? 1 : 0;
+            (pass == Pass::Opaque ? statistics.opaquePasses : statistics.translucentPasses) += drawn > 0 ? 1 : 0;
             statistics.drawCallsPerFrustum[f] += drawn;
             statistics.commandsExecuted += drawn;
         }
@@ -316,7 +316,7 @@ FrameStatistics Scene::render(renderer::Context& context)
         sceneState.ownedNearDistance = 0.0;
         sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
         for (const std::uint32_t index : overlay) {
-            context.draw(_commands[index], sceneState);
+            context.draw(_commands[index].draw, sceneState);
             statistics.effects |= _commands[index].tags;
         }
         statistics.commandsExecuted += overlay.size();

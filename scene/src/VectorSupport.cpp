@@ -102,7 +102,7 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
     return bounds;
 }
 
-void boundDepth(renderer::DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+void boundDepth(SceneCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
                 double maxHeight) noexcept
 {
     if (!(eyeHeight > 0.0)) {
@@ -148,15 +148,15 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
     return {static_cast<float>(steps), static_cast<float>(fractionOfDistance), static_cast<float>(meters), radius};
 }
 
-renderer::RenderState vectorRenderState(renderer::Pass pass, bool cullBackFaces, bool blend) noexcept
+renderer::RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept
 {
     renderer::RenderState state;
     state.facetCulling.enabled = cullBackFaces;
-    if (blend || pass == renderer::Pass::Translucent) {
+    if (blend || pass == Pass::Translucent) {
         state.blending = renderer::Blending::alphaBlending();
         state.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
     }
-    state.depthMask = pass != renderer::Pass::Translucent;
+    state.depthMask = pass != Pass::Translucent;
     return state;
 }
 
@@ -189,7 +189,7 @@ VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool rel
     : _ellipsoid(ellipsoid)
     , _shape(shape)
     , _relativeToEye(relativeToEye)
-    , _programs([shape, relativeToEye](DepthStrategy strategy, renderer::Pass) {
+    , _programs([shape, relativeToEye](DepthStrategy strategy, Pass) {
         return vectorProgramDescription(shape, relativeToEye, strategy);
     })
 {
@@ -284,10 +284,10 @@ void VectorBatch::buildIndices(renderer::Device& device, const std::function<boo
     std::vector<std::uint32_t> indices;
     _ranges.clear();
     for (std::size_t g = 0; g < _groups.size(); ++g) {
-        for (const renderer::Pass pass : {renderer::Pass::Opaque, renderer::Pass::Translucent}) {
+        for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
             const std::size_t first = indices.size();
             for (const std::size_t index : _groups[g].items) {
-                if ((pass == renderer::Pass::Opaque) == opaque(index)) {
+                if ((pass == Pass::Opaque) == opaque(index)) {
                     writeIndices(index, static_cast<std::uint32_t>(_firstVertex[index]), indices);
                 }
             }
@@ -311,22 +311,22 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
     const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Range& range : _ranges) {
         const Group& group = _groups[range.group];
-        renderer::DrawCommand command;
-        command.debugName = lines ? "polylines" : "polygons";
+        SceneCommand command;
+        command.draw.debugName = lines ? "polylines" : "polygons";
         command.tags = static_cast<std::uint32_t>(lines ? Effect::Polylines : Effect::Polygons);
-        command.vertexArray = &_vertexArray;
-        command.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
-        command.first = range.first;
-        command.count = range.count;
-        command.shaderProgram = &_programs.get(frameState, range.pass);
-        command.uniforms.set("u_depthOffset", depthOffset);
+        command.draw.vertexArray = &_vertexArray;
+        command.draw.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
+        command.draw.first = range.first;
+        command.draw.count = range.count;
+        command.draw.shaderProgram = &_programs.get(frameState, range.pass);
+        command.draw.uniforms.set("u_depthOffset", depthOffset);
         // Fills cull their back faces; lines blend in both passes (anti-aliased edges).
-        command.renderState = vectorRenderState(range.pass, !lines, lines);
+        command.draw.renderState = vectorRenderState(range.pass, !lines, lines);
         if (lines) {
-            command.renderState.primitiveRestart = {true, kRestartIndex};
+            command.draw.renderState.primitiveRestart = {true, kRestartIndex};
         }
         if (!_relativeToEye) {
-            command.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
+            command.draw.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
         }
         command.pass = range.pass;
         command.boundingSphere = group.bounds.sphere;

@@ -10,7 +10,6 @@
 
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/Ellipsoid.h>
-#include <orbis/renderer/DrawCommand.h>
 #include <orbis/renderer/IndexBuffer.h>
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
@@ -67,7 +66,7 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
 /// from the eye to the inscribed sphere (radius b: a sight line through it meets the ellipsoid)
 /// continued to the sphere of radius a + maxHeight. Far tighter than a group's sphere, which a
 /// low eye is often inside, so low views need fewer frustums.
-void boundDepth(renderer::DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+void boundDepth(SceneCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
                 double maxHeight) noexcept;
 
 /// Appends a position as the vertex shader reads it: positionHigh, positionLow (relative to the
@@ -86,7 +85,7 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
 /// The render state of a vector command: depth tested; blended over what is there when asked
 /// (always for translucent commands): alpha "over" in both colour and alpha, so an opaque background
 /// stays opaque; translucent commands do not write depth.
-renderer::RenderState vectorRenderState(renderer::Pass pass, bool cullBackFaces, bool blend) noexcept;
+renderer::RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept;
 
 /// One item of a vector collection (a line, a polygon) as VectorBatch lays it out.
 struct VectorItem {
@@ -150,7 +149,7 @@ private:
     };
     struct Range {
         std::size_t group = 0;
-        renderer::Pass pass = renderer::Pass::Opaque;
+        Pass pass = Pass::Opaque;
         std::size_t first = 0;
         std::size_t count = 0;
     };

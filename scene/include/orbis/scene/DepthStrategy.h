@@ -6,8 +6,7 @@
 #include <vector>
 
 namespace orbis::renderer {
-enum class Pass : std::uint8_t; // orbis/renderer/DrawCommand.h
-struct ShaderDefine;            // orbis/renderer/ShaderProgram.h
+struct ShaderDefine; // orbis/renderer/ShaderProgram.h
 } // namespace orbis::renderer
 
 namespace orbis::scene {
@@ -19,10 +18,12 @@ using world::DepthStrategy;
 using world::depthStrategyName;
 using world::kAllDepthStrategies;
 
+enum class Pass : std::uint8_t; // orbis/scene/SceneCommand.h
+
 /// The defines a program drawn under a (resolved) strategy needs from the built-in depth.glsl:
 /// OG_DEPTH_LOGARITHMIC, OG_DEPTH_LOGARITHMIC_VERTEX or OG_DEPTH_COMPLEMENTARY, and for blended
 /// (Translucent) draws under MultiFrustum OG_DEPTH_OWNED_RANGE.
-std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, renderer::Pass pass);
+std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass);
 
 /// The analytic minimum separation, metres, between two surfaces at `distance` that the strategy
 /// still orders: the separation that moves the window depth by one step of the buffer, for a frame

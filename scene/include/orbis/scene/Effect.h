@@ -7,7 +7,7 @@
 namespace orbis::scene {
 
 /// The visual effects a frame can contain. Primitives tag their draw commands with the effects
-/// they draw (DrawCommand::tags), and FrameStatistics reports those that ran, so tests can prove
+/// they draw (SceneCommand::tags), and FrameStatistics reports those that ran, so tests can prove
 /// that a scene pays only for what it asks for.
 enum class Effect : std::uint32_t {
     Globe = 1u << 0,

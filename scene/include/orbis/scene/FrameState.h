@@ -2,11 +2,11 @@
 
 #include "orbis/scene/Camera.h"
 #include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/SceneCommand.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
-#include <orbis/renderer/DrawCommand.h>
 
 #include <cstdint>
 #include <vector>
@@ -38,11 +38,11 @@ struct FrameState {
     double metersPerPixel(double distance) const noexcept;
 };
 
-/// The draw commands primitives append to during Scene::render.
-using CommandList = std::vector<renderer::DrawCommand>;
+/// The commands primitives append to during Scene::render.
+using CommandList = std::vector<SceneCommand>;
 
 /// Something drawn in a Scene. update() creates or refreshes its GPU resources lazily and appends
-/// DrawCommands; a primitive with nothing to show appends nothing and allocates nothing.
+/// SceneCommands; a primitive with nothing to show appends nothing and allocates nothing.
 class Primitive {
 public:
     virtual ~Primitive() = default;

@@ -26,7 +26,7 @@ class MeshPrimitive final : public Primitive {
 public:
     /// The mesh must have triangles (or points, for measurements) and at least one position
     /// (asserted).
-    MeshPrimitive(Mesh mesh, const glm::vec4& color, renderer::Pass pass = renderer::Pass::Opaque,
+    MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass = Pass::Opaque,
                   VertexTransform transform = VertexTransform::RelativeToCenter);
     ~MeshPrimitive() override;
 
@@ -47,13 +47,13 @@ public:
 
     /// The program a MeshPrimitive draws with under a concrete transform and a resolved depth
     /// strategy: shaders/scene/mesh with the built-in library's defines.
-    static renderer::ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, renderer::Pass pass,
+    static renderer::ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
                                                        bool lit, const renderer::DeviceInfo& device);
 
 private:
     BoundingSphere _boundingSphere;
     glm::vec4 _color;
-    renderer::Pass _pass;
+    Pass _pass;
     bool _lit;
     PrimitiveType _primitiveType;
     VertexTransform _transform;
