@@ -11,6 +11,7 @@ packages="
   libglfw3-dev xvfb xauth
   xplanet-images fonts-dejavu-core
   clang-14 libclang-rt-14-dev
+  libturbojpeg0-dev libspng-dev libwebp-dev libsqlite3-dev libcurl4-openssl-dev libgdal-dev zlib1g-dev
 "
 
 missing=""

@@ -1,0 +1,91 @@
+#include "WorldTestSupport.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/world/FileAccess.h>
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include <sys/stat.h>
+
+using namespace orbis;
+using namespace orbis::world;
+using orbis::test::ScratchFolder;
+using Catch::Matchers::Contains;
+
+TEST_CASE("Files are read whole, and a missing one is told apart from a broken one", "[world][files]")
+{
+    const ScratchFolder folder("files");
+    writeFileAtomically(folder / "a/b/tile.bin", std::string_view("hello"));
+    const std::vector<std::uint8_t> bytes = readFileBytes(folder / "a/b/tile.bin", "tile");
+    REQUIRE(std::string(bytes.begin(), bytes.end()) == "hello");
+    REQUIRE_FALSE(readFileBytesIfExists(folder / "a/b/none.bin", "tile"));
+    REQUIRE_FALSE(readFileBytesIfExists(folder / "a/b/tile.bin/below", "tile")); // a file on the path
+    REQUIRE_THROWS_WITH(readFileBytes(folder / "none.bin", "tile"), Contains("none.bin: tile: no such file"));
+    REQUIRE_THROWS_WITH(readFileBytes(folder / "a/b/tile.bin", "tile", 4),
+                        Contains("tile.bin: tile is 5 bytes, more than the 4 allowed"));
+    REQUIRE(readFileBytes(folder / "a/b/tile.bin", "tile", 5).size() == 5);
+}
+
+TEST_CASE("A folder, a named pipe and a symlink loop are refused without blocking", "[world][files][hostile]")
+{
+    const ScratchFolder folder("files");
+    REQUIRE_THROWS_WITH(readFileBytes(folder.path(), "tile"), Contains("is a folder, not a regular file"));
+    REQUIRE(::mkfifo((folder / "pipe").c_str(), 0600) == 0);
+    // Run where a hang would show as a timeout instead of blocking the suite.
+    auto reading = std::async(std::launch::async, [&] {
+        try {
+            readFileBytesIfExists(folder / "pipe", "tile");
+        } catch (const Error& error) {
+            return std::string(error.what());
+        }
+        return std::string("read");
+    });
+    REQUIRE(reading.wait_for(std::chrono::seconds(10)) == std::future_status::ready);
+    REQUIRE_THAT(reading.get(), Contains("pipe: tile is a named pipe, not a regular file"));
+    std::filesystem::create_symlink(folder / "loop", folder / "loop");
+    REQUIRE_THROWS_WITH(readFileBytes(folder / "loop", "tile"), Contains("loop: tile: cannot open: Too many levels of symbolic links"));
+}
+
+TEST_CASE("Files are written whole or not at all, and nothing temporary stays", "[world][files]")
+{
+    const ScratchFolder folder("files");
+    const std::vector<std::uint8_t> large(1 << 20, 7);
+    std::vector<std::thread> writers;
+    for (int t = 0; t < 4; ++t) {
+        writers.emplace_back([&] {
+            for (int i = 0; i < 10; ++i) {
+                writeFileAtomically(folder / "same.bin", large);
+            }
+        });
+    }
+    for (std::thread& writer : writers) {
+        writer.join();
+    }
+    REQUIRE(readFileBytes(folder / "same.bin", "tile") == large);
+    int entries = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder.path())) {
+        ++entries;
+    }
+    REQUIRE(entries == 1);
+    // A folder where the file should go: an error naming the path, no temporary file left.
+    std::filesystem::create_directories(folder / "taken");
+    REQUIRE_THROWS_WITH(writeFileAtomically(folder / "taken", std::string_view("x")), Contains("taken: cannot write"));
+    entries = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder.path())) {
+        ++entries;
+    }
+    REQUIRE(entries == 2);
+}
+
+TEST_CASE("Values quoted in messages are cut, not UTF-8 sequences", "[world][files]")
+{
+    REQUIRE(cutForMessage("short") == "short");
+    const std::string longValue(1000, 'x');
+    REQUIRE(cutForMessage(longValue, 10) == "xxxxxxxxxx... (1000 bytes)");
+    // "é" is two bytes; a cut inside it moves back before it.
+    REQUIRE(cutForMessage("abcdefghié", 10) == "abcdefghi... (11 bytes)");
+}

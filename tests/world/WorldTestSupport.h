@@ -1,0 +1,49 @@
+#pragma once
+
+// Helpers for the world-data tests: scratch folders and PNG files built byte by byte, so that the
+// decoders are checked against bytes no encoder of ours produced (and headers that lie).
+
+#include <orbis/core/Image.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace orbis::test {
+
+/// A fresh empty folder under the system's temporary folder, removed with everything in it when
+/// the object goes away.
+class ScratchFolder {
+public:
+    explicit ScratchFolder(const std::string& name);
+    ~ScratchFolder();
+    ScratchFolder(const ScratchFolder&) = delete;
+    ScratchFolder& operator=(const ScratchFolder&) = delete;
+    const std::filesystem::path& path() const noexcept { return _path; }
+    std::filesystem::path operator/(const std::string& name) const { return _path / name; }
+
+private:
+    std::filesystem::path _path;
+};
+
+/// A PNG chunk: length, type, data, CRC (computed, so a header can claim anything and still pass
+/// the checksum).
+void appendPngChunk(std::vector<std::uint8_t>& png, const char type[4], const std::vector<std::uint8_t>& data);
+
+/// A whole PNG from raw scanlines (each row: filter byte 0, then the samples, big-endian for 16-bit):
+/// signature, IHDR claiming width x height, one zlib-compressed IDAT, IEND.
+std::vector<std::uint8_t> handmadePng(std::uint32_t width, std::uint32_t height, std::uint8_t bitDepth,
+                                      std::uint8_t colorType, const std::vector<std::uint8_t>& scanlines);
+
+/// width x height RGB(A) test pattern: smooth gradients plus a few sharp blocks, reproducible.
+Image testPattern(int width, int height, int channels);
+
+void writeBytes(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
+
+/// The largest absolute difference between two images' bytes (same size and channels, else 255).
+int maximumDifference(const Image& a, const Image& b);
+/// The mean absolute difference per byte.
+double meanDifference(const Image& a, const Image& b);
+
+} // namespace orbis::test
