@@ -2,10 +2,12 @@
 
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/MultiFrustum.h"
+#include "orbis/scene/TileStatistics.h"
 
 #include <orbis/renderer/RenderStatistics.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
