@@ -330,3 +330,44 @@ TEST_CASE("Bad MBTiles files are refused when opened, or fail per tile, without 
         }
     }
 }
+
+TEST_CASE("The shipped Blue Marble pyramid holds every tile of levels 0-4, each level the average of the next", "[world][source][data]")
+{
+    const auto source = openTileSource(ORBIS_SOURCE_DIR "/data/imagery/BlueMarble");
+    const TileSourceInfo& info = source->info();
+    REQUIRE(info.maximumLevel == 4);
+    REQUIRE(info.attribution == "NASA Visible Earth; FlightGear Earthview");
+    const TilingScheme& scheme = info.scheme;
+    int tiles = 0;
+    for (std::uint32_t level = 0; level <= 4; ++level) {
+        for (std::uint32_t y = 0; y < scheme.tilesY(level); ++y) {
+            for (std::uint32_t x = 0; x < scheme.tilesX(level); ++x) {
+                const TileFetch fetched = source->fetch({level, x, y});
+                REQUIRE(fetched.status == Status::Ok);
+                REQUIRE(decodeImage(fetched.bytes, source->locate({level, x, y}), 3).width == 256);
+                ++tiles;
+            }
+        }
+    }
+    REQUIRE(tiles == 682);
+    // Level 3 over Europe against the box average of its four level-4 tiles: JPEG's losses only
+    // (quality 88, twice: about two levels on average; a quadrant out of place gives tens).
+    const TileKey parent = *scheme.tileAt(Geodetic2D::fromDegrees(10.0, 45.0), 3);
+    const Image made = decodeImage(source->fetch(parent).bytes, "parent", 3);
+    double difference = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        const Image child = decodeImage(source->fetch(parent.child(c)).bytes, "child", 3);
+        const int offsetX = (c & 1) * 128;
+        const int offsetY = (c & 2) ? 0 : 128;
+        for (int y = 0; y < 128; ++y) {
+            for (int x = 0; x < 128; ++x) {
+                for (int k = 0; k < 3; ++k) {
+                    const int sum = child.pixel(2 * x, 2 * y)[k] + child.pixel(2 * x + 1, 2 * y)[k] +
+                                    child.pixel(2 * x, 2 * y + 1)[k] + child.pixel(2 * x + 1, 2 * y + 1)[k];
+                    difference += std::abs(made.pixel(offsetX + x, offsetY + y)[k] - (sum + 2) / 4);
+                }
+            }
+        }
+    }
+    REQUIRE(difference / (256.0 * 256.0 * 3.0) < 3.0);
+}
