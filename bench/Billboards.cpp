@@ -9,17 +9,21 @@
 #include <orbis/core/Math.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/BillboardCollection.h>
-#include <orbis/scene/CsvPoints.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <numeric>
 #include <random>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 
 namespace orbis::bench {
 namespace {

@@ -22,6 +22,9 @@
 #include <fstream>
 #include <sstream>
 
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::bench {
 namespace {
 

@@ -22,6 +22,8 @@
 
 extern char** environ;
 
+using namespace orbis::renderer;
+
 namespace orbis::bench {
 namespace {
 

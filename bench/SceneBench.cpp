@@ -10,11 +10,16 @@
 #include <orbis/scene/CommandBinner.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 #include <glm/geometric.hpp>
 
 #include <chrono>
 #include <random>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 
 namespace orbis::bench {
 namespace {
@@ -25,15 +30,15 @@ const Ellipsoid kEarth = Ellipsoid::wgs84();
 
 /// Commands like a terrain and vector scene's: tiles on the surface with horizon occlusion points
 /// (their sizes from 1 km to 500 km), and objects in space up to GEO, without.
-std::vector<DrawCommand> makeCommands(std::size_t count)
+std::vector<SceneCommand> makeCommands(std::size_t count)
 {
     std::mt19937_64 random(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const EllipsoidalOccluder occluder(kEarth, glm::dvec3(0.0));
-    std::vector<DrawCommand> commands(count);
+    std::vector<SceneCommand> commands(count);
     for (std::size_t i = 0; i < count; ++i) {
         const Geodetic3D where(kPi * (2 * unit(random) - 1), std::asin(2 * unit(random) - 1), 0.0);
-        DrawCommand& command = commands[i];
+        SceneCommand& command = commands[i];
         if (i % 4 != 0) {
             const double radius = std::pow(10.0, 3.0 + 2.7 * unit(random));
             const glm::dvec3 centre = kEarth.toCartesian(where);
@@ -54,7 +59,7 @@ std::vector<DrawCommand> makeCommands(std::size_t count)
 Table binningTable(const Options& options)
 {
     const std::size_t count = options.quick ? 10000 : 100000;
-    const std::vector<DrawCommand> commands = makeCommands(count);
+    const std::vector<SceneCommand> commands = makeCommands(count);
     Camera camera;
     camera.lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(10, 45, 2e6)),
                   kEarth.toCartesian(Geodetic3D::fromDegrees(10, 60, 0)), {0, 0, 1});

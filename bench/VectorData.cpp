@@ -6,12 +6,15 @@
 #include <orbis/renderer/GlyphAtlas.h>
 #include <orbis/renderer/TextureAtlas.h>
 #include <orbis/renderer/Utf8.h>
-#include <orbis/scene/CsvPoints.h>
-#include <orbis/scene/GeoJson.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
 
 #include <filesystem>
 #include <random>
 #include <unordered_set>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
 
 namespace orbis::bench {
 namespace {

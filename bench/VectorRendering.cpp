@@ -9,15 +9,19 @@
 #include <orbis/core/ScreenSpaceError.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/FeaturePrimitives.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 
 namespace orbis::bench {
 namespace {

@@ -1,7 +1,7 @@
 # Installs the libraries, their headers and a CMake package that find_package(orbis) finds.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS orbis_core orbis_renderer orbis_scene
+install(TARGETS orbis_core orbis_world orbis_renderer orbis_scene
   EXPORT orbisTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -29,11 +29,11 @@ if [ -z "$cxx" ]; then
 fi
 
 # The parser and what it uses from core; nothing that needs OpenGL or GeographicLib.
-sources="tests/fuzz/SceneParserFuzz.cpp scene/src/SceneFile.cpp scene/src/JsonLocator.cpp
-  scene/src/SceneDescription.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
+sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
+  world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
   core/src/Transforms.cpp scene/src/Camera.cpp"
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-  -I$root/core/include -I$root/scene/include"
+  -I$root/core/include -I$root/world/include -I$root/scene/include"
 launcher=""
 command -v ccache >/dev/null 2>&1 && launcher=ccache
 
@@ -44,7 +44,7 @@ for source in $sources; do
   object="$build/objects/$(echo "$source" | tr / _).o"
   objects="$objects $object"
   # Recompile when the source or any header it may include changed.
-  if [ ! -f "$object" ] || [ -n "$(find "$root/$source" "$root/core/include" "$root/scene/include" "$root/scene/src" \
+  if [ ! -f "$object" ] || [ -n "$(find "$root/$source" "$root/core/include" "$root/world/include" "$root/world/src" "$root/scene/include" \
        -newer "$object" -type f 2>/dev/null | head -n 1)" ]; then
     # shellcheck disable=SC2086
     if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object"; then

@@ -1,6 +1,7 @@
 // Chapter 3's first example: one triangle, drawn headless through the renderer layer and written
 // to a PNG. Usage: ch03_triangle [out.png] [--backend egl|osmesa] [--size N]
 #include <orbis/renderer/Device.h>
+#include <orbis/world/ImageFile.h>
 
 #include <glm/ext/matrix_clip_space.hpp>
 #include <glm/ext/matrix_transform.hpp>
@@ -16,12 +17,12 @@ int main(int argc, char** argv)
 {
     const auto start = std::chrono::steady_clock::now();
     std::string output = "ch03_triangle.png";
-    orbis::DeviceOptions options;
+    orbis::renderer::DeviceOptions options;
     int size = 256;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--backend") == 0 && i + 1 < argc) {
             const std::string name = argv[++i];
-            options.backend = name == "osmesa" ? orbis::GlBackend::OsMesa : orbis::GlBackend::Egl;
+            options.backend = name == "osmesa" ? orbis::renderer::GlBackend::OsMesa : orbis::renderer::GlBackend::Egl;
         } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
             size = std::atoi(argv[++i]);
         } else {
@@ -29,9 +30,9 @@ int main(int argc, char** argv)
         }
     }
     try {
-        orbis::Device device(options);
-        orbis::Context& context = device.context();
-        orbis::Framebuffer framebuffer = context.createFramebuffer(size, size);
+        orbis::renderer::Device device(options);
+        orbis::renderer::Context& context = device.context();
+        orbis::renderer::Framebuffer framebuffer = context.createFramebuffer(size, size);
         context.setFramebuffer(&framebuffer);
 
         // The triangle of the book, in the xz plane, seen from -y.
@@ -39,32 +40,32 @@ int main(int argc, char** argv)
         mesh.positions = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 0.0, 1.0}};
         mesh.indices = {0, 1, 2};
 
-        orbis::ShaderProgramDescription description;
+        orbis::renderer::ShaderProgramDescription description;
         description.name = "triangle";
-        description.vertex = orbis::ShaderSource::embedded("examples/triangle/triangle.vert.glsl");
-        description.fragment = orbis::ShaderSource::embedded("examples/triangle/triangle.frag.glsl");
-        orbis::ShaderProgram program = device.createShaderProgram(description);
-        orbis::VertexArray vertexArray = context.createVertexArray(mesh, program);
+        description.vertex = orbis::renderer::ShaderSource::embedded("examples/triangle/triangle.vert.glsl");
+        description.fragment = orbis::renderer::ShaderSource::embedded("examples/triangle/triangle.frag.glsl");
+        orbis::renderer::ShaderProgram program = device.createShaderProgram(description);
+        orbis::renderer::VertexArray vertexArray = context.createVertexArray(mesh, program);
 
-        orbis::SceneState scene;
+        orbis::renderer::SceneState scene;
         scene.cameraEye = {0.3, -2.0, 0.3};
         scene.viewMatrix = glm::lookAt(scene.cameraEye, glm::dvec3(0.3, 0.0, 0.3), glm::dvec3(0.0, 0.0, 1.0));
         scene.nearDistance = 0.1;
         scene.farDistance = 10.0;
         scene.projectionMatrix = glm::perspective(glm::radians(45.0), 1.0, scene.nearDistance, scene.farDistance);
 
-        orbis::DrawCommand command;
+        orbis::renderer::DrawCommand command;
         command.debugName = "triangle";
         command.vertexArray = &vertexArray;
         command.shaderProgram = &program;
         command.uniforms.set("u_color", glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
         command.renderState.facetCulling.enabled = false; // seen from behind, as in the book
 
-        orbis::ClearState clear;
+        orbis::renderer::ClearState clear;
         clear.color = {1.0f, 1.0f, 1.0f, 1.0f};
         context.clear(clear);
         context.draw(command, scene);
-        orbis::writePng(context.readPixels(), output);
+        orbis::world::writePng(context.readPixels(), output);
 
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::printf("%s: %d x %d, %s, %s; %.1f ms from main to PNG\n", output.c_str(), size, size,

@@ -7,6 +7,7 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_globe_ray_casting.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
         options.method = GlobeMethod::RayCast;

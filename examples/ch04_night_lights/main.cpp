@@ -8,6 +8,7 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_night_lights.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
         options.dayTexture = examples::xplanetDayImage();

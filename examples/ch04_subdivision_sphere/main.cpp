@@ -8,6 +8,7 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_subdivision_sphere.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
         options.method = GlobeMethod::Tessellated;

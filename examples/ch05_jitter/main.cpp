@@ -15,6 +15,8 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::renderer;
+    using namespace orbis::scene;
     const VertexTransform transforms[] = {VertexTransform::RelativeToWorld,  VertexTransform::RelativeToCenter,
                                           VertexTransform::RelativeToEyeGpu, VertexTransform::RelativeToEyeDsfun90,
                                           VertexTransform::RelativeToEyeCpu, VertexTransform::Automatic};

@@ -16,6 +16,8 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::renderer;
+    using namespace orbis::scene;
     const DepthStrategy strategies[] = {DepthStrategy::Single,        DepthStrategy::MultiFrustum,
                                         DepthStrategy::LogarithmicVertex, DepthStrategy::Logarithmic,
                                         DepthStrategy::Complementary, DepthStrategy::Automatic};

@@ -4,14 +4,16 @@
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/FeaturePrimitives.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::world;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch07_vector_data.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
         globe.dayTexture = examples::xplanetDayImage();

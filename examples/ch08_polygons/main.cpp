@@ -4,8 +4,8 @@
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/FeaturePrimitives.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 
@@ -14,6 +14,8 @@
 int main(int argc, char** argv)
 {
     using namespace orbis;
+    using namespace orbis::world;
+    using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch08_polygons.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
         globe.color = {0.08f, 0.16f, 0.32f, 1.0f};

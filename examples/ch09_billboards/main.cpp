@@ -7,10 +7,10 @@
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/BillboardCollection.h>
-#include <orbis/scene/CsvPoints.h>
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/geometric.hpp>
 
@@ -22,6 +22,8 @@
 namespace {
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 
 std::filesystem::path dataDirectory()
 {

@@ -15,6 +15,9 @@
 #include <memory>
 #include <optional>
 
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::examples {
 
 namespace {

@@ -7,7 +7,7 @@
 #include <orbis/core/SunPosition.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/BillboardCollection.h>
-#include <orbis/scene/CsvPoints.h>
+#include <orbis/world/CsvPoints.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -16,6 +16,10 @@
 #include <exception>
 #include <optional>
 #include <vector>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 
 namespace orbis::examples {
 

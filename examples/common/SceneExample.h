@@ -3,18 +3,20 @@
 // What every scene example shares: arguments, a headless device, a framebuffer, one frame of a
 // Scene (or a row of captioned tiles) written to a PNG, and the frame statistics printed.
 
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 #include <cstddef>
 #include <functional>
 #include <memory>
 #include <string>
 
-namespace orbis {
+namespace orbis::scene {
 class BillboardCollection;
+} // namespace orbis::scene
+namespace orbis::world {
 struct CsvPoints;
-} // namespace orbis
+} // namespace orbis::world
 
 namespace orbis::examples {
 
@@ -29,7 +31,7 @@ struct ExampleSettings {
 /// (runViewer; with --frames, the last frame shown goes to the PNG). Returns the process exit
 /// code: 0, 1 for an orbis::Error, 2 for usage.
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
-                    const std::function<void(Scene&, const ExampleSettings&)>& setup);
+                    const std::function<void(scene::Scene&, const ExampleSettings&)>& setup);
 
 /// One tile of a side-by-side example: its pixels and the caption written over them.
 struct ExampleTile {
@@ -42,7 +44,7 @@ struct ExampleTile {
 /// captions each tile (scaled with it, up to 13 pixels) and writes them three to a row as one PNG.
 /// Returns the process exit code as runSceneExample does.
 int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
-                    const std::function<ExampleTile(Context&, std::size_t tile, const ExampleSettings&)>& renderTile);
+                    const std::function<ExampleTile(renderer::Context&, std::size_t tile, const ExampleSettings&)>& renderTile);
 
 /// The Natural Earth II TMS pyramid in data/imagery.
 std::string naturalEarthPyramid();
@@ -53,10 +55,10 @@ std::string xplanetNightImage();
 
 /// Every point of `cities` as a billboard of `dot` in one collection, tinted the chapter 9 example's
 /// amber (the bench times the same collection).
-std::shared_ptr<BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const CsvPoints& cities,
+std::shared_ptr<scene::BillboardCollection> cityBillboards(const Ellipsoid& ellipsoid, const world::CsvPoints& cities,
                                                     const Image& dot);
 
 /// A camera looking at the Earth's centre from a geodetic position.
-void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye);
+void lookAtEarthFrom(scene::Scene& scene, const Geodetic3D& eye);
 
 } // namespace orbis::examples

@@ -2,11 +2,16 @@
 
 #include <orbis/renderer/Window.h>
 #include <orbis/scene/CameraControllers.h>
+#include <orbis/world/ImageFile.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <utility>
+
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 
 namespace orbis::examples {
 

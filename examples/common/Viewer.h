@@ -19,7 +19,7 @@ struct ViewerOptions {
 };
 
 /// A window device of the options' size, for the scene the viewer will show.
-Device createViewerDevice(const ViewerOptions& options);
+renderer::Device createViewerDevice(const ViewerOptions& options);
 
 /// Shows `scene` in the window of `device` (from createViewerDevice) until Escape or closing, or
 /// for options.frames frames. Drag turns the globe and the wheel zooms (orbiting the centre); F
@@ -27,6 +27,6 @@ Device createViewerDevice(const ViewerOptions& options);
 /// scene's camera stays as it is until the first input. Each frame is rendered offscreen, where
 /// the scene may have the float depth buffer a window lacks, and copied to the window. Prints the
 /// first frame's statistics. Throws orbis::Error as Scene::render does.
-void runViewer(Device& device, Scene& scene, const ViewerOptions& options);
+void runViewer(renderer::Device& device, scene::Scene& scene, const ViewerOptions& options);
 
 } // namespace orbis::examples

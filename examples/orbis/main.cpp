@@ -5,10 +5,12 @@
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
 #include <orbis/core/TileKey.h>
+#include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
+#include <orbis/world/SceneFile.h>
 
 #include <charconv>
 #include <chrono>
@@ -69,7 +71,7 @@ int runValidate(Arguments arguments)
     int exitCode = kExitOk;
     for (const char* path : arguments) {
         try {
-            const orbis::SceneDescription scene = orbis::parseSceneFile(path);
+            const orbis::world::SceneDescription scene = orbis::world::parseSceneFile(path);
             std::printf("%s: ok (%zu %s)\n", path, scene.layers.size(), scene.layers.size() == 1 ? "layer" : "layers");
         } catch (const orbis::Error& error) {
             std::fprintf(stderr, "%s\n", error.what());
@@ -171,24 +173,24 @@ int runRender(Arguments arguments)
     }
 
     try {
-        const orbis::SceneDescription description =
-            scenePath ? orbis::parseSceneFile(*scenePath) : orbis::parseDefaultScene();
-        std::optional<orbis::CameraPath> flight;
+        const orbis::world::SceneDescription description =
+            scenePath ? orbis::world::parseSceneFile(*scenePath) : orbis::world::parseDefaultScene();
+        std::optional<orbis::scene::CameraPath> flight;
         if (cameraPath) {
             flight.emplace(orbis::Ellipsoid::wgs84());
-            for (const orbis::CameraPath::Keyframe& keyframe : orbis::parseCameraPathFile(*cameraPath)) {
+            for (const orbis::scene::CameraPath::Keyframe& keyframe : orbis::world::parseCameraPathFile(*cameraPath)) {
                 flight->add(keyframe);
             }
         }
         const int frameCount = flight ? frames.value_or(60) : 1;
 
-        orbis::Device device;
-        orbis::Context& context = device.context();
-        orbis::Framebuffer framebuffer =
+        orbis::renderer::Device device;
+        orbis::renderer::Context& context = device.context();
+        orbis::renderer::Framebuffer framebuffer =
             context.createFramebuffer(width.value_or(description.width), height.value_or(description.height));
         context.setFramebuffer(&framebuffer);
-        orbis::Scene scene;
-        orbis::populateScene(description, scene);
+        orbis::scene::Scene scene;
+        orbis::scene::populateScene(description, scene);
 
         std::string statisticsJson = frameCount > 1 ? "[\n" : "";
         const auto start = std::chrono::steady_clock::now();
@@ -197,9 +199,9 @@ int runRender(Arguments arguments)
                 const double t = frameCount > 1 ? static_cast<double>(frame) / (frameCount - 1) : 0.0;
                 flight->apply(flight->keyframes().front().seconds + t * flight->duration(), scene.camera());
             }
-            const orbis::FrameStatistics statistics = scene.render(context);
+            const orbis::scene::FrameStatistics statistics = scene.render(context);
             const std::string path = framePath(output, frame, frameCount);
-            orbis::writePng(context.readPixels(), path);
+            orbis::world::writePng(context.readPixels(), path);
             if (frame == 0 || frameCount == 1) {
                 std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
                             device.info().renderer.c_str(), statistics.toText().c_str());
@@ -244,17 +246,17 @@ int runView(Arguments arguments)
         return kExitUsage;
     }
     try {
-        const orbis::SceneDescription description =
-            parsed.scenePath ? orbis::parseSceneFile(*parsed.scenePath) : orbis::parseDefaultScene();
+        const orbis::world::SceneDescription description =
+            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath) : orbis::world::parseDefaultScene();
         orbis::examples::ViewerOptions options;
         options.width = parsed.width.value_or(description.width);
         options.height = parsed.height.value_or(description.height);
         options.title = "Orbis: " + parsed.scenePath.value_or("the default Earth");
         options.frames = parsed.frames;
         options.output = parsed.output;
-        orbis::Device device = orbis::examples::createViewerDevice(options);
-        orbis::Scene scene;
-        orbis::populateScene(description, scene);
+        orbis::renderer::Device device = orbis::examples::createViewerDevice(options);
+        orbis::scene::Scene scene;
+        orbis::scene::populateScene(description, scene);
         orbis::examples::runViewer(device, scene, options);
         return kExitOk;
     } catch (const orbis::Error& error) {
@@ -269,8 +271,8 @@ int runInfo(Arguments arguments)
     if (!arguments.empty()) {
         return kExitUsage;
     }
-    const orbis::Device device;
-    const orbis::DeviceInfo& info = device.info();
+    const orbis::renderer::Device device;
+    const orbis::renderer::DeviceInfo& info = device.info();
     std::printf("backend:          %s\n", info.backendDescription.c_str());
     std::printf("vendor:           %s\n", info.vendor.c_str());
     std::printf("renderer:         %s\n", info.renderer.c_str());

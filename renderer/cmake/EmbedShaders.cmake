@@ -9,7 +9,7 @@ file(GLOB_RECURSE files LIST_DIRECTORIES false RELATIVE ${SHADER_ROOT} ${SHADER_
 list(SORT files)
 set(delimiter "orbis_glsl")
 set(text "// Generated from shaders/ by renderer/cmake/EmbedShaders.cmake at build time: do not edit.\n")
-string(APPEND text "#include \"EmbeddedShaderTable.h\"\n\nnamespace orbis::detail {\n\n")
+string(APPEND text "#include \"EmbeddedShaderTable.h\"\n\nnamespace orbis::renderer::detail {\n\n")
 string(APPEND text "const EmbeddedShaderFile kEmbeddedShaderFiles[] = {\n")
 set(count 0)
 foreach(file IN LISTS files)
@@ -25,7 +25,7 @@ foreach(file IN LISTS files)
   string(APPEND text "    {\"${file}\", R\"${delimiter}(${content})${delimiter}\"},\n")
   math(EXPR count "${count} + 1")
 endforeach()
-string(APPEND text "    {nullptr, nullptr},\n};\n\nconst std::size_t kEmbeddedShaderFileCount = ${count};\n\n} // namespace orbis::detail\n")
+string(APPEND text "    {nullptr, nullptr},\n};\n\nconst std::size_t kEmbeddedShaderFileCount = ${count};\n\n} // namespace orbis::renderer::detail\n")
 
 # Rewrite only when the text changed, so that an unchanged shader set recompiles nothing.
 file(WRITE ${OUTPUT}.new "${text}")

@@ -7,7 +7,7 @@
 
 #include <string_view>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 enum class AutomaticUniform : int {
     ModelMatrix,
@@ -83,4 +83,4 @@ inline int automaticUniformId(std::string_view name) noexcept
     return -1;
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 /// One GL context of a backend.
 class BackendContext {
@@ -55,4 +55,4 @@ std::unique_ptr<Backend> createOsMesaBackend(const BackendRequest& request);
 /// Only in builds with GLFW (ORBIS_HAVE_GLFW); throws otherwise or without a display.
 std::unique_ptr<Backend> createGlfwBackend(const BackendRequest& request);
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

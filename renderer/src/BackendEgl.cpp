@@ -17,7 +17,7 @@
 #include <mutex>
 #include <vector>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 namespace {
 
 std::string eglErrorName(EGLint error)
@@ -268,4 +268,4 @@ std::unique_ptr<Backend> createEglBackend(const BackendRequest& request)
                 std::to_string(request.minorVersion) + " core context:" + reasons);
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -14,7 +14,7 @@
 #include <mutex>
 #include <utility>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 namespace {
 
 std::mutex glfwMutex;
@@ -179,9 +179,9 @@ std::unique_ptr<Backend> createGlfwBackend(const BackendRequest& request)
     return std::make_unique<GlfwBackend>(request);
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail
 
-namespace orbis {
+namespace orbis::renderer {
 
 bool Window::shouldClose() const
 {
@@ -224,4 +224,4 @@ int Window::framebufferHeight() const
     return height;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -9,7 +9,7 @@
 
 #include <array>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 namespace {
 
 GlProc osMesaProc(const char* name)
@@ -80,4 +80,4 @@ std::unique_ptr<Backend> createOsMesaBackend(const BackendRequest& request)
     return std::make_unique<OsMesaBackend>(request);
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -13,7 +13,7 @@
 #include <cstring>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 GLuint createBuffer(const detail::GlApi& gl, std::size_t size, const void* data, BufferUsage usage)
@@ -219,4 +219,4 @@ IndexBuffer Device::createIndexBuffer(std::span<const std::uint32_t> indices, Bu
                        IndexType::UnsignedInt, indices.size(), usage);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

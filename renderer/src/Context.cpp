@@ -19,7 +19,7 @@
 #include <cmath>
 #include <cstring>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 using detail::AutomaticUniform;
@@ -61,7 +61,7 @@ glm::mat4 toFloat(const glm::dmat4& m) noexcept
 
 /// Fills the og_ uniforms the program uses, each computed in double and sent as float.
 void setAutomaticUniforms(ShaderProgram& program, const SceneState& scene, const glm::dmat4& model,
-                          const Rectangle& viewport, const DepthRange& depthRange, detail::MatrixCache& cache,
+                          const PixelRectangle& viewport, const DepthRange& depthRange, detail::MatrixCache& cache,
                           RenderStatistics& statistics)
 {
     const auto& slots = ShaderProgramAccess::automaticSlots(program);
@@ -227,12 +227,12 @@ bool Context::isCurrent() const noexcept
     return _state->isCurrent();
 }
 
-Rectangle Context::targetRectangle(const Framebuffer* framebuffer) const noexcept
+PixelRectangle Context::targetRectangle(const Framebuffer* framebuffer) const noexcept
 {
     if (framebuffer) {
         return {0, 0, framebuffer->width(), framebuffer->height()};
     }
-    Rectangle r;
+    PixelRectangle r;
     _state->backend->defaultFramebufferSize(r.width, r.height);
     return r;
 }
@@ -443,7 +443,7 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
 
     const ErrorSource source{"DrawCommand", command.debugName};
     Framebuffer* target = bindTarget(command.framebuffer, source);
-    const Rectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
+    const PixelRectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
                                                                                      : targetRectangle(target);
     state.applyViewport(viewport);
     if (complementary) [[unlikely]] {
@@ -606,7 +606,7 @@ Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
 {
     detail::ContextState& state = *_state;
     Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), ErrorSource{"Context::readPixels", {}});
-    const Rectangle size = targetRectangle(target);
+    const PixelRectangle size = targetRectangle(target);
     if (target) {
         if (colorAttachment < 0 || colorAttachment >= Framebuffer::kMaxColorAttachments ||
             !target->_colors[colorAttachment]) {
@@ -657,8 +657,8 @@ void Context::blit(const Framebuffer& source, Framebuffer* destination)
     }
     state.applyClearState(ClearState{}); // the scissor test would clip the copy
     const detail::GlApi& gl = state.gl;
-    const Rectangle from = targetRectangle(read);
-    const Rectangle to = targetRectangle(destination);
+    const PixelRectangle from = targetRectangle(read);
+    const PixelRectangle to = targetRectangle(destination);
     gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, destinationName);
     const bool sameSize = from.width == to.width && from.height == to.height;
@@ -695,4 +695,4 @@ void Context::resetStatistics() noexcept
     _state->glCallsAtReset = detail::tlsGlCallCount;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <string>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 thread_local ContextState* tlsCurrentState = nullptr;
 
 namespace {
@@ -177,7 +177,7 @@ void ContextState::ensureKnown()
     gl.glPolygonMode(GL_FRONT_AND_BACK, toGl(s.rasterizationMode));
     enable(s.scissorTest.enabled, GL_SCISSOR_TEST);
     if (s.scissorTest.rectangle.width >= 0 && s.scissorTest.rectangle.height >= 0) {
-        const Rectangle& r = s.scissorTest.rectangle;
+        const PixelRectangle& r = s.scissorTest.rectangle;
         gl.glScissor(r.x, r.y, r.width, r.height);
     }
     enable(s.stencilTest.enabled, GL_STENCIL_TEST);
@@ -262,7 +262,7 @@ void ContextState::applyRenderState(const RenderState& wanted)
     enable(s.scissorTest.enabled, scissor.enabled, GL_SCISSOR_TEST);
     if (scissor.enabled) {
         update(s.scissorTest.rectangle, scissor.rectangle, [&] {
-            const Rectangle& r = scissor.rectangle;
+            const PixelRectangle& r = scissor.rectangle;
             gl.glScissor(r.x, r.y, r.width, r.height);
         });
     }
@@ -395,7 +395,7 @@ void ContextState::applyClearState(const ClearState& clear)
         count(false);
     }
     if (clear.scissorTest.enabled) {
-        const Rectangle& r = clear.scissorTest.rectangle;
+        const PixelRectangle& r = clear.scissorTest.rectangle;
         const bool changed = !(s.scissorTest.rectangle == r);
         if (changed) {
             gl.glScissor(r.x, r.y, r.width, r.height);
@@ -436,7 +436,7 @@ void ContextState::applyClearState(const ClearState& clear)
     statistics.stateChangesAvoided += avoided;
 }
 
-void ContextState::applyViewport(const Rectangle& viewport)
+void ContextState::applyViewport(const PixelRectangle& viewport)
 {
     if (_viewport == viewport) {
         ++statistics.stateChangesAvoided;
@@ -534,4 +534,4 @@ void ContextState::bindTextureForUpload(std::uint64_t serial, GLuint name)
     }
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

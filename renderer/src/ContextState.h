@@ -17,11 +17,11 @@
 #include <cstdint>
 #include <memory>
 
-namespace orbis {
+namespace orbis::renderer {
 class Device;
 }
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 /// Texture units the shadow tracks; the last usable one is kept for uploads.
 inline constexpr int kMaxTrackedTextureUnits = 32;
@@ -66,7 +66,7 @@ public:
     void applyRenderState(const RenderState& state);
     /// The parts of the state a clear obeys: scissor, colour, depth and stencil write masks.
     void applyClearState(const ClearState& clear);
-    void applyViewport(const Rectangle& viewport);
+    void applyViewport(const PixelRectangle& viewport);
     /// glClipControl's depth mode: 0..1 when true, GL's -1..1 otherwise (needs glClipControl).
     void applyClipDepthZeroToOne(bool zeroToOne);
     bool clipDepthZeroToOne() const noexcept { return _clipDepthZeroToOne; }
@@ -106,7 +106,7 @@ private:
     RenderState _lastWanted;
     std::uint64_t _lastWantedItems = 0;
     RenderState _state;     ///< what GL has
-    Rectangle _viewport{-1, -1, -1, -1};
+    PixelRectangle _viewport{-1, -1, -1, -1};
     bool _clipDepthZeroToOne = false;
     std::uint64_t _program = 0;
     std::uint64_t _vertexArray = 0;
@@ -124,4 +124,4 @@ ContextState& requireCurrent(const Device* device, const char* what);
 /// The current state when it belongs to `device`, for destructors; null otherwise.
 ContextState* currentStateOf(const Device* device) noexcept;
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -12,7 +12,7 @@
 #include <cstring>
 #include <set>
 
-namespace orbis {
+namespace orbis::renderer {
 
 struct Device::Impl {
     std::unique_ptr<detail::Backend> backend;
@@ -280,4 +280,4 @@ Fence Device::createFence()
     return Fence(*this, sync);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 struct EmbeddedShaderFile {
     const char* path; ///< relative to shaders/
@@ -15,4 +15,4 @@ struct EmbeddedShaderFile {
 extern const EmbeddedShaderFile kEmbeddedShaderFiles[];
 extern const std::size_t kEmbeddedShaderFileCount;
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

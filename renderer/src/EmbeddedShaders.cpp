@@ -2,7 +2,7 @@
 
 #include "EmbeddedShaderTable.h"
 
-namespace orbis {
+namespace orbis::renderer {
 
 std::optional<std::string_view> embeddedShader(std::string_view path) noexcept
 {
@@ -24,4 +24,4 @@ std::vector<std::string_view> embeddedShaderPaths()
     return paths;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 
 Fence::Fence(Device& device, void* sync) noexcept
     : _device(&device), _sync(sync)
@@ -75,4 +75,4 @@ void Fence::serverWait() const
     state.gl.glWaitSync(static_cast<GLsync>(_sync), 0, GL_TIMEOUT_IGNORED);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

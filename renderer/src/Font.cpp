@@ -10,7 +10,7 @@
 #include <fstream>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 struct Font::Impl {
     std::filesystem::path path;
@@ -110,4 +110,4 @@ GlyphBitmap Font::rasterize(int glyph, float sizePixels) const
     return bitmap;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 
 Framebuffer::Framebuffer(detail::ContextState& owner, unsigned name) noexcept
     : _owner(&owner), _name(name), _serial(detail::nextObjectSerial())
@@ -132,4 +132,4 @@ Framebuffer Context::createFramebuffer(int width, int height, const FramebufferO
     return framebuffer;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

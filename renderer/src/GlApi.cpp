@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 thread_local std::uint64_t tlsGlCallCount = 0;
 
@@ -62,4 +62,4 @@ std::string glErrorName(GLenum error)
     }
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

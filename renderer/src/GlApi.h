@@ -12,7 +12,7 @@
 #include <string>
 #include <type_traits>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 // clang-format off
 /// OpenGL 3.3 core functions: a driver without one of them cannot run the renderer.
@@ -222,4 +222,4 @@ void GlFunction<R (*)(Args...)>::check() const
 /// "GL_INVALID_ENUM" and so on; the number in hex for an unknown code.
 std::string glErrorName(GLenum error);
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -11,7 +11,7 @@
 #include "orbis/renderer/VertexArray.h"
 #include "orbis/renderer/VertexBuffer.h"
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 inline GLenum toGl(CompareFunction f) noexcept
 {
@@ -131,4 +131,4 @@ inline std::uint64_t primitiveCount(PrimitiveType p, std::size_t count) noexcept
     return 0;
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <unordered_set>
 
-namespace orbis {
+namespace orbis::renderer {
 
 namespace {
 
@@ -213,4 +213,4 @@ TextLayout GlyphAtlas::layout(std::string_view utf8)
     return layout;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

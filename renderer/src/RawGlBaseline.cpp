@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 RenderState baselineRenderState(const BaselineDraw& draw) noexcept
 {
@@ -170,4 +170,4 @@ std::uint64_t drawWithRawGl(Context& context, Framebuffer& framebuffer, std::spa
     return detail::RawGlBaselineAccess::run(context, framebuffer, programs, arrays, draws);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 
 Sampler::Sampler(Device& device, unsigned name, const SamplerDescription& description, float anisotropy) noexcept
     : _device(&device)
@@ -68,4 +68,4 @@ Sampler Device::createSampler(const SamplerDescription& description)
     return Sampler(*this, name, description, anisotropy);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -2,7 +2,7 @@
 
 #include "orbis/renderer/Device.h"
 
-namespace orbis {
+namespace orbis::renderer {
 
 std::shared_ptr<ShaderProgram> ShaderCache::get(const ShaderProgramDescription& description)
 {
@@ -44,4 +44,4 @@ void ShaderCache::clear()
     _hits = 0;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -14,7 +14,7 @@
 #include <regex>
 #include <sstream>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 using detail::ShaderProgramAccess;
@@ -774,4 +774,4 @@ std::uint64_t ShaderProgramAccess::flush(ShaderProgram& p, const GlApi& gl)
 }
 
 } // namespace detail
-} // namespace orbis
+} // namespace orbis::renderer

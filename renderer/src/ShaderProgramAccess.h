@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 /// Who an error message is about, put into words only when an error is thrown (draws are hot).
 struct ErrorSource {
@@ -57,4 +57,4 @@ struct ShaderProgramAccess {
     static std::uint64_t flush(ShaderProgram& p, const GlApi& gl);
 };
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

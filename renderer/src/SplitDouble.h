@@ -3,7 +3,7 @@
 // A double as two floats for GPU relative-to-eye rendering: high = float(x), low = float(x - high).
 // Private.
 
-namespace orbis::detail {
+namespace orbis::renderer::detail {
 
 /// Splits x so that double(high) + double(low) holds x to about 48 bits.
 ///
@@ -18,4 +18,4 @@ inline void splitDouble(double x, float& high, float& low) noexcept
     low = static_cast<float>(x - static_cast<double>(high));
 }
 
-} // namespace orbis::detail
+} // namespace orbis::renderer::detail

@@ -10,7 +10,7 @@
 #include <cstring>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 struct GlFormat {
@@ -194,7 +194,7 @@ void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, int leve
     copyFromSystemMemory(texels, {0, 0, levelSize(width(), level), levelSize(height(), level)}, level);
 }
 
-void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, const Rectangle& region, int level)
+void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, const PixelRectangle& region, int level)
 {
     constexpr const char* what = "Texture2D::copyFromSystemMemory";
     detail::ContextState& state = detail::requireCurrent(_device, what);
@@ -275,4 +275,4 @@ Image Texture2D::copyToImage() const
     return image;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

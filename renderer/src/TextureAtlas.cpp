@@ -9,7 +9,7 @@
 #include <numeric>
 #include <string>
 
-namespace orbis {
+namespace orbis::renderer {
 
 namespace {
 
@@ -250,4 +250,4 @@ TextureRectangle TextureAtlas::textureCoordinates(std::size_t index) const
             static_cast<float>((r.x + r.width) / width), static_cast<float>((r.y + r.height) / height)};
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

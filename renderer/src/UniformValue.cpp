@@ -3,7 +3,7 @@
 #include <cstring>
 #include <type_traits>
 
-namespace orbis {
+namespace orbis::renderer {
 
 const char* uniformTypeName(UniformType type) noexcept
 {
@@ -157,4 +157,4 @@ void UniformValues::clear() noexcept
     _large.clear();
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -1,6 +1,6 @@
 #include "orbis/renderer/Utf8.h"
 
-namespace orbis {
+namespace orbis::renderer {
 
 std::u32string decodeUtf8(std::string_view text)
 {
@@ -51,4 +51,4 @@ std::u32string decodeUtf8(std::string_view text)
     return codepoints;
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

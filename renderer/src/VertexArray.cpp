@@ -12,7 +12,7 @@
 #include <limits>
 #include <utility>
 
-namespace orbis {
+namespace orbis::renderer {
 namespace {
 
 constexpr std::string_view kStandardNames[] = {"position", "normal", "textureCoordinate", "positionHigh",
@@ -371,4 +371,4 @@ VertexArray Context::createVertexArray(const Mesh& mesh, const ShaderProgram& pr
     return detail::VertexArrayAccess::build(*this, mesh, uploads, options);
 }
 
-} // namespace orbis
+} // namespace orbis::renderer

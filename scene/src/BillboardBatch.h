@@ -28,7 +28,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 /// Splits x so that double(high) + double(low) holds it to about 48 bits. The rounded value goes
 /// through a volatile so that the compiler cannot keep it in double precision (GCC 12 at -O3 was
@@ -98,7 +98,7 @@ void setPosition(Vertex& vertex, const glm::dvec3& position) noexcept
 }
 
 template <typename Vertex>
-void setTextureRectangle(Vertex& vertex, const PixelRectangle& rectangle) noexcept
+void setTextureRectangle(Vertex& vertex, const renderer::PixelRectangle& rectangle) noexcept
 {
     vertex.textureRectangle[0] = static_cast<std::uint16_t>(rectangle.x);
     vertex.textureRectangle[1] = static_cast<std::uint16_t>(rectangle.y);
@@ -212,7 +212,7 @@ private:
 class AtlasTexture {
 public:
     /// Notes the pixels an addition to the atlas changed.
-    void noteChange(const TextureAtlas::AddResult& result) noexcept
+    void noteChange(const renderer::TextureAtlas::AddResult& result) noexcept
     {
         if (!result.resized && !result.repacked && (result.changed.width <= 0 || result.changed.height <= 0)) {
             return; // nothing new (characters already there, or without pixels)
@@ -226,11 +226,11 @@ public:
         const int top = std::min(_pending->y, result.changed.y);
         const int right = std::max(_pending->x + _pending->width, result.changed.x + result.changed.width);
         const int bottom = std::max(_pending->y + _pending->height, result.changed.y + result.changed.height);
-        _pending = PixelRectangle{left, top, right - left, bottom - top};
+        _pending = renderer::PixelRectangle{left, top, right - left, bottom - top};
     }
 
     /// Brings the texture up to the atlas; returns the bytes uploaded.
-    std::size_t synchronize(Device& device, const TextureAtlas& atlas)
+    std::size_t synchronize(renderer::Device& device, const renderer::TextureAtlas& atlas)
     {
         const Image& image = atlas.image();
         if (_texture && _version == atlas.version()) {
@@ -239,10 +239,10 @@ public:
         _version = atlas.version();
         const bool sizeChanged = !_texture || _texture->width() != image.width || _texture->height() != image.height;
         if (sizeChanged) {
-            _texture = device.createTexture2D(TextureDescription{image.width, image.height, TextureFormat::RGBA8});
+            _texture = device.createTexture2D(renderer::TextureDescription{image.width, image.height, renderer::TextureFormat::RGBA8});
         }
-        const PixelRectangle region = (sizeChanged || _whole || !_pending)
-                                          ? PixelRectangle{0, 0, image.width, image.height}
+        const renderer::PixelRectangle region = (sizeChanged || _whole || !_pending)
+                                          ? renderer::PixelRectangle{0, 0, image.width, image.height}
                                           : *_pending;
         _pending.reset();
         _whole = false;
@@ -267,23 +267,23 @@ public:
                 out += 4;
             }
         }
-        _texture->copyFromSystemMemory(texels, Rectangle{region.x, region.y, region.width, region.height});
+        _texture->copyFromSystemMemory(texels, region);
         return texels.size();
     }
 
-    const Texture2D* texture() const noexcept { return _texture ? &*_texture : nullptr; }
+    const renderer::Texture2D* texture() const noexcept { return _texture ? &*_texture : nullptr; }
 
 private:
-    std::optional<Texture2D> _texture;
+    std::optional<renderer::Texture2D> _texture;
     std::uint64_t _version = 0;
-    std::optional<PixelRectangle> _pending;
+    std::optional<renderer::PixelRectangle> _pending;
     bool _whole = false;
 };
 
 /// The uniforms, render state and pass every billboard or label command shares; the command's
 /// bounding sphere (set before) grows to cover the points the depth is taken at.
-void prepareBillboardCommand(DrawCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
-                             const TextureAtlas& atlas);
+void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
+                             const renderer::TextureAtlas& atlas);
 
 /// The billboard program (LABEL: the glyph variant) under every depth strategy: the quads keep
 /// their depth point's clip z and w, so the strategy applies to them as to any vertex.
@@ -324,13 +324,13 @@ public:
 
     /// Sends the marked vertices to the GPU, creating or growing the buffer (and the vertex
     /// array reading it) as needed. Adds to statistics.
-    void upload(FrameState& frameState, const ShaderProgram& program, BillboardUploadStatistics& statistics)
+    void upload(FrameState& frameState, const renderer::ShaderProgram& program, BillboardUploadStatistics& statistics)
     {
         const std::size_t stride = sizeof(Vertex);
         const std::size_t needed = _vertices.size() * stride;
         if (!_buffer.valid() || _buffer.sizeInBytes() < needed) {
             const std::size_t capacity = std::max(needed, _buffer.sizeInBytes() + _buffer.sizeInBytes() / 2);
-            _buffer = frameState.device.createVertexBuffer(capacity, BufferUsage::DynamicDraw);
+            _buffer = frameState.device.createVertexBuffer(capacity, renderer::BufferUsage::DynamicDraw);
             _vertexArray = frameState.context.createVertexArray();
             attach(program);
             _allDirty = true;
@@ -367,28 +367,28 @@ public:
         _allDirty = false;
     }
 
-    const VertexArray* vertexArray() const noexcept { return _vertexArray ? &*_vertexArray : nullptr; }
+    const renderer::VertexArray* vertexArray() const noexcept { return _vertexArray ? &*_vertexArray : nullptr; }
 
 private:
-    void attach(const ShaderProgram& program)
+    void attach(const renderer::ShaderProgram& program)
     {
-        auto set = [&](const char* name, ComponentType type, int components, bool normalized, bool integer,
+        auto set = [&](const char* name, renderer::ComponentType type, int components, bool normalized, bool integer,
                        std::size_t offset) {
-            const ShaderVertexAttribute* attribute = program.findVertexAttribute(name);
+            const renderer::ShaderVertexAttribute* attribute = program.findVertexAttribute(name);
             if (attribute && attribute->location >= 0) {
                 _vertexArray->setAttribute(attribute->location, _buffer,
-                                           VertexAttributeFormat{type, components, normalized, integer, sizeof(Vertex),
+                                           renderer::VertexAttributeFormat{type, components, normalized, integer, sizeof(Vertex),
                                                                  offset});
             }
         };
-        set("positionHigh", ComponentType::Float, 3, false, false, offsetof(Vertex, positionHigh));
-        set("positionLow", ComponentType::Float, 3, false, false, offsetof(Vertex, positionLow));
-        set("pixelOffset", ComponentType::Short, 2, false, false, offsetof(Vertex, pixelOffset));
-        set("textureRectangle", ComponentType::UnsignedShort, 4, false, false, offsetof(Vertex, textureRectangle));
-        set("color", ComponentType::UnsignedByte, 4, true, false, offsetof(Vertex, color));
-        set("scaleOriginVisibility", ComponentType::UnsignedInt, 1, false, true, offsetof(Vertex, scaleOriginVisibility));
+        set("positionHigh", renderer::ComponentType::Float, 3, false, false, offsetof(Vertex, positionHigh));
+        set("positionLow", renderer::ComponentType::Float, 3, false, false, offsetof(Vertex, positionLow));
+        set("pixelOffset", renderer::ComponentType::Short, 2, false, false, offsetof(Vertex, pixelOffset));
+        set("textureRectangle", renderer::ComponentType::UnsignedShort, 4, false, false, offsetof(Vertex, textureRectangle));
+        set("color", renderer::ComponentType::UnsignedByte, 4, true, false, offsetof(Vertex, color));
+        set("scaleOriginVisibility", renderer::ComponentType::UnsignedInt, 1, false, true, offsetof(Vertex, scaleOriginVisibility));
         if constexpr (Vertex::kHalo) {
-            set("haloColor", ComponentType::UnsignedByte, 4, true, false, offsetof(Vertex, haloColor));
+            set("haloColor", renderer::ComponentType::UnsignedByte, 4, true, false, offsetof(Vertex, haloColor));
         }
     }
 
@@ -396,8 +396,8 @@ private:
     std::vector<std::uint32_t> _dirty;
     std::vector<std::uint8_t> _dirtyFlags;
     bool _allDirty = true;
-    VertexBuffer _buffer;
-    std::optional<VertexArray> _vertexArray;
+    renderer::VertexBuffer _buffer;
+    std::optional<renderer::VertexArray> _vertexArray;
 };
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

@@ -8,7 +8,7 @@
 
 #include <string>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -40,7 +40,7 @@ Image toRgba(const Image& image)
 
 BillboardCollection::BillboardCollection(const BillboardCollectionOptions& options)
     : _options(options)
-    , _atlas(TextureAtlasOptions{4, options.atlasPadding, options.atlasInitialSize, options.atlasMaxSize})
+    , _atlas(renderer::TextureAtlasOptions{4, options.atlasPadding, options.atlasInitialSize, options.atlasMaxSize})
     , _batch(std::make_unique<detail::BillboardBatch<detail::BillboardVertex>>())
     , _bounds(std::make_unique<detail::BillboardBounds>())
     , _texture(std::make_unique<detail::AtlasTexture>())
@@ -67,7 +67,7 @@ std::size_t BillboardCollection::addImages(std::span<const Image> images)
     for (const Image& image : images) {
         rgba.push_back(toRgba(image));
     }
-    const TextureAtlas::AddResult result = _atlas.add(rgba);
+    const renderer::TextureAtlas::AddResult result = _atlas.add(rgba);
     _texture->noteChange(result);
     if (result.repacked) {
         // Every image moved: every billboard's texel rectangle changes.
@@ -206,7 +206,7 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
     if (_billboards.empty()) {
         return;
     }
-    ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
+    renderer::ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
     _lastUpload.textureBytesUploaded = _texture->synchronize(frameState.device, _atlas);
     _batch->upload(frameState, program, _lastUpload);
 
@@ -217,17 +217,17 @@ void BillboardCollection::update(FrameState& frameState, CommandList& commands)
             positions.push_back(b.position);
         }
     }
-    DrawCommand command;
-    command.debugName = "billboards";
+    SceneCommand command;
+    command.draw.debugName = "billboards";
     command.tags = static_cast<std::uint32_t>(Effect::Billboards);
     command.horizonOcclusionPoint = _bounds->refresh(frameState.ellipsoid, positions);
     command.boundingSphere = _bounds->sphere();
-    command.vertexArray = _batch->vertexArray();
-    command.shaderProgram = &program;
-    command.count = _billboards.size();
-    command.textures.push_back({0, _texture->texture(), nullptr});
+    command.draw.vertexArray = _batch->vertexArray();
+    command.draw.shaderProgram = &program;
+    command.draw.count = _billboards.size();
+    command.draw.textures.push_back({0, _texture->texture(), nullptr});
     detail::prepareBillboardCommand(command, frameState, _options.depth, _atlas);
     commands.push_back(std::move(command));
 }
 
-} // namespace orbis
+} // namespace orbis::scene

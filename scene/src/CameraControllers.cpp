@@ -8,7 +8,7 @@
 #include <cassert>
 #include <cmath>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 constexpr double kMaximumElevation = kHalfPi - 1.7e-3; // 89.9 degrees
@@ -201,4 +201,4 @@ void CameraPath::apply(double seconds, Camera& camera) const
     camera.lookAt(eyePosition, _ellipsoid.toCartesian(target), _ellipsoid.geodeticSurfaceNormal(eyePosition));
 }
 
-} // namespace orbis
+} // namespace orbis::scene

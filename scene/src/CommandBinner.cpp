@@ -4,9 +4,9 @@
 
 #include <algorithm>
 
-namespace orbis {
+namespace orbis::scene {
 
-void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frustum& cullingVolume,
+void CommandBinner::cullAndBin(std::span<const SceneCommand> commands, const Frustum& cullingVolume,
                                const EllipsoidalOccluder& occluder, const glm::dvec3& eye,
                                const glm::dvec3& viewDirection, double cosHalfDiagonal,
                                FrameStatistics& statistics)
@@ -17,7 +17,7 @@ void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frus
     _intervals.clear();
     statistics.commandsSubmitted += commands.size();
     for (std::uint32_t i = 0; i < commands.size(); ++i) {
-        const DrawCommand& command = commands[i];
+        const SceneCommand& command = commands[i];
         if (command.boundingSphere && cullingVolume.intersect(*command.boundingSphere) == Intersect::Outside) {
             ++statistics.commandsCulledByFrustum;
             continue;
@@ -47,4 +47,4 @@ void CommandBinner::cullAndBin(std::span<const DrawCommand> commands, const Frus
     statistics.commandsExecutedMoreThanOnce = _multiFrustum.commandsInSeveralFrustums();
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -1,6 +1,6 @@
 #include "DepthPlan.h"
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 DepthPlan DepthPlan::of(DepthStrategy strategy, const MultiFrustumOptions& limits) noexcept
 {
@@ -16,7 +16,7 @@ DepthPlan DepthPlan::of(DepthStrategy strategy, const MultiFrustumOptions& limit
     switch (strategy) {
     case DepthStrategy::Single: plan.fixedRange = true; break;
     case DepthStrategy::Complementary:
-        plan.convention = DepthConvention::Complementary;
+        plan.convention = renderer::DepthConvention::Complementary;
         plan.clearDepth = 0.0;
         plan.needsFloatDepth = true;
         break;
@@ -28,7 +28,7 @@ DepthPlan DepthPlan::of(DepthStrategy strategy, const MultiFrustumOptions& limit
 glm::dmat4 DepthPlan::projection(const Camera& camera, double aspect, const FrustumRange& range) const noexcept
 {
     glm::dmat4 p = camera.projectionMatrix(aspect, range.nearDistance, range.farDistance);
-    if (convention == DepthConvention::Complementary) {
+    if (convention == renderer::DepthConvention::Complementary) {
         p[2][2] = 0.0;
         p[3][2] = range.nearDistance;
         p[2][3] = -1.0;
@@ -51,4 +51,4 @@ DepthStrategy resolveAutomaticDepth(const AutoInputs& inputs, const MultiFrustum
     return DepthStrategy::MultiFrustum;
 }
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

@@ -11,11 +11,11 @@
 
 #include <glm/mat4x4.hpp>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 struct DepthPlan {
     DepthStrategy strategy = DepthStrategy::MultiFrustum;
-    DepthConvention convention = DepthConvention::Standard;
+    renderer::DepthConvention convention = renderer::DepthConvention::Standard;
     double clearDepth = 1.0;
     /// The options commands are binned with: the scene's for MultiFrustum; an unbounded ratio (one
     /// frustum over the frame's near and far) for the others.
@@ -43,4 +43,4 @@ struct AutoInputs {
 /// Logarithmic, else MultiFrustum (see DepthStrategy::Automatic).
 DepthStrategy resolveAutomaticDepth(const AutoInputs& inputs, const MultiFrustumOptions& limits) noexcept;
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

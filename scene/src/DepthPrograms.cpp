@@ -5,23 +5,23 @@
 
 #include <utility>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 DepthPrograms::DepthPrograms(Describe describe)
     : _describe(std::move(describe))
 {
 }
 
-ShaderProgram& DepthPrograms::get(FrameState& frameState, Pass pass)
+renderer::ShaderProgram& DepthPrograms::get(FrameState& frameState, Pass pass)
 {
     const DepthStrategy strategy = frameState.depthStrategy;
     const Pass drawn = pass == Pass::Translucent ? Pass::Translucent : Pass::Opaque;
-    std::shared_ptr<ShaderProgram>& program =
+    std::shared_ptr<renderer::ShaderProgram>& program =
         _programs[static_cast<std::size_t>(strategy)][drawn == Pass::Translucent ? 1 : 0];
     if (!program) {
-        ShaderProgramDescription description = _describe(strategy, drawn);
+        renderer::ShaderProgramDescription description = _describe(strategy, drawn);
         description.name += std::string(" (") + depthStrategyName(strategy) + ")";
-        for (ShaderDefine& define : depthStrategyDefines(strategy, drawn)) {
+        for (renderer::ShaderDefine& define : depthStrategyDefines(strategy, drawn)) {
             description.defines.push_back(std::move(define));
         }
         program = frameState.device.shaderCache().get(description);
@@ -29,4 +29,4 @@ ShaderProgram& DepthPrograms::get(FrameState& frameState, Pass pass)
     return *program;
 }
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

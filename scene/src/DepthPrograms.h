@@ -10,7 +10,7 @@
 #include <functional>
 #include <memory>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 /// The variants of one program across depth strategies and passes (depthStrategyDefines differs by
 /// both: blended draws under MultiFrustum keep to their frustum's own depths). Each is taken from
@@ -25,18 +25,18 @@ class DepthPrograms {
 public:
     /// The program's description under a strategy (before its depth defines, which get() adds, with
     /// the strategy's name after the program's).
-    using Describe = std::function<ShaderProgramDescription(DepthStrategy strategy, Pass pass)>;
+    using Describe = std::function<renderer::ShaderProgramDescription(DepthStrategy strategy, Pass pass)>;
 
     explicit DepthPrograms(Describe describe);
 
     /// The variant for frameState.depthStrategy and `pass` (Overlay draws as Opaque). Throws
     /// orbis::Error when it does not compile.
-    ShaderProgram& get(FrameState& frameState, Pass pass = Pass::Opaque);
+    renderer::ShaderProgram& get(FrameState& frameState, Pass pass = Pass::Opaque);
 
 private:
     Describe _describe;
     /// By DepthStrategy, then opaque and translucent.
-    std::array<std::array<std::shared_ptr<ShaderProgram>, 2>, 6> _programs;
+    std::array<std::array<std::shared_ptr<renderer::ShaderProgram>, 2>, 6> _programs;
 };
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

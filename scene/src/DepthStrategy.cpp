@@ -1,27 +1,15 @@
 #include "orbis/scene/DepthStrategy.h"
 
-#include <orbis/renderer/DrawCommand.h>
+#include "orbis/scene/SceneCommand.h"
+
 #include <orbis/renderer/ShaderProgram.h>
 
 #include <cmath>
 #include <limits>
 
-namespace orbis {
+namespace orbis::scene {
 
-const char* depthStrategyName(DepthStrategy strategy) noexcept
-{
-    switch (strategy) {
-    case DepthStrategy::Automatic: return "auto";
-    case DepthStrategy::MultiFrustum: return "multi-frustum";
-    case DepthStrategy::Logarithmic: return "logarithmic";
-    case DepthStrategy::LogarithmicVertex: return "logarithmic (vertex)";
-    case DepthStrategy::Complementary: return "complementary";
-    case DepthStrategy::Single: return "single";
-    }
-    return "?";
-}
-
-std::vector<ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
+std::vector<renderer::ShaderDefine> depthStrategyDefines(DepthStrategy strategy, Pass pass)
 {
     switch (strategy) {
     case DepthStrategy::Logarithmic: return {{"OG_DEPTH_LOGARITHMIC"}};
@@ -63,4 +51,4 @@ double analyticMinimumSeparation(DepthStrategy strategy, double distance, double
     return infinity;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -1,6 +1,6 @@
 #include "orbis/scene/Effect.h"
 
-namespace orbis {
+namespace orbis::scene {
 
 std::vector<std::string> effectNames(std::uint32_t effects)
 {
@@ -15,4 +15,4 @@ std::vector<std::string> effectNames(std::uint32_t effects)
     return names;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

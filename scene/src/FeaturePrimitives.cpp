@@ -7,7 +7,7 @@
 #include <cmath>
 #include <variant>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -25,7 +25,7 @@ public:
     {
     }
 
-    void feature(const Feature& feature)
+    void feature(const world::Feature& feature)
     {
         _feature = &feature;
         _part = 0;
@@ -35,41 +35,41 @@ public:
     }
 
 private:
-    void geometry(const Geometry& geometry)
+    void geometry(const world::Geometry& geometry)
     {
         std::visit([this](const auto& value) { visit(value); }, geometry.value);
     }
 
-    void visit(const Point&) {}
-    void visit(const MultiPoint&) {}
-    void visit(const LineString& line) { border(line.positions, false); }
-    void visit(const MultiLineString& lines)
+    void visit(const world::Point&) {}
+    void visit(const world::MultiPoint&) {}
+    void visit(const world::LineString& line) { border(line.positions, false); }
+    void visit(const world::MultiLineString& lines)
     {
-        for (const LineString& line : lines.lines) {
+        for (const world::LineString& line : lines.lines) {
             border(line.positions, false);
         }
     }
-    void visit(const Polygon& polygon)
+    void visit(const world::Polygon& polygon)
     {
         fill(polygon);
-        for (const LinearRing& ring : polygon.rings) {
+        for (const world::LinearRing& ring : polygon.rings) {
             ringBorder(ring);
         }
     }
-    void visit(const MultiPolygon& polygons)
+    void visit(const world::MultiPolygon& polygons)
     {
-        for (const Polygon& polygon : polygons.polygons) {
+        for (const world::Polygon& polygon : polygons.polygons) {
             visit(polygon);
         }
     }
-    void visit(const GeometryCollection& collection)
+    void visit(const world::GeometryCollection& collection)
     {
-        for (const Geometry& geometry : collection.geometries) {
+        for (const world::Geometry& geometry : collection.geometries) {
             this->geometry(geometry);
         }
     }
 
-    void fill(const Polygon& polygon)
+    void fill(const world::Polygon& polygon)
     {
         const std::size_t part = _part++;
         if (!_style.fill) {
@@ -95,7 +95,7 @@ private:
     }
 
     /// A ring as one loop, or as open pieces between the antimeridian edges that are left out.
-    void ringBorder(const LinearRing& ring)
+    void ringBorder(const world::LinearRing& ring)
     {
         if (!_style.borders || ring.size() < 2) {
             return;
@@ -152,7 +152,7 @@ private:
     const Ellipsoid& _ellipsoid;
     const FeatureStyle& _style;
     FeaturePrimitives& _out;
-    const Feature* _feature = nullptr;
+    const world::Feature* _feature = nullptr;
     std::size_t _part = 0;
 };
 
@@ -164,15 +164,15 @@ void FeaturePrimitives::addTo(Scene& scene) const
     scene.add(borders);
 }
 
-FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const FeatureCollection& features,
+FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const world::FeatureCollection& features,
                                          const FeatureStyle& style)
 {
     FeaturePrimitives out;
     Builder builder(ellipsoid, style, out);
-    for (const Feature& feature : features.features) {
+    for (const world::Feature& feature : features.features) {
         builder.feature(feature);
     }
     return out;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

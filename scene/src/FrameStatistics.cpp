@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -110,4 +110,4 @@ std::string FrameStatistics::toJson() const
     return out.str();
 }
 
-} // namespace orbis
+} // namespace orbis::scene

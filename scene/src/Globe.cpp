@@ -1,7 +1,6 @@
 #include "orbis/scene/Globe.h"
 
 #include "orbis/scene/Effect.h"
-#include "orbis/scene/TileMapService.h"
 
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/CubeMapEllipsoidTessellator.h>
@@ -9,12 +8,13 @@
 #include <orbis/core/SubdivisionEllipsoidTessellator.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/world/TileMapService.h>
 
 #include <glm/geometric.hpp>
 
 #include <cmath>
 
-namespace orbis {
+namespace orbis::scene {
 
 TessellationResult Globe::tessellate(const Ellipsoid& ellipsoid, GlobeTessellation tessellation, int level,
                                      Deviation deviation)
@@ -57,17 +57,17 @@ double Globe::gridSpacing(double metersPerPixelOnGround, double radius) noexcept
     return toRadians(30.0);
 }
 
-ShaderProgram& Globe::program(FrameState& frameState)
+renderer::ShaderProgram& Globe::program(FrameState& frameState)
 {
-    std::shared_ptr<ShaderProgram>& program = _programs[static_cast<std::size_t>(frameState.depthStrategy)];
+    std::shared_ptr<renderer::ShaderProgram>& program = _programs[static_cast<std::size_t>(frameState.depthStrategy)];
     if (program) {
         return *program;
     }
     const bool rayCast = _options.method == GlobeMethod::RayCast;
-    ShaderProgramDescription description;
+    renderer::ShaderProgramDescription description;
     description.name = rayCast ? "globe (ray cast)" : "globe (tessellated)";
-    description.vertex = ShaderSource::embedded("scene/globe/globe.vert.glsl");
-    description.fragment = ShaderSource::embedded("scene/globe/globe.frag.glsl");
+    description.vertex = renderer::ShaderSource::embedded("scene/globe/globe.vert.glsl");
+    description.fragment = renderer::ShaderSource::embedded("scene/globe/globe.frag.glsl");
     if (rayCast) {
         description.defines.push_back({"RAY_CAST"});
     }
@@ -83,7 +83,7 @@ ShaderProgram& Globe::program(FrameState& frameState)
     if (_options.grid) {
         description.defines.push_back({"GRID"});
     }
-    for (ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
+    for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
     if (frameState.device.info().gpuShader5) {
@@ -103,10 +103,10 @@ void Globe::createResources(FrameState& frameState)
     _vertexArray = frameState.context.createVertexArray(mesh, program(frameState));
 
     if (!_options.dayTexture.empty()) {
-        _dayTexture = frameState.device.createTexture2D(readGlobeImage(_options.dayTexture), true);
+        _dayTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.dayTexture), true);
     }
     if (!_options.nightTexture.empty()) {
-        _nightTexture = frameState.device.createTexture2D(readGlobeImage(_options.nightTexture), true);
+        _nightTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.nightTexture), true);
     }
     SamplerDescription sampler;
     sampler.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
@@ -120,10 +120,10 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     if (!_vertexArray) {
         createResources(frameState);
     }
-    ShaderProgram& shaderProgram = program(frameState);
+    renderer::ShaderProgram& shaderProgram = program(frameState);
     const bool rayCast = _options.method == GlobeMethod::RayCast;
-    DrawCommand command;
-    command.debugName = "globe";
+    SceneCommand command;
+    command.draw.debugName = "globe";
     command.tags = static_cast<std::uint32_t>(Effect::Globe);
     if (_options.lighting) {
         command.tags = command.tags | Effect::Lighting;
@@ -134,8 +134,8 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     if (_options.grid) {
         command.tags = command.tags | Effect::Grid;
     }
-    command.vertexArray = &*_vertexArray;
-    command.shaderProgram = &shaderProgram;
+    command.draw.vertexArray = &*_vertexArray;
+    command.draw.shaderProgram = &shaderProgram;
     command.boundingSphere = boundingSphere();
     // Nothing on the ellipsoid is nearer than the eye's height above it. Nothing visible is farther
     // than the tangent to the inscribed sphere (radius b: a sight line through it would hit the
@@ -150,12 +150,12 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         command.farthestDistance = std::sqrt(std::max(0.0, eyeDistance * eyeDistance - b * b)) + std::sqrt(a * a - b * b);
     }
     // The box is drawn from inside out so that the globe still shows with the eye inside it.
-    command.renderState.facetCulling.face = rayCast ? CullFace::Front : CullFace::Back;
+    command.draw.renderState.facetCulling.face = rayCast ? renderer::CullFace::Front : renderer::CullFace::Back;
 
     // Each variant uses some of these; the GLSL compiler removes the others.
-    auto set = [&](std::string_view name, const UniformValue& value) {
+    auto set = [&](std::string_view name, const renderer::UniformValue& value) {
         if (shaderProgram.hasUniform(name)) {
-            command.uniforms.set(name, value);
+            command.draw.uniforms.set(name, value);
         }
     };
     set("u_oneOverRadii", glm::vec3(_ellipsoid.oneOverRadii()));
@@ -173,12 +173,12 @@ void Globe::update(FrameState& frameState, CommandList& commands)
         set("u_gridColor", _options.gridColor);
     }
     if (_dayTexture) {
-        command.textures.push_back({0, &*_dayTexture, &*_sampler});
+        command.draw.textures.push_back({0, &*_dayTexture, &*_sampler});
     }
     if (_nightTexture) {
-        command.textures.push_back({1, &*_nightTexture, &*_sampler});
+        command.draw.textures.push_back({1, &*_nightTexture, &*_sampler});
     }
     commands.push_back(std::move(command));
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -11,12 +11,12 @@
 #include <algorithm>
 #include <cmath>
 
-namespace orbis {
+namespace orbis::scene {
 
 struct LabelCollection::SizeBatch {
-    SizeBatch(std::shared_ptr<const Font> font, const GlyphAtlasOptions& options) : glyphs(std::move(font), options) {}
+    SizeBatch(std::shared_ptr<const renderer::Font> font, const renderer::GlyphAtlasOptions& options) : glyphs(std::move(font), options) {}
 
-    GlyphAtlas glyphs;
+    renderer::GlyphAtlas glyphs;
     detail::AtlasTexture texture;
     detail::BillboardBatch<detail::GlyphVertex> batch;
     std::vector<std::size_t> labels; ///< indices of the labels of this size, ascending
@@ -31,7 +31,7 @@ int originShift(int origin, int size)
     return origin == 0 ? 0 : origin == 1 ? size / 2 : size;
 }
 
-bool overlap(const PixelRectangle& a, const PixelRectangle& b) noexcept
+bool overlap(const renderer::PixelRectangle& a, const renderer::PixelRectangle& b) noexcept
 {
     return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
 }
@@ -48,7 +48,7 @@ public:
     }
 
     /// Takes the box unless it overlaps one taken before; false then.
-    bool take(const PixelRectangle& box)
+    bool take(const renderer::PixelRectangle& box)
     {
         const int x0 = std::clamp(floorDivide(box.x), 0, _columns);
         const int x1 = std::clamp(floorDivide(box.x + box.width - 1) + 1, 0, _columns);
@@ -56,7 +56,7 @@ public:
         const int y1 = std::clamp(floorDivide(box.y + box.height - 1) + 1, 0, _rows);
         for (int y = y0; y < y1; ++y) {
             for (int x = x0; x < x1; ++x) {
-                for (const PixelRectangle& taken : cell(x, y)) {
+                for (const renderer::PixelRectangle& taken : cell(x, y)) {
                     if (overlap(box, taken)) {
                         return false;
                     }
@@ -75,18 +75,18 @@ private:
     static constexpr int kCell = 64; ///< pixels: a few cells for a typical label
 
     static int floorDivide(int value) noexcept { return value >= 0 ? value / kCell : -((-value + kCell - 1) / kCell); }
-    std::vector<PixelRectangle>& cell(int x, int y) { return _cells[static_cast<std::size_t>(y) * _columns + x]; }
+    std::vector<renderer::PixelRectangle>& cell(int x, int y) { return _cells[static_cast<std::size_t>(y) * _columns + x]; }
 
     int _columns;
     int _rows;
-    std::vector<std::vector<PixelRectangle>> _cells;
+    std::vector<std::vector<renderer::PixelRectangle>> _cells;
 };
 
 } // namespace
 
 LabelCollection::LabelCollection(const LabelCollectionOptions& options)
     : _options(options)
-    , _font(std::make_shared<Font>(options.fontPath))
+    , _font(std::make_shared<renderer::Font>(options.fontPath))
     , _bounds(std::make_unique<detail::BillboardBounds>())
     , _programs(detail::billboardPrograms(true))
 {
@@ -98,7 +98,7 @@ LabelCollection::SizeBatch& LabelCollection::sizeBatch(float fontSizePixels)
 {
     std::unique_ptr<SizeBatch>& batch = _sizes[fontSizePixels];
     if (!batch) {
-        GlyphAtlasOptions options;
+        renderer::GlyphAtlasOptions options;
         options.sizePixels = fontSizePixels;
         options.outlinePixels = std::max(_options.haloPixels, 0);
         batch = std::make_unique<SizeBatch>(_font, options);
@@ -106,7 +106,7 @@ LabelCollection::SizeBatch& LabelCollection::sizeBatch(float fontSizePixels)
     return *batch;
 }
 
-const GlyphAtlas& LabelCollection::glyphAtlas(float fontSizePixels)
+const renderer::GlyphAtlas& LabelCollection::glyphAtlas(float fontSizePixels)
 {
     return sizeBatch(fontSizePixels).glyphs;
 }
@@ -114,7 +114,7 @@ const GlyphAtlas& LabelCollection::glyphAtlas(float fontSizePixels)
 void LabelCollection::layOut(Record& record)
 {
     SizeBatch& batch = sizeBatch(record.label.fontSizePixels);
-    const TextureAtlas::AddResult added = batch.glyphs.addCharacters(record.label.text);
+    const renderer::TextureAtlas::AddResult added = batch.glyphs.addCharacters(record.label.text);
     batch.texture.noteChange(added);
     if (added.repacked) {
         batch.rebuild = true; // every glyph moved in the atlas
@@ -122,10 +122,10 @@ void LabelCollection::layOut(Record& record)
     record.layout = batch.glyphs.layout(record.label.text);
 }
 
-PixelRectangle LabelCollection::placement(std::size_t index) const
+renderer::PixelRectangle LabelCollection::placement(std::size_t index) const
 {
     const Record& record = _labels.at(index);
-    const PixelRectangle& box = record.layout.bounds;
+    const renderer::PixelRectangle& box = record.layout.bounds;
     // The origin's side sits on the anchor: its bottom edge for Bottom, so the top is a box
     // height above (y down: negative).
     return {record.label.pixelOffset.x - originShift(static_cast<int>(record.label.horizontalOrigin), box.width),
@@ -139,7 +139,7 @@ void LabelCollection::writeVertices(std::size_t index, bool mark)
     const Record& record = _labels[index];
     SizeBatch& batch = *_sizes.at(record.label.fontSizePixels);
     const Label& label = record.label;
-    const PixelRectangle place = placement(index);
+    const renderer::PixelRectangle place = placement(index);
     // The layout's box (y down from the baseline) moved so that its top-left is `place`; each
     // glyph is a billboard whose top-left corner sits at its offset.
     const int shiftX = place.x - record.layout.bounds.x;
@@ -152,7 +152,7 @@ void LabelCollection::writeVertices(std::size_t index, bool mark)
                                                                      label.visible && !record.decluttered);
     std::vector<detail::GlyphVertex>& vertices = batch.batch.vertices();
     for (std::size_t q = 0; q < record.layout.quads.size(); ++q) {
-        const GlyphQuad& quad = record.layout.quads[q];
+        const renderer::GlyphQuad& quad = record.layout.quads[q];
         detail::GlyphVertex& v = vertices[record.firstVertex + q];
         v = common;
         v.pixelOffset[0] = detail::clampToShort(shiftX + quad.x);
@@ -310,7 +310,7 @@ void LabelCollection::declutter(const FrameState& frameState)
             if (clip.w > 0.0) {
                 // Where the billboard shader puts the anchor: the nearest pixel corner, y down here.
                 const glm::dvec2 window = clipToWindow(clip, frameState.width, frameState.height);
-                PixelRectangle box = placement(index);
+                renderer::PixelRectangle box = placement(index);
                 box.x += static_cast<int>(std::floor(window.x + 0.5));
                 box.y += frameState.height - static_cast<int>(std::floor(window.y + 0.5));
                 hidden = !occupancy.take(box);
@@ -349,23 +349,23 @@ void LabelCollection::update(FrameState& frameState, CommandList& commands)
         if (batch->batch.vertices().empty()) {
             continue;
         }
-        ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
+        renderer::ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
         _lastUpload.textureBytesUploaded += batch->texture.synchronize(frameState.device, batch->glyphs.atlas());
         batch->batch.upload(frameState, program, _lastUpload);
 
-        DrawCommand command;
-        command.debugName = "labels";
+        SceneCommand command;
+        command.draw.debugName = "labels";
         command.tags = static_cast<std::uint32_t>(Effect::Labels);
         command.horizonOcclusionPoint = occlusionPoint;
         command.boundingSphere = _bounds->sphere();
-        command.vertexArray = batch->batch.vertexArray();
-        command.shaderProgram = &program;
-        command.count = batch->batch.vertices().size();
-        command.textures.push_back({0, batch->texture.texture(), nullptr});
+        command.draw.vertexArray = batch->batch.vertexArray();
+        command.draw.shaderProgram = &program;
+        command.draw.count = batch->batch.vertices().size();
+        command.draw.textures.push_back({0, batch->texture.texture(), nullptr});
         detail::prepareBillboardCommand(command, frameState, _options.depth, batch->glyphs.atlas());
         commands.push_back(std::move(command));
         ++_lastDrawCalls;
     }
 }
 
-} // namespace orbis
+} // namespace orbis::scene

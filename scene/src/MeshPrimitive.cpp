@@ -7,7 +7,7 @@
 
 #include <cassert>
 
-namespace orbis {
+namespace orbis::scene {
 
 MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass, VertexTransform transform)
     : _boundingSphere(BoundingSphere::fromPoints(mesh.positions))
@@ -25,18 +25,18 @@ MeshPrimitive::MeshPrimitive(Mesh mesh, const glm::vec4& color, Pass pass, Verte
 
 MeshPrimitive::~MeshPrimitive() = default;
 
-ShaderProgramDescription MeshPrimitive::programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
-                                                           bool lit, const DeviceInfo& device)
+renderer::ShaderProgramDescription MeshPrimitive::programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
+                                                           bool lit, const renderer::DeviceInfo& device)
 {
-    ShaderProgramDescription description;
+    renderer::ShaderProgramDescription description;
     description.name = std::string("mesh (") + vertexTransformName(transform) + ", " + depthStrategyName(depth) + ")";
-    description.vertex = ShaderSource::embedded("scene/mesh/mesh.vert.glsl");
-    description.fragment = ShaderSource::embedded("scene/mesh/mesh.frag.glsl");
+    description.vertex = renderer::ShaderSource::embedded("scene/mesh/mesh.vert.glsl");
+    description.fragment = renderer::ShaderSource::embedded("scene/mesh/mesh.frag.glsl");
     if (lit) {
         description.defines.push_back({"LIGHTING"});
     }
     addVertexTransformDefines(transform, device, description);
-    for (ShaderDefine& define : depthStrategyDefines(depth, pass)) {
+    for (renderer::ShaderDefine& define : depthStrategyDefines(depth, pass)) {
         description.defines.push_back(std::move(define));
     }
     return description;
@@ -46,30 +46,30 @@ void MeshPrimitive::update(FrameState& frameState, CommandList& commands)
 {
     const VertexTransform transform = resolveVertexTransform(_transform, _boundingSphere, frameState);
     _lastTransform = transform;
-    std::shared_ptr<ShaderProgram>& program =
+    std::shared_ptr<renderer::ShaderProgram>& program =
         _programs[static_cast<std::size_t>(transform)][static_cast<std::size_t>(frameState.depthStrategy)];
     if (!program) {
         program = frameState.device.shaderCache().get(
             programDescription(transform, frameState.depthStrategy, _pass, _lit, frameState.device.info()));
     }
-    DrawCommand command;
-    command.debugName = "mesh";
+    SceneCommand command;
+    command.draw.debugName = "mesh";
     command.tags = static_cast<std::uint32_t>(Effect::Meshes);
-    command.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
-    command.primitiveType = _primitiveType;
-    command.shaderProgram = program.get();
-    command.modelMatrix = _arrays->modelMatrix(transform);
-    command.uniforms.set("u_color", _color);
+    command.draw.vertexArray = &_arrays->get(frameState.context, transform, frameState.camera.eye());
+    command.draw.primitiveType = _primitiveType;
+    command.draw.shaderProgram = program.get();
+    command.draw.modelMatrix = _arrays->modelMatrix(transform);
+    command.draw.uniforms.set("u_color", _color);
     command.pass = _pass;
     command.boundingSphere = _boundingSphere;
     command.horizonOcclusionPoint = _occlusionPoint;
     if (_pass == Pass::Translucent) {
-        command.renderState.blending = Blending::alphaBlending();
+        command.draw.renderState.blending = renderer::Blending::alphaBlending();
         // "Over" for alpha too, so an opaque background stays opaque.
-        command.renderState.blending.sourceAlphaFactor = SourceBlendingFactor::One;
-        command.renderState.depthMask = false;
+        command.draw.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
+        command.draw.renderState.depthMask = false;
     }
     commands.push_back(std::move(command));
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -15,7 +15,7 @@
 #include <cassert>
 #include <cmath>
 
-namespace orbis {
+namespace orbis::scene {
 
 struct ModelPrimitive::Batch {
     Mesh mesh; ///< released once uploaded
@@ -24,7 +24,7 @@ struct ModelPrimitive::Batch {
     BoundingSphere sphere; ///< world
     Pass pass = Pass::Opaque;
     std::optional<detail::DepthPrograms> programs; ///< made with the other resources
-    std::optional<VertexArray> vertexArray;
+    std::optional<renderer::VertexArray> vertexArray;
 };
 
 glm::dmat3 gltfToEastNorthUp() noexcept
@@ -48,18 +48,18 @@ glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& p
     return matrix;
 }
 
-ModelPrimitive::ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
+ModelPrimitive::ModelPrimitive(world::GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
                                const ModelOptions& options)
     : _ellipsoid(ellipsoid)
     , _options(options)
     , _model(std::move(model))
 {
     std::vector<glm::dvec3> all;
-    for (GltfBatch& batch : _model.batches) {
+    for (world::GltfBatch& batch : _model.batches) {
         Batch out;
         out.material = batch.material;
         out.localSphere = BoundingSphere::fromPoints(batch.mesh.positions);
-        out.pass = _model.materials[batch.material].alphaMode == AlphaMode::Blend ? Pass::Translucent : Pass::Opaque;
+        out.pass = _model.materials[batch.material].alphaMode == world::AlphaMode::Blend ? Pass::Translucent : Pass::Opaque;
         _triangleCount += batch.mesh.triangleCount();
         all.insert(all.end(), batch.mesh.positions.begin(), batch.mesh.positions.end());
         out.mesh = std::move(batch.mesh);
@@ -83,7 +83,7 @@ ModelPrimitive::~ModelPrimitive() = default;
 std::shared_ptr<ModelPrimitive> ModelPrimitive::fromFile(const std::filesystem::path& file, const Ellipsoid& ellipsoid,
                                                          const ModelPlacement& placement, const ModelOptions& options)
 {
-    return std::make_shared<ModelPrimitive>(GltfModel::read(file), ellipsoid, placement, options);
+    return std::make_shared<ModelPrimitive>(world::GltfModel::read(file), ellipsoid, placement, options);
 }
 
 std::size_t ModelPrimitive::batchCount() const noexcept
@@ -120,33 +120,33 @@ void ModelPrimitive::createResources(FrameState& frameState)
 {
     // Everything is made before anything is released, so that an error (an image that does not
     // decode, a texture too large for the device) leaves the primitive as it was, to try again.
-    Device& device = frameState.device;
-    std::vector<Texture2D> textures;
+    renderer::Device& device = frameState.device;
+    std::vector<renderer::Texture2D> textures;
     for (std::size_t i = 0; i < _model.images.size(); ++i) {
         // Mipmaps whatever the samplers say: a third more texels, and any filter can read them.
         textures.push_back(device.createTexture2D(_model.decodeImage(i), true));
     }
-    std::vector<Sampler> samplers;
-    for (const GltfTexture& texture : _model.textures) {
+    std::vector<renderer::Sampler> samplers;
+    for (const world::GltfTexture& texture : _model.textures) {
         samplers.push_back(device.createSampler(texture.sampler));
     }
     std::vector<detail::DepthPrograms> programs;
-    std::vector<VertexArray> vertexArrays;
+    std::vector<renderer::VertexArray> vertexArrays;
     for (const Batch& batch : _batches) {
-        const GltfMaterial& material = _model.materials[batch.material];
-        ShaderProgramDescription description;
+        const world::GltfMaterial& material = _model.materials[batch.material];
+        renderer::ShaderProgramDescription description;
         description.name = "model";
-        description.vertex = ShaderSource::embedded("scene/model/model.vert.glsl");
-        description.fragment = ShaderSource::embedded("scene/model/model.frag.glsl");
+        description.vertex = renderer::ShaderSource::embedded("scene/model/model.vert.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/model/model.frag.glsl");
         if (_options.lighting) {
             description.defines.push_back({"LIGHTING"});
         }
         if (material.baseColorTexture) {
             description.defines.push_back({"BASE_COLOR_TEXTURE"});
         }
-        if (material.alphaMode == AlphaMode::Mask) {
+        if (material.alphaMode == world::AlphaMode::Mask) {
             description.defines.push_back({"ALPHA_MASK"});
-        } else if (material.alphaMode == AlphaMode::Blend) {
+        } else if (material.alphaMode == world::AlphaMode::Blend) {
             description.defines.push_back({"ALPHA_BLEND"});
         }
         programs.emplace_back([description](DepthStrategy, Pass) { return description; });
@@ -161,7 +161,7 @@ void ModelPrimitive::createResources(FrameState& frameState)
     // On the GPU now: the CPU copies go.
     _textures = std::move(textures);
     _samplers = std::move(samplers);
-    for (GltfImage& image : _model.images) {
+    for (world::GltfImage& image : _model.images) {
         image.encoded = {};
     }
     for (Batch& batch : _batches) {
@@ -176,33 +176,33 @@ void ModelPrimitive::update(FrameState& frameState, CommandList& commands)
         createResources(frameState);
     }
     for (Batch& batch : _batches) {
-        const GltfMaterial& material = _model.materials[batch.material];
-        DrawCommand command;
-        command.debugName = "model";
+        const world::GltfMaterial& material = _model.materials[batch.material];
+        SceneCommand command;
+        command.draw.debugName = "model";
         command.tags = _options.lighting ? Effect::Models | Effect::Lighting : static_cast<std::uint32_t>(Effect::Models);
-        command.vertexArray = &*batch.vertexArray;
-        command.shaderProgram = &batch.programs->get(frameState, batch.pass);
-        command.modelMatrix = _modelMatrix;
-        command.uniforms.set("u_baseColorFactor", material.baseColorFactor);
-        if (material.alphaMode == AlphaMode::Mask) {
-            command.uniforms.set("u_alphaCutoff", material.alphaCutoff);
+        command.draw.vertexArray = &*batch.vertexArray;
+        command.draw.shaderProgram = &batch.programs->get(frameState, batch.pass);
+        command.draw.modelMatrix = _modelMatrix;
+        command.draw.uniforms.set("u_baseColorFactor", material.baseColorFactor);
+        if (material.alphaMode == world::AlphaMode::Mask) {
+            command.draw.uniforms.set("u_alphaCutoff", material.alphaCutoff);
         }
         if (material.baseColorTexture) {
-            const GltfTexture& texture = _model.textures[*material.baseColorTexture];
-            command.textures.push_back({0, &_textures[texture.image], &_samplers[*material.baseColorTexture]});
+            const world::GltfTexture& texture = _model.textures[*material.baseColorTexture];
+            command.draw.textures.push_back({0, &_textures[texture.image], &_samplers[*material.baseColorTexture]});
         }
-        command.renderState.facetCulling.enabled = !material.doubleSided;
+        command.draw.renderState.facetCulling.enabled = !material.doubleSided;
         command.pass = batch.pass;
         command.boundingSphere = batch.sphere;
         command.horizonOcclusionPoint = _occlusionPoint;
         if (batch.pass == Pass::Translucent) {
-            command.renderState.blending = Blending::alphaBlending();
+            command.draw.renderState.blending = renderer::Blending::alphaBlending();
             // "Over" for alpha too, so an opaque background stays opaque.
-            command.renderState.blending.sourceAlphaFactor = SourceBlendingFactor::One;
-            command.renderState.depthMask = false;
+            command.draw.renderState.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
+            command.draw.renderState.depthMask = false;
         }
         commands.push_back(std::move(command));
     }
 }
 
-} // namespace orbis
+} // namespace orbis::scene

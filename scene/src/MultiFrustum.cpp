@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-namespace orbis {
+namespace orbis::scene {
 
 void MultiFrustum::setOptions(const MultiFrustumOptions& options)
 {
@@ -96,4 +96,4 @@ void MultiFrustum::bin(std::span<const DepthInterval> commands)
     }
 }
 
-} // namespace orbis
+} // namespace orbis::scene

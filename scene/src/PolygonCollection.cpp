@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cassert>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -43,11 +43,11 @@ std::size_t PolygonCollection::size() const noexcept
     return _polygons.size();
 }
 
-std::size_t PolygonCollection::add(const Polygon& polygon, const glm::vec4& color, std::string_view name)
+std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name)
 {
     std::vector<std::vector<glm::dvec3>> rings;
     rings.reserve(polygon.rings.size());
-    for (const LinearRing& ring : polygon.rings) {
+    for (const world::LinearRing& ring : polygon.rings) {
         std::vector<glm::dvec3>& cartesian = rings.emplace_back();
         cartesian.reserve(ring.size());
         for (const Geodetic3D& position : ring) {
@@ -129,8 +129,8 @@ void PolygonCollection::build(FrameState& frameState)
         items.push_back({item.mesh.positions, item.sphere, item.lift}); // polygons lie on the ellipsoid
     }
     batch.build(frameState, items, 4, [&](std::size_t index, std::vector<std::byte>& out) { writeColor(index, out); });
-    batch.vertexArray().setAttribute(VertexAttributeLocation::Color, batch.attributes(),
-                                     {ComponentType::UnsignedByte, 4, true});
+    batch.vertexArray().setAttribute(renderer::VertexAttributeLocation::Color, batch.attributes(),
+                                     {renderer::ComponentType::UnsignedByte, 4, true});
     _geometryDirty = false;
     _colorDirty.clear();
     buildIndices(frameState.device);
@@ -146,7 +146,7 @@ void PolygonCollection::writeColor(std::size_t index, std::vector<std::byte>& ou
     }
 }
 
-void PolygonCollection::buildIndices(Device& device)
+void PolygonCollection::buildIndices(renderer::Device& device)
 {
     _batch->buildIndices(
         device, [&](std::size_t index) { return isOpaque(_polygons[index].color); },
@@ -182,4 +182,4 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
     _batch->appendCommands(frameState, depthOffset, commands);
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -12,7 +12,7 @@
 #include <cassert>
 #include <cstring>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -203,18 +203,18 @@ void PolylineCollection::build(FrameState& frameState)
     }
     batch.build(frameState, items, kStyleBytes,
                 [&](std::size_t index, std::vector<std::byte>& out) { writeStyle(_lines[index], out); });
-    VertexArray& vertexArray = batch.vertexArray();
-    vertexArray.setAttribute(VertexAttributeLocation::Color, batch.attributes(),
-                             {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 0});
+    renderer::VertexArray& vertexArray = batch.vertexArray();
+    vertexArray.setAttribute(renderer::VertexAttributeLocation::Color, batch.attributes(),
+                             {renderer::ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 0});
     vertexArray.setAttribute(kOutlineColorLocation, batch.attributes(),
-                             {ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
-    vertexArray.setAttribute(kWidthsLocation, batch.attributes(), {ComponentType::Float, 2, false, false, kStyleBytes, 8});
+                             {renderer::ComponentType::UnsignedByte, 4, true, false, kStyleBytes, 4});
+    vertexArray.setAttribute(kWidthsLocation, batch.attributes(), {renderer::ComponentType::Float, 2, false, false, kStyleBytes, 8});
     _geometryDirty = false;
     _styleDirty.clear();
     buildIndices(frameState.device);
 }
 
-void PolylineCollection::buildIndices(Device& device)
+void PolylineCollection::buildIndices(renderer::Device& device)
 {
     // A strip with adjacency per line: the vertex before the first segment and the one after the
     // last; an open end repeats its own vertex (no joint), a loop wraps around.
@@ -263,4 +263,4 @@ void PolylineCollection::update(FrameState& frameState, CommandList& commands)
     _batch->appendCommands(frameState, depthOffset, commands);
 }
 
-} // namespace orbis
+} // namespace orbis::scene

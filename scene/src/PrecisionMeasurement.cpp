@@ -16,7 +16,7 @@
 #include <limits>
 #include <random>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -48,10 +48,10 @@ glm::dvec3 jitterTarget(double heightMeters)
     return Ellipsoid::wgs84().toCartesian(Geodetic3D::fromDegrees(10.0, 45.0, heightMeters));
 }
 
-JitterResult measureVertexJitter(Context& context, VertexTransform transform, const glm::dvec3& target,
+JitterResult measureVertexJitter(renderer::Context& context, VertexTransform transform, const glm::dvec3& target,
                                  double eyeDistance, const JitterOptions& options)
 {
-    Device& device = context.device();
+    renderer::Device& device = context.device();
     const Ellipsoid& earth = Ellipsoid::wgs84();
     const glm::dvec3 eye = target + eyeDistance * earth.geodeticSurfaceNormal(target);
     Camera camera;
@@ -79,24 +79,24 @@ JitterResult measureVertexJitter(Context& context, VertexTransform transform, co
     const std::vector<glm::dvec3> positions = mesh.positions;
     const BoundingSphere sphere = BoundingSphere::fromPoints(positions);
 
-    SceneState scene;
+    renderer::SceneState scene;
     scene.viewMatrix = camera.viewMatrix();
     scene.projectionMatrix = camera.projectionMatrix(aspect, 0.01 * eyeDistance, 100.0 * eyeDistance);
     scene.cameraEye = eye;
     scene.viewport = {0, 0, options.width, options.height};
 
-    Framebuffer unused = context.createFramebuffer(1, 1);
+    renderer::Framebuffer unused = context.createFramebuffer(1, 1);
     FrameState frameState{context, device, camera, earth, options.width, options.height, glm::dvec3(1.0, 0.0, 0.0),
                           0.0, 0, Frustum::fromViewProjection(scene.projectionMatrix * scene.viewMatrix),
                           EllipsoidalOccluder(earth, eye), DepthStrategy::MultiFrustum};
     const VertexTransform concrete = resolveVertexTransform(transform, sphere, frameState);
     VertexTransformArrays arrays(std::move(mesh), sphere.centre, concrete);
-    ShaderProgramDescription description =
+    renderer::ShaderProgramDescription description =
         MeshPrimitive::programDescription(concrete, DepthStrategy::MultiFrustum, Pass::Opaque, false, device.info());
     description.transformFeedbackVaryings = {"gl_Position"};
-    const std::shared_ptr<ShaderProgram> program = device.shaderCache().get(description);
+    const std::shared_ptr<renderer::ShaderProgram> program = device.shaderCache().get(description);
 
-    DrawCommand command;
+    renderer::DrawCommand command;
     command.debugName = "jitter measurement";
     command.vertexArray = &arrays.get(context, concrete, eye);
     command.shaderProgram = program.get();
@@ -123,7 +123,7 @@ JitterResult measureVertexJitter(Context& context, VertexTransform transform, co
     return result;
 }
 
-ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, double distance, double separation,
+ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strategy, double distance, double separation,
                                  const ZFightingOptions& options)
 {
     const Ellipsoid& earth = Ellipsoid::wgs84();
@@ -171,8 +171,8 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
             const Mesh cube = BoxTessellator::cube(eye + glm::dvec3(-0.75 * e, 0.75 * e, d), 0.04 * d);
             scene.add(std::make_shared<MeshPrimitive>(cube, glm::vec4(1, 1, 1, 1), Pass::Opaque, exact));
         }
-        Framebuffer* previous = context.framebuffer();
-        Framebuffer framebuffer = context.createFramebuffer(options.size, options.size);
+        renderer::Framebuffer* previous = context.framebuffer();
+        renderer::Framebuffer framebuffer = context.createFramebuffer(options.size, options.size);
         context.setFramebuffer(&framebuffer);
         try {
             statistics = scene.render(context);
@@ -209,7 +209,7 @@ ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, doubl
     return result;
 }
 
-double measureMinimumSeparation(Context& context, DepthStrategy strategy, double distance,
+double measureMinimumSeparation(renderer::Context& context, DepthStrategy strategy, double distance,
                                 const ZFightingOptions& options, int stepsPerDecade)
 {
     // From the distance down: wrongly ordered pixels come and go with where the depth steps fall,
@@ -226,10 +226,10 @@ double measureMinimumSeparation(Context& context, DepthStrategy strategy, double
     return measureZFighting(context, strategy, distance, spacing, options).wrongFraction > 0.0 ? resolved : spacing;
 }
 
-TwoSumSurvival measureTwoSumSurvival(Context& context, TwoSumProtection protection, std::size_t samples,
+TwoSumSurvival measureTwoSumSurvival(renderer::Context& context, TwoSumProtection protection, std::size_t samples,
                                      std::uint64_t seed)
 {
-    Device& device = context.device();
+    renderer::Device& device = context.device();
     std::mt19937_64 random(seed);
     std::normal_distribution<double> normal;
     std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -246,9 +246,9 @@ TwoSumSurvival measureTwoSumSurvival(Context& context, TwoSumProtection protecti
         eyes.push_back(EmulatedDVec3::fromDVec3(eye));
     }
 
-    ShaderProgramDescription description;
+    renderer::ShaderProgramDescription description;
     description.name = "two-sum survival";
-    description.vertex = ShaderSource::fromText("two-sum.vert.glsl", R"(
+    description.vertex = renderer::ShaderSource::fromText("two-sum.vert.glsl", R"(
 in vec3 positionHigh;
 in vec3 positionLow;
 in vec3 normal;            // the eye's high part, per vertex so that one draw covers every sample
@@ -260,7 +260,7 @@ void main()
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }
 )");
-    description.fragment = ShaderSource::fromText("two-sum.frag.glsl", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+    description.fragment = renderer::ShaderSource::fromText("two-sum.frag.glsl", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
     description.transformFeedbackVaryings = {"v_difference"};
     if (protection == TwoSumProtection::Precise) {
         description.defines.push_back({"OG_PRECISE"});
@@ -268,7 +268,7 @@ void main()
     } else if (protection == TwoSumProtection::Unprotected) {
         description.defines.push_back({"OG_UNPROTECTED_TWO_SUM"});
     }
-    ShaderProgram program = device.createShaderProgram(description);
+    renderer::ShaderProgram program = device.createShaderProgram(description);
 
     std::vector<float> data[4];
     for (std::size_t i = 0; i < samples; ++i) {
@@ -279,24 +279,24 @@ void main()
             data[3].push_back(eyes[i].low[k]);
         }
     }
-    const VertexBuffer buffers[] = {device.createVertexBuffer(std::as_bytes(std::span(data[0]))),
+    const renderer::VertexBuffer buffers[] = {device.createVertexBuffer(std::as_bytes(std::span(data[0]))),
                                     device.createVertexBuffer(std::as_bytes(std::span(data[1]))),
                                     device.createVertexBuffer(std::as_bytes(std::span(data[2]))),
                                     device.createVertexBuffer(std::as_bytes(std::span(data[3])))};
-    VertexArray array = context.createVertexArray();
-    const VertexAttributeFormat vec3{ComponentType::Float, 3};
+    renderer::VertexArray array = context.createVertexArray();
+    const renderer::VertexAttributeFormat vec3{renderer::ComponentType::Float, 3};
     array.setAttribute("positionHigh", buffers[0], vec3);
     array.setAttribute("positionLow", buffers[1], vec3);
     array.setAttribute("normal", buffers[2], vec3);
     array.setAttribute("color", buffers[3], vec3);
-    Framebuffer unused = context.createFramebuffer(1, 1);
-    DrawCommand command;
+    renderer::Framebuffer unused = context.createFramebuffer(1, 1);
+    renderer::DrawCommand command;
     command.debugName = "two-sum survival";
     command.vertexArray = &array;
     command.shaderProgram = &program;
     command.primitiveType = PrimitiveType::Points;
     command.framebuffer = &unused;
-    const std::vector<float> captured = context.captureVertexOutputs(command, SceneState{});
+    const std::vector<float> captured = context.captureVertexOutputs(command, renderer::SceneState{});
 
     TwoSumSurvival result;
     result.samples = samples;
@@ -312,4 +312,4 @@ void main()
     return result;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -19,7 +19,7 @@
 #include <string>
 #include <typeinfo>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -39,8 +39,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point start)
 
 /// Puts the context's framebuffer back however the frame ends.
 struct FramebufferRestorer {
-    Context& context;
-    Framebuffer* framebuffer;
+    renderer::Context& context;
+    renderer::Framebuffer* framebuffer;
     ~FramebufferRestorer() { context.setFramebuffer(framebuffer); }
 };
 
@@ -78,10 +78,10 @@ void Scene::setSunDirection(const glm::dvec3& direction) noexcept
     }
 }
 
-DepthStrategy Scene::chooseDepthStrategy(Context& context, Framebuffer* target, double nearDistance,
+DepthStrategy Scene::chooseDepthStrategy(renderer::Context& context, renderer::Framebuffer* target, double nearDistance,
                                          double farDistance, bool logarithmicAvailable) const
 {
-    const DeviceInfo& device = context.device().info();
+    const renderer::DeviceInfo& device = context.device().info();
     const DepthStrategy requested = _options.depthStrategy;
     if (requested == DepthStrategy::Automatic) {
         detail::AutoInputs inputs;
@@ -105,34 +105,34 @@ DepthStrategy Scene::chooseDepthStrategy(Context& context, Framebuffer* target, 
     return requested;
 }
 
-Framebuffer* Scene::floatDepthTarget(Context& context, Framebuffer& target)
+renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target)
 {
-    if (target.depthAttachment() && target.depthAttachment()->format() == TextureFormat::Depth32F) {
+    if (target.depthAttachment() && target.depthAttachment()->format() == renderer::TextureFormat::Depth32F) {
         return &target;
     }
     bool current = _floatDepthTarget && _floatDepthContext == &context && _floatDepth &&
                    _floatDepth->width() == target.width() && _floatDepth->height() == target.height();
-    for (int i = 0; current && i < Framebuffer::kMaxColorAttachments; ++i) {
+    for (int i = 0; current && i < renderer::Framebuffer::kMaxColorAttachments; ++i) {
         current = _floatDepthTarget->colorAttachment(i) == target.colorAttachment(i);
     }
     if (!current) {
-        _floatDepthTarget = std::make_shared<Framebuffer>(context.createFramebuffer());
-        for (int i = 0; i < Framebuffer::kMaxColorAttachments; ++i) {
+        _floatDepthTarget = std::make_shared<renderer::Framebuffer>(context.createFramebuffer());
+        for (int i = 0; i < renderer::Framebuffer::kMaxColorAttachments; ++i) {
             _floatDepthTarget->setColorAttachment(i, target.colorAttachment(i));
         }
-        _floatDepth = std::make_shared<Texture2D>(
-            context.device().createTexture2D({target.width(), target.height(), TextureFormat::Depth32F}));
+        _floatDepth = std::make_shared<renderer::Texture2D>(
+            context.device().createTexture2D({target.width(), target.height(), renderer::TextureFormat::Depth32F}));
         _floatDepthTarget->setDepthAttachment(_floatDepth);
         _floatDepthContext = &context;
     }
     return _floatDepthTarget.get();
 }
 
-FrameStatistics Scene::render(Context& context)
+FrameStatistics Scene::render(renderer::Context& context)
 {
     FrameStatistics statistics;
     statistics.frameNumber = ++_frameNumber;
-    Framebuffer* target = context.framebuffer();
+    renderer::Framebuffer* target = context.framebuffer();
     const int width = target ? target->width() : 0;
     const int height = target ? target->height() : 0;
     const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
@@ -144,7 +144,7 @@ FrameStatistics Scene::render(Context& context)
     const glm::dvec3 viewDirection = _camera.direction();
     const Frustum cullingVolume = Frustum::fromViewProjection(wholeProjection * view);
 
-    Device& device = context.device();
+    renderer::Device& device = context.device();
     const std::uint64_t compilesBefore = device.shaderCache().compiles();
     context.resetStatistics();
 
@@ -253,12 +253,12 @@ FrameStatistics Scene::render(Context& context)
     if (plan.needsFloatDepth) {
         context.setFramebuffer(floatDepthTarget(context, *target));
     }
-    ClearState clear;
+    renderer::ClearState clear;
     clear.color = _options.background;
     clear.depth = plan.clearDepth;
     context.clear(clear);
 
-    SceneState sceneState;
+    renderer::SceneState sceneState;
     sceneState.viewMatrix = view;
     sceneState.cameraEye = eye;
     sceneState.viewport = {0, 0, width, height};
@@ -270,8 +270,8 @@ FrameStatistics Scene::render(Context& context)
     const auto& bins = _binner.multiFrustum().bins();
     const auto& visible = _binner.visible();
     statistics.drawCallsPerFrustum.assign(frustums.size(), 0);
-    ClearState depthOnly;
-    depthOnly.buffers = ClearBuffers::Depth;
+    renderer::ClearState depthOnly;
+    depthOnly.buffers = renderer::ClearBuffers::Depth;
     depthOnly.depth = plan.clearDepth;
     bool depthDirty = false;
     for (std::size_t f = frustums.size(); f-- > 0;) {
@@ -292,9 +292,9 @@ FrameStatistics Scene::render(Context& context)
         for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
             std::size_t drawn = 0;
             for (const std::uint32_t binned : bins[f]) {
-                const DrawCommand& command = _commands[visible[binned]];
+                const SceneCommand& command = _commands[visible[binned]];
                 if (command.pass == pass) {
-                    context.draw(command, sceneState);
+                    context.draw(command.draw, sceneState);
                     statistics.effects |= command.tags;
                     ++drawn;
                 }
@@ -316,7 +316,7 @@ FrameStatistics Scene::render(Context& context)
         sceneState.ownedNearDistance = 0.0;
         sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
         for (const std::uint32_t index : overlay) {
-            context.draw(_commands[index], sceneState);
+            context.draw(_commands[index].draw, sceneState);
             statistics.effects |= _commands[index].tags;
         }
         statistics.commandsExecuted += overlay.size();
@@ -329,4 +329,4 @@ FrameStatistics Scene::render(Context& context)
     return statistics;
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -1,25 +1,26 @@
 #include "orbis/scene/SceneBuilder.h"
 
 #include "orbis/scene/BillboardCollection.h"
-#include "orbis/scene/CsvPoints.h"
 #include "orbis/scene/FeaturePrimitives.h"
-#include "orbis/scene/GeoJson.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
 #include "orbis/scene/ModelPrimitive.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/world/CsvPoints.h>
+#include <orbis/world/GeoJson.h>
+#include <orbis/world/ImageFile.h>
 
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
 #include <variant>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
-PolylineStyle polylineStyle(const StrokeStyle& stroke)
+PolylineStyle polylineStyle(const world::StrokeStyle& stroke)
 {
     PolylineStyle style;
     style.color = stroke.color;
@@ -31,23 +32,23 @@ PolylineStyle polylineStyle(const StrokeStyle& stroke)
 
 /// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
 /// default stroke.
-void addGeoJsonLayer(const GeoJsonLayer& layer, Scene& scene)
+void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
 {
     FeatureStyle style;
     style.borders = layer.stroke.has_value() || !layer.fill.has_value();
-    style.border = polylineStyle(layer.stroke.value_or(StrokeStyle{}));
+    style.border = polylineStyle(layer.stroke.value_or(world::StrokeStyle{}));
     style.fill = layer.fill.has_value();
     if (layer.fill) {
         style.fillColor = layer.fill->color;
     }
     style.granularityRadians = layer.path.granularityRadians;
     style.curve = layer.path.curve;
-    buildFeaturePrimitives(scene.ellipsoid(), loadGeoJson(layer.source), style).addTo(scene);
+    buildFeaturePrimitives(scene.ellipsoid(), world::loadGeoJson(layer.source), style).addTo(scene);
 }
 
-void addPolylineLayer(const PolylineLayer& layer, Scene& scene)
+void addPolylineLayer(const world::PolylineLayer& layer, Scene& scene)
 {
-    StrokeStyle stroke;
+    world::StrokeStyle stroke;
     stroke.color = layer.color;
     stroke.widthPixels = layer.widthPixels;
     PolylineCollectionOptions options;
@@ -76,18 +77,18 @@ Image roundDot(int size)
     return image;
 }
 
-std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(Origin origin)
+std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(world::Origin origin)
 {
     switch (origin) {
-    case Origin::Center: return {HorizontalOrigin::Center, VerticalOrigin::Center};
-    case Origin::Top: return {HorizontalOrigin::Center, VerticalOrigin::Top};
-    case Origin::Bottom: return {HorizontalOrigin::Center, VerticalOrigin::Bottom};
-    case Origin::Left: return {HorizontalOrigin::Left, VerticalOrigin::Center};
-    case Origin::Right: return {HorizontalOrigin::Right, VerticalOrigin::Center};
-    case Origin::TopLeft: return {HorizontalOrigin::Left, VerticalOrigin::Top};
-    case Origin::TopRight: return {HorizontalOrigin::Right, VerticalOrigin::Top};
-    case Origin::BottomLeft: return {HorizontalOrigin::Left, VerticalOrigin::Bottom};
-    case Origin::BottomRight: return {HorizontalOrigin::Right, VerticalOrigin::Bottom};
+    case world::Origin::Center: return {HorizontalOrigin::Center, VerticalOrigin::Center};
+    case world::Origin::Top: return {HorizontalOrigin::Center, VerticalOrigin::Top};
+    case world::Origin::Bottom: return {HorizontalOrigin::Center, VerticalOrigin::Bottom};
+    case world::Origin::Left: return {HorizontalOrigin::Left, VerticalOrigin::Center};
+    case world::Origin::Right: return {HorizontalOrigin::Right, VerticalOrigin::Center};
+    case world::Origin::TopLeft: return {HorizontalOrigin::Left, VerticalOrigin::Top};
+    case world::Origin::TopRight: return {HorizontalOrigin::Right, VerticalOrigin::Top};
+    case world::Origin::BottomLeft: return {HorizontalOrigin::Left, VerticalOrigin::Bottom};
+    case world::Origin::BottomRight: return {HorizontalOrigin::Right, VerticalOrigin::Bottom};
     }
     return {HorizontalOrigin::Center, VerticalOrigin::Center};
 }
@@ -98,15 +99,15 @@ struct Points {
     std::vector<std::string> texts;
 };
 
-Points readPoints(const PointsLayer& layer)
+Points readPoints(const world::PointsLayer& layer)
 {
     Points points;
     const std::string field = layer.label ? layer.label->field : std::string();
-    if (layer.format == PointsLayer::Format::Csv) {
-        CsvPointsOptions options;
+    if (layer.format == world::PointsLayer::Format::Csv) {
+        world::CsvPointsOptions options;
         options.longitudeColumn.clear(); // any accepted name
         options.latitudeColumn.clear();
-        CsvPoints csv = loadCsvPoints(layer.source, options);
+        world::CsvPoints csv = world::loadCsvPoints(layer.source, options);
         points.positions = std::move(csv.positions);
         if (!field.empty()) {
             const std::vector<std::string>* texts = csv.column(field);
@@ -117,14 +118,14 @@ Points readPoints(const PointsLayer& layer)
         }
         return points;
     }
-    for (const Feature& feature : loadGeoJson(layer.source).features) {
+    for (const world::Feature& feature : world::loadGeoJson(layer.source).features) {
         if (!feature.geometry) {
             continue;
         }
         std::vector<Geodetic3D> positions;
-        if (const auto* point = std::get_if<Point>(&feature.geometry->value)) {
+        if (const auto* point = std::get_if<world::Point>(&feature.geometry->value)) {
             positions.push_back(point->position);
-        } else if (const auto* multi = std::get_if<MultiPoint>(&feature.geometry->value)) {
+        } else if (const auto* multi = std::get_if<world::MultiPoint>(&feature.geometry->value)) {
             positions = multi->positions;
         }
         const std::string text = field.empty() ? std::string() : feature.stringProperty(field).value_or("");
@@ -139,15 +140,15 @@ Points readPoints(const PointsLayer& layer)
 }
 
 /// A billboard for every point, and a label when the layer asks for one.
-void addPointsLayer(const PointsLayer& layer, Scene& scene)
+void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
 {
     const Points points = readPoints(layer);
     const Ellipsoid& ellipsoid = scene.ellipsoid();
-    const BillboardStyle& style = layer.billboard;
+    const world::BillboardStyle& style = layer.billboard;
     const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
 
     auto billboards = std::make_shared<BillboardCollection>();
-    Image image = style.image ? readImage(*style.image) : roundDot(size);
+    Image image = style.image ? world::readImage(*style.image) : roundDot(size);
     const float scale = static_cast<float>(style.sizePixels / std::max(image.width, image.height));
     const std::size_t imageIndex = billboards->addImage(image);
     const auto [horizontal, vertical] = splitOrigin(style.origin);
@@ -192,7 +193,7 @@ void addPointsLayer(const PointsLayer& layer, Scene& scene)
 }
 
 /// The file is read now (geometry, and its errors); GPU resources wait for the first frame.
-void addModelLayer(const ModelLayer& layer, bool lighting, Scene& scene)
+void addModelLayer(const world::ModelLayer& layer, bool lighting, Scene& scene)
 {
     ModelOptions options;
     options.lighting = lighting;
@@ -202,7 +203,7 @@ void addModelLayer(const ModelLayer& layer, bool lighting, Scene& scene)
 
 } // namespace
 
-void populateScene(const SceneDescription& description, Scene& scene)
+void populateScene(const world::SceneDescription& description, Scene& scene)
 {
     scene.options().depthStrategy = description.depth;
     scene.camera() = makeCamera(description.camera, scene.ellipsoid());
@@ -220,7 +221,7 @@ void populateScene(const SceneDescription& description, Scene& scene)
         }
         options.grid = description.globe->grid;
         // Lighting costs only when the file places the Sun.
-        options.lighting = description.sun.source != SunSource::Camera;
+        options.lighting = description.sun.source != world::SunSource::Camera;
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
     }
     for (std::size_t i = 0; i < description.layers.size(); ++i) {
@@ -228,15 +229,15 @@ void populateScene(const SceneDescription& description, Scene& scene)
             std::visit(
                 [&](const auto& layer) {
                     using Layer = std::decay_t<decltype(layer)>;
-                    if constexpr (std::is_same_v<Layer, GeoJsonLayer>) {
+                    if constexpr (std::is_same_v<Layer, world::GeoJsonLayer>) {
                         addGeoJsonLayer(layer, scene);
-                    } else if constexpr (std::is_same_v<Layer, PolylineLayer>) {
+                    } else if constexpr (std::is_same_v<Layer, world::PolylineLayer>) {
                         addPolylineLayer(layer, scene);
-                    } else if constexpr (std::is_same_v<Layer, PointsLayer>) {
+                    } else if constexpr (std::is_same_v<Layer, world::PointsLayer>) {
                         addPointsLayer(layer, scene);
                     } else {
                         // Lit, as the globe is, only when the file places the Sun.
-                        addModelLayer(layer, description.sun.source != SunSource::Camera, scene);
+                        addModelLayer(layer, description.sun.source != world::SunSource::Camera, scene);
                     }
                 },
                 description.layers[i]);
@@ -246,4 +247,4 @@ void populateScene(const SceneDescription& description, Scene& scene)
     }
 }
 
-} // namespace orbis
+} // namespace orbis::scene

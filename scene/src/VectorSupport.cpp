@@ -16,7 +16,7 @@
 #include <cassert>
 #include <cmath>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 namespace {
 
@@ -102,7 +102,7 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
     return bounds;
 }
 
-void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+void boundDepth(SceneCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
                 double maxHeight) noexcept
 {
     if (!(eyeHeight > 0.0)) {
@@ -148,33 +148,33 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
     return {static_cast<float>(steps), static_cast<float>(fractionOfDistance), static_cast<float>(meters), radius};
 }
 
-RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept
+renderer::RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept
 {
-    RenderState state;
+    renderer::RenderState state;
     state.facetCulling.enabled = cullBackFaces;
     if (blend || pass == Pass::Translucent) {
-        state.blending = Blending::alphaBlending();
-        state.blending.sourceAlphaFactor = SourceBlendingFactor::One;
+        state.blending = renderer::Blending::alphaBlending();
+        state.blending.sourceAlphaFactor = renderer::SourceBlendingFactor::One;
     }
     state.depthMask = pass != Pass::Translucent;
     return state;
 }
 
-ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
+renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
 {
-    ShaderProgramDescription description;
-    description.vertex = ShaderSource::embedded("scene/vector/vector.vert.glsl");
+    renderer::ShaderProgramDescription description;
+    description.vertex = renderer::ShaderSource::embedded("scene/vector/vector.vert.glsl");
     if (shape == VectorShape::Polylines) {
         description.name = "polylines";
-        description.geometry = ShaderSource::embedded("scene/vector/polyline.geom.glsl");
-        description.fragment = ShaderSource::embedded("scene/vector/polyline.frag.glsl");
+        description.geometry = renderer::ShaderSource::embedded("scene/vector/polyline.geom.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/vector/polyline.frag.glsl");
         description.defines.push_back({"POLYLINE"});
     } else {
         description.name = "polygons";
         if (strategy == DepthStrategy::LogarithmicVertex) {
-            description.geometry = ShaderSource::embedded("scene/vector/polygon.geom.glsl");
+            description.geometry = renderer::ShaderSource::embedded("scene/vector/polygon.geom.glsl");
         }
-        description.fragment = ShaderSource::embedded("scene/vector/polygon.frag.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/vector/polygon.frag.glsl");
     }
     if (description.geometry) {
         description.defines.push_back({"DEPTH_IN_GEOMETRY_SHADER"});
@@ -245,20 +245,20 @@ void VectorBatch::build(FrameState& frameState, std::span<const VectorItem> item
         }
     }
     assert(attributeData.size() == vertexCount * bytesPerVertex);
-    Device& device = frameState.device;
+    renderer::Device& device = frameState.device;
     _positions = device.createVertexBuffer(std::as_bytes(std::span(positionData)));
-    _attributes = device.createVertexBuffer(std::span<const std::byte>(attributeData), BufferUsage::DynamicDraw);
+    _attributes = device.createVertexBuffer(std::span<const std::byte>(attributeData), renderer::BufferUsage::DynamicDraw);
     _vertexArray = frameState.context.createVertexArray();
     if (_relativeToEye) {
-        _vertexArray.setAttribute(VertexAttributeLocation::PositionHigh, _positions,
-                                  {ComponentType::Float, 3, false, false, 24, 0});
-        _vertexArray.setAttribute(VertexAttributeLocation::PositionLow, _positions,
-                                  {ComponentType::Float, 3, false, false, 24, 12});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::PositionHigh, _positions,
+                                  {renderer::ComponentType::Float, 3, false, false, 24, 0});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::PositionLow, _positions,
+                                  {renderer::ComponentType::Float, 3, false, false, 24, 12});
     } else {
-        _vertexArray.setAttribute(VertexAttributeLocation::Position, _positions, {ComponentType::Float, 3});
+        _vertexArray.setAttribute(renderer::VertexAttributeLocation::Position, _positions, {renderer::ComponentType::Float, 3});
     }
     _ranges.clear();
-    _indices = IndexBuffer();
+    _indices = renderer::IndexBuffer();
 }
 
 void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes)
@@ -278,7 +278,7 @@ void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const Attri
     items.clear();
 }
 
-void VectorBatch::buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
+void VectorBatch::buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
                                const IndexWriter& writeIndices)
 {
     std::vector<std::uint32_t> indices;
@@ -297,7 +297,7 @@ void VectorBatch::buildIndices(Device& device, const std::function<bool(std::siz
         }
     }
     _vertexArray.setIndexBuffer(nullptr);
-    _indices = IndexBuffer();
+    _indices = renderer::IndexBuffer();
     if (!indices.empty()) {
         _indices = device.createIndexBuffer(std::span<const std::uint32_t>(indices));
         _vertexArray.setIndexBuffer(&_indices);
@@ -311,22 +311,22 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
     const double eyeHeight = _ellipsoid.toGeodetic3D(eye).height;
     for (const Range& range : _ranges) {
         const Group& group = _groups[range.group];
-        DrawCommand command;
-        command.debugName = lines ? "polylines" : "polygons";
+        SceneCommand command;
+        command.draw.debugName = lines ? "polylines" : "polygons";
         command.tags = static_cast<std::uint32_t>(lines ? Effect::Polylines : Effect::Polygons);
-        command.vertexArray = &_vertexArray;
-        command.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
-        command.first = range.first;
-        command.count = range.count;
-        command.shaderProgram = &_programs.get(frameState, range.pass);
-        command.uniforms.set("u_depthOffset", depthOffset);
+        command.draw.vertexArray = &_vertexArray;
+        command.draw.primitiveType = lines ? PrimitiveType::LineStripAdjacency : PrimitiveType::Triangles;
+        command.draw.first = range.first;
+        command.draw.count = range.count;
+        command.draw.shaderProgram = &_programs.get(frameState, range.pass);
+        command.draw.uniforms.set("u_depthOffset", depthOffset);
         // Fills cull their back faces; lines blend in both passes (anti-aliased edges).
-        command.renderState = vectorRenderState(range.pass, !lines, lines);
+        command.draw.renderState = vectorRenderState(range.pass, !lines, lines);
         if (lines) {
-            command.renderState.primitiveRestart = {true, kRestartIndex};
+            command.draw.renderState.primitiveRestart = {true, kRestartIndex};
         }
         if (!_relativeToEye) {
-            command.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
+            command.draw.modelMatrix = glm::translate(glm::dmat4(1.0), group.bounds.sphere.centre);
         }
         command.pass = range.pass;
         command.boundingSphere = group.bounds.sphere;
@@ -336,4 +336,4 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
     }
 }
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

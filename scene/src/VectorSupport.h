@@ -10,7 +10,6 @@
 
 #include <orbis/core/BoundingSphere.h>
 #include <orbis/core/Ellipsoid.h>
-#include <orbis/renderer/DrawCommand.h>
 #include <orbis/renderer/IndexBuffer.h>
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
@@ -26,7 +25,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis::detail {
+namespace orbis::scene::detail {
 
 /// Angle at the centre between two positions (radians, 0..pi); 0 when either is the centre.
 double centralAngle(const glm::dvec3& a, const glm::dvec3& b) noexcept;
@@ -67,7 +66,7 @@ GroupBounds boundsOf(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> pos
 /// from the eye to the inscribed sphere (radius b: a sight line through it meets the ellipsoid)
 /// continued to the sphere of radius a + maxHeight. Far tighter than a group's sphere, which a
 /// low eye is often inside, so low views need fewer frustums.
-void boundDepth(DrawCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
+void boundDepth(SceneCommand& command, const Ellipsoid& ellipsoid, const glm::dvec3& eye, double eyeHeight,
                 double maxHeight) noexcept;
 
 /// Appends a position as the vertex shader reads it: positionHigh, positionLow (relative to the
@@ -86,7 +85,7 @@ glm::vec4 depthOffsetUniform(const Ellipsoid& ellipsoid, bool enabled, double st
 /// The render state of a vector command: depth tested; blended over what is there when asked
 /// (always for translucent commands): alpha "over" in both colour and alpha, so an opaque background
 /// stays opaque; translucent commands do not write depth.
-RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept;
+renderer::RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blend) noexcept;
 
 /// One item of a vector collection (a line, a polygon) as VectorBatch lays it out.
 struct VectorItem {
@@ -104,7 +103,7 @@ enum class VectorShape : std::uint8_t { Polylines, Polygons };
 /// geometry shader where there is one (DEPTH_IN_GEOMETRY_SHADER): the polylines' always, and for
 /// polygons a pass-through one under LogarithmicVertex, which keeps each triangle's interpolated
 /// logarithm from falling behind its true depth (og_depthPrimitiveVertex).
-ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy);
+renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy);
 
 /// The GPU side PolylineCollection and PolygonCollection share: their items in groups by region
 /// (groupByRegion), the items' positions in one vertex buffer laid out group by group (relative to
@@ -133,14 +132,14 @@ public:
     void rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes);
     /// Rebuilds the index buffer: in each group the opaque items (`opaque`), then the others, each
     /// range drawn in its pass.
-    void buildIndices(Device& device, const std::function<bool(std::size_t item)>& opaque,
+    void buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
                       const IndexWriter& writeIndices);
     /// Appends one command per range, tagged with the shape's effect, drawn with the program for
     /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform).
     void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands);
 
-    VertexArray& vertexArray() noexcept { return _vertexArray; }
-    const VertexBuffer& attributes() const noexcept { return _attributes; }
+    renderer::VertexArray& vertexArray() noexcept { return _vertexArray; }
+    const renderer::VertexBuffer& attributes() const noexcept { return _attributes; }
 
 private:
     struct Group {
@@ -165,10 +164,10 @@ private:
     std::vector<Range> _ranges;
     std::vector<std::size_t> _firstVertex; ///< by item; kNotDrawn for items without positions
     std::vector<std::size_t> _vertexCount; ///< by item
-    VertexBuffer _positions;
-    VertexBuffer _attributes;
-    IndexBuffer _indices;
-    VertexArray _vertexArray;
+    renderer::VertexBuffer _positions;
+    renderer::VertexBuffer _attributes;
+    renderer::IndexBuffer _indices;
+    renderer::VertexArray _vertexArray;
 };
 
-} // namespace orbis::detail
+} // namespace orbis::scene::detail

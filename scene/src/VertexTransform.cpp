@@ -14,7 +14,7 @@
 #include <cmath>
 #include <limits>
 
-namespace orbis {
+namespace orbis::scene {
 
 namespace {
 
@@ -59,8 +59,8 @@ const char* vertexTransformDefine(VertexTransform transform) noexcept
     return "";
 }
 
-void addVertexTransformDefines(VertexTransform transform, const DeviceInfo& device,
-                               ShaderProgramDescription& description)
+void addVertexTransformDefines(VertexTransform transform, const renderer::DeviceInfo& device,
+                               renderer::ShaderProgramDescription& description)
 {
     if (transform == VertexTransform::Automatic) {
         return;
@@ -133,9 +133,9 @@ bool VertexTransformArrays::covers(VertexTransform transform) const noexcept
     return transform == _requested;
 }
 
-void VertexTransformArrays::create(Context& context)
+void VertexTransformArrays::create(renderer::Context& context)
 {
-    Device& device = context.device();
+    renderer::Device& device = context.device();
     _primitiveType = _mesh.primitiveType;
     _hasNormals = !_mesh.normals.empty();
     if (_hasNormals) {
@@ -190,11 +190,11 @@ void VertexTransformArrays::create(Context& context)
         }
         case VertexTransform::Automatic: break;
         }
-        const BufferUsage usage =
-            transform == VertexTransform::RelativeToEyeCpu ? BufferUsage::StreamDraw : BufferUsage::StaticDraw;
+        const renderer::BufferUsage usage =
+            transform == VertexTransform::RelativeToEyeCpu ? renderer::BufferUsage::StreamDraw : renderer::BufferUsage::StaticDraw;
         variant.high = device.createVertexBuffer(bytesOf(high), usage);
-        VertexArray array = context.createVertexArray();
-        const VertexAttributeFormat vec3{ComponentType::Float, 3};
+        renderer::VertexArray array = context.createVertexArray();
+        const renderer::VertexAttributeFormat vec3{renderer::ComponentType::Float, 3};
         if (low.empty()) {
             array.setAttribute("position", variant.high, vec3);
         } else {
@@ -221,7 +221,7 @@ void VertexTransformArrays::create(Context& context)
     }
 }
 
-const VertexArray& VertexTransformArrays::get(Context& context, VertexTransform transform, const glm::dvec3& eye)
+const renderer::VertexArray& VertexTransformArrays::get(renderer::Context& context, VertexTransform transform, const glm::dvec3& eye)
 {
     assert(covers(transform) && transform != VertexTransform::Automatic);
     if (!_created) {
@@ -250,4 +250,4 @@ glm::dmat4 VertexTransformArrays::modelMatrix(VertexTransform transform) const n
     return transform == VertexTransform::RelativeToCenter ? glm::translate(glm::dmat4(1.0), _center) : glm::dmat4(1.0);
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -1,8 +1,10 @@
 // libFuzzer target for the scene-file parser: any input either parses into a description that
-// keeps the documented invariants or throws orbis::SceneFileError with a well-formed message.
+// keeps the documented invariants or throws orbis::world::SceneFileError with a well-formed message.
 // Any other exception, a crash, a sanitizer report or a broken invariant is a bug.
 // Built and run by scripts/fuzz.sh (clang, -fsanitize=fuzzer,address,undefined).
-#include <orbis/scene/SceneFile.h>
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/scene/Camera.h>
+#include <orbis/world/SceneFile.h>
 
 #include <glm/geometric.hpp>
 
@@ -26,30 +28,30 @@ bool isFiniteAngle(double radians)
     return std::isfinite(radians) && std::abs(radians) <= 2.0 * orbis::kPi;
 }
 
-void checkDescription(const orbis::SceneDescription& scene)
+void checkDescription(const orbis::world::SceneDescription& scene)
 {
-    require(scene.version == orbis::kSceneFileVersion);
+    require(scene.version == orbis::world::kSceneFileVersion);
     require(scene.width >= 1 && scene.width <= 16384 && scene.height >= 1 && scene.height <= 16384);
     require(scene.camera.fieldOfViewY > 0.0 && scene.camera.fieldOfViewY < orbis::kPi);
     require(isFiniteAngle(scene.camera.position.latitude) && std::isfinite(scene.camera.position.height));
     require(std::abs(glm::length(scene.sun.directionEarthFixed) - 1.0) < 1e-12);
     require(isFiniteAngle(scene.sun.subsolarPoint.longitude) && isFiniteAngle(scene.sun.subsolarPoint.latitude));
-    const orbis::Camera camera = orbis::makeCamera(scene.camera, orbis::Ellipsoid::wgs84());
+    const orbis::scene::Camera camera = orbis::scene::makeCamera(scene.camera, orbis::Ellipsoid::wgs84());
     require(orbis::isFinite(camera.direction()) && orbis::isFinite(camera.up()) && orbis::isFinite(camera.right()));
-    for (const orbis::LayerDescription& layer : scene.layers) {
-        if (const auto* polyline = std::get_if<orbis::PolylineLayer>(&layer)) {
+    for (const orbis::world::LayerDescription& layer : scene.layers) {
+        if (const auto* polyline = std::get_if<orbis::world::PolylineLayer>(&layer)) {
             require(polyline->positions.size() >= 2 && polyline->widthPixels > 0.0);
-        } else if (const auto* model = std::get_if<orbis::ModelLayer>(&layer)) {
+        } else if (const auto* model = std::get_if<orbis::world::ModelLayer>(&layer)) {
             require(model->scale > 0.0 && std::isfinite(model->scale) && model->source.is_absolute());
-        } else if (const auto* points = std::get_if<orbis::PointsLayer>(&layer)) {
+        } else if (const auto* points = std::get_if<orbis::world::PointsLayer>(&layer)) {
             require(points->source.is_absolute() && points->billboard.sizePixels > 0.0);
-        } else if (const auto* geojson = std::get_if<orbis::GeoJsonLayer>(&layer)) {
+        } else if (const auto* geojson = std::get_if<orbis::world::GeoJsonLayer>(&layer)) {
             require(geojson->source.is_absolute() && (geojson->stroke || geojson->fill));
         }
     }
 }
 
-void checkError(const orbis::SceneFileError& error, std::string_view origin)
+void checkError(const orbis::world::SceneFileError& error, std::string_view origin)
 {
     const std::string_view what = error.what();
     require(what.starts_with(origin) && !error.reason().empty());
@@ -63,8 +65,8 @@ void parseOnce(std::string_view text, bool checkFiles)
     static const std::filesystem::path base = std::filesystem::current_path();
     constexpr std::string_view kOrigin = "fuzz.json";
     try {
-        checkDescription(orbis::parseSceneText(text, kOrigin, base, orbis::SceneParseOptions{checkFiles}));
-    } catch (const orbis::SceneFileError& error) {
+        checkDescription(orbis::world::parseSceneText(text, kOrigin, base, orbis::world::SceneParseOptions{checkFiles}));
+    } catch (const orbis::world::SceneFileError& error) {
         checkError(error, kOrigin);
     }
 }

@@ -14,6 +14,7 @@
 #include <cstring>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 namespace {
 

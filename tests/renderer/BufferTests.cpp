@@ -8,6 +8,7 @@
 #include <cstring>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 TEST_CASE("A vertex buffer round-trips and takes partial updates", "[renderer][buffer]")

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 TEST_CASE("Drawing the same command again issues only the draw call", "[renderer][context][shadowing]")

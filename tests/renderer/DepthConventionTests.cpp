@@ -12,6 +12,7 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include <cstdlib>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {

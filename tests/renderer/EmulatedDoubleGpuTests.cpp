@@ -13,6 +13,7 @@
 #include <random>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 namespace {
 

@@ -2,12 +2,17 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/world/ImageFile.h>
 
 #include <catch2/catch.hpp>
+
+#include <filesystem>
 
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {

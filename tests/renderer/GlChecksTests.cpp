@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::Contains;
 
 namespace {

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 namespace {
 

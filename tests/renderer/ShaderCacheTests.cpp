@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 TEST_CASE("The shader cache compiles each variant once, on first use", "[renderer][shadercache]")
 {

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -124,10 +125,10 @@ void main() { fragmentColor = u_flag ? u_color * texture(og_texture1, v_uv) : ve
 
     const ShaderVertexAttribute* position = program.findVertexAttribute("position");
     REQUIRE(position);
-    CHECK(position->location == VertexAttributeLocation::Position);
+    CHECK(position->location == renderer::VertexAttributeLocation::Position);
     CHECK(position->type == UniformType::FloatVec4);
     REQUIRE(program.findVertexAttribute("textureCoordinate"));
-    CHECK(program.findVertexAttribute("textureCoordinate")->location == VertexAttributeLocation::TextureCoordinate);
+    CHECK(program.findVertexAttribute("textureCoordinate")->location == renderer::VertexAttributeLocation::TextureCoordinate);
     REQUIRE(program.findVertexAttribute("custom"));
     CHECK(program.findVertexAttribute("custom")->type == UniformType::Float);
     CHECK(program.vertexAttributes().size() == 3);

@@ -9,6 +9,7 @@
 #include <numeric>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -110,7 +111,7 @@ TEST_CASE("A region of a texture can be replaced", "[renderer][texture]")
     Device& device = test::sharedDevice();
     Texture2D texture = device.createTexture2D({4, 4, TextureFormat::R32F});
     texture.copyFromSystemMemory(bytesOf(std::vector<float>(16, 1.0f)));
-    texture.copyFromSystemMemory(bytesOf(std::vector<float>{2, 3, 4, 5}), Rectangle{1, 2, 2, 2});
+    texture.copyFromSystemMemory(bytesOf(std::vector<float>{2, 3, 4, 5}), PixelRectangle{1, 2, 2, 2});
     const std::vector<float> texels = valuesOf<float>(texture.copyToSystemMemory());
     // Rows bottom to top: row 2 holds 2, 3 at x = 1, 2; row 3 holds 4, 5.
     CHECK(texels == std::vector<float>{1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 3, 1, 1, 4, 5, 1});
@@ -284,7 +285,7 @@ TEST_CASE("Bad texture sizes and data are clear errors", "[renderer][texture][er
     Texture2D texture = device.createTexture2D({4, 4, TextureFormat::RGBA8});
     REQUIRE_THROWS_WITH(texture.copyFromSystemMemory(std::vector<std::byte>(10)),
                         Contains("10 bytes given, 64 expected"));
-    REQUIRE_THROWS_WITH(texture.copyFromSystemMemory(std::vector<std::byte>(16), Rectangle{3, 3, 2, 2}),
+    REQUIRE_THROWS_WITH(texture.copyFromSystemMemory(std::vector<std::byte>(16), PixelRectangle{3, 3, 2, 2}),
                         Contains("leaves level 0"));
     Image wrongSize(2, 2, 4);
     REQUIRE_THROWS_WITH(texture.copyFromImage(wrongSize), Contains("does not fit"));

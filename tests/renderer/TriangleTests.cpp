@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 
 namespace {
 

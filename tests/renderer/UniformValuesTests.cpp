@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 TEST_CASE("A command's uniform map keeps every value type, replaces and erases", "[renderer][uniforms]")

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -37,8 +38,8 @@ TEST_CASE("A vertex array made from a mesh feeds the attributes the program read
     Framebuffer framebuffer = context.createFramebuffer(64, 64);
     ShaderProgram program = device.createShaderProgram(textureCoordinateDescription());
     const VertexArray array = context.createVertexArray(test::fullScreenQuad(), program);
-    CHECK(array.attributeMask() == ((1u << VertexAttributeLocation::Position) |
-                                    (1u << VertexAttributeLocation::TextureCoordinate)));
+    CHECK(array.attributeMask() == ((1u << renderer::VertexAttributeLocation::Position) |
+                                    (1u << renderer::VertexAttributeLocation::TextureCoordinate)));
     CHECK(array.indexed());
     CHECK(array.indexCount() == 6);
     CHECK(array.vertexCount() == 4);

@@ -10,6 +10,7 @@
 #include <cstdlib>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 TEST_CASE("A window device draws into its window, or says clearly why there is none", "[renderer][window]")

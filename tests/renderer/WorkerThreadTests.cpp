@@ -11,6 +11,7 @@
 #include <thread>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 
 namespace {

@@ -6,9 +6,9 @@
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/scene/BillboardCollection.h>
-#include <orbis/scene/CsvPoints.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/MeshPrimitive.h>
+#include <orbis/world/CsvPoints.h>
 
 #include <catch2/catch.hpp>
 
@@ -17,6 +17,9 @@
 #include <random>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

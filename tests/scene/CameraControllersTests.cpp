@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 using namespace orbis;
+using namespace orbis::scene;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 

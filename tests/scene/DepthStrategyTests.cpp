@@ -23,6 +23,8 @@
 #include <filesystem>
 
 using namespace orbis;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

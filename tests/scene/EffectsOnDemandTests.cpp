@@ -5,7 +5,7 @@
 #include "RendererTestSupport.h"
 
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <catch2/catch.hpp>
 
@@ -15,6 +15,8 @@
 #include <string>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

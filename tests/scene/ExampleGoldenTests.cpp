@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
 
 namespace {
 

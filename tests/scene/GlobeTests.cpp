@@ -4,7 +4,7 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/scene/Globe.h>
-#include <orbis/scene/TileMapService.h>
+#include <orbis/world/TileMapService.h>
 
 #include <catch2/catch.hpp>
 
@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::Contains;
 

@@ -13,6 +13,7 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 using Catch::Matchers::WithinAbs;

@@ -7,13 +7,16 @@
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

@@ -5,13 +5,13 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Transforms.h>
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Effect.h>
-#include <orbis/scene/GltfModel.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/ModelPrimitive.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/GltfModel.h>
+#include <orbis/world/ImageFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -26,6 +26,8 @@
 #include <sstream>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;

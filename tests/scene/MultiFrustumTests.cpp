@@ -7,6 +7,7 @@
 #include <random>
 
 using namespace orbis;
+using namespace orbis::scene;
 
 namespace {
 

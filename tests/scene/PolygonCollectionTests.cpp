@@ -15,6 +15,8 @@
 #include <set>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::WithinAbs;
 

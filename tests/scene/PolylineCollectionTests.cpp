@@ -7,7 +7,7 @@
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/scene/PolylineCollection.h>
 #include <orbis/scene/SceneBuilder.h>
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
 #include <glm/geometric.hpp>
 
@@ -18,6 +18,8 @@
 #include <span>
 
 using namespace orbis;
+using namespace orbis::world;
+using namespace orbis::scene;
 using namespace orbis::test;
 using Catch::Matchers::WithinAbs;
 

@@ -7,6 +7,9 @@
 
 #include <cmath>
 
+using namespace orbis::renderer;
+using namespace orbis::scene;
+
 namespace orbis::test {
 
 Mesh horizontalSquare(const Ellipsoid& ellipsoid, const Geodetic3D& centre, double halfSize)

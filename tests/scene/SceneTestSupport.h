@@ -4,8 +4,8 @@
 // and satellites: BoxTessellator::cube).
 
 #include <orbis/scene/MeshPrimitive.h>
-#include <orbis/renderer/Image.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/ImageFile.h>
 
 namespace orbis::test {
 
@@ -15,12 +15,12 @@ Mesh horizontalSquare(const Ellipsoid& ellipsoid, const Geodetic3D& centre, doub
 
 /// Renders one frame of the scene into a new width x height framebuffer of the shared device.
 struct RenderedFrame {
-    FrameStatistics statistics;
+    scene::FrameStatistics statistics;
     Image image;
 };
-RenderedFrame renderFrame(Scene& scene, int width, int height);
+RenderedFrame renderFrame(scene::Scene& scene, int width, int height);
 
 /// Where a world position lands in an image rendered with renderFrame (x from the left, y from the top).
-glm::ivec2 projectToPixel(const Scene& scene, const glm::dvec3& position, int width, int height);
+glm::ivec2 projectToPixel(const scene::Scene& scene, const glm::dvec3& position, int width, int height);
 
 } // namespace orbis::test

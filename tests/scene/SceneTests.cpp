@@ -14,6 +14,8 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::renderer;
+using namespace orbis::scene;
 using namespace orbis::test;
 
 namespace {

@@ -12,6 +12,7 @@
 #include <random>
 
 using namespace orbis;
+using namespace orbis::renderer;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
 

@@ -5,9 +5,9 @@
 
 #include "RendererTestSupport.h"
 
-#include <orbis/scene/GeoJson.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/Scene.h>
+#include <orbis/world/GeoJson.h>
 
 #include <glm/common.hpp>
 
@@ -16,10 +16,10 @@
 namespace orbis::test {
 
 /// data/natural-earth/countries-110m.geojson, loaded once per process.
-inline const FeatureCollection& countries110m()
+inline const world::FeatureCollection& countries110m()
 {
-    static const FeatureCollection countries =
-        loadGeoJson(ORBIS_SOURCE_DIR "/data/natural-earth/countries-110m.geojson");
+    static const world::FeatureCollection countries =
+        world::loadGeoJson(ORBIS_SOURCE_DIR "/data/natural-earth/countries-110m.geojson");
     return countries;
 }
 
@@ -28,18 +28,18 @@ inline const glm::vec4 kBlue(0.0f, 0.0f, 1.0f, 1.0f);
 inline const glm::ivec4 kBluePixel(0, 0, 255, 255);
 
 /// The ray-cast (or tessellated) globe in one unlit colour.
-inline std::shared_ptr<Globe> unlitGlobe(const Ellipsoid& ellipsoid, const glm::vec4& color,
-                                         GlobeMethod method = GlobeMethod::RayCast)
+inline std::shared_ptr<scene::Globe> unlitGlobe(const Ellipsoid& ellipsoid, const glm::vec4& color,
+                                         world::GlobeMethod method = world::GlobeMethod::RayCast)
 {
-    GlobeOptions options;
+    scene::GlobeOptions options;
     options.method = method;
     options.lighting = false;
     options.color = color;
-    return std::make_shared<Globe>(ellipsoid, options);
+    return std::make_shared<scene::Globe>(ellipsoid, options);
 }
 
 /// The camera `height` metres straight above a point on the scene's ellipsoid, looking at it, +z up.
-inline void lookDownAt(Scene& scene, const Geodetic3D& below, double height)
+inline void lookDownAt(scene::Scene& scene, const Geodetic3D& below, double height)
 {
     const Ellipsoid& ellipsoid = scene.ellipsoid();
     scene.camera().lookAt(ellipsoid.toCartesian(Geodetic3D(below.longitude, below.latitude, height)),

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <sstream>
 
+using namespace orbis::world;
+
 namespace orbis::test {
 
 ImageDifference compareImages(const Image& actual, const Image& expected, int perChannel)

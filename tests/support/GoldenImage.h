@@ -5,7 +5,7 @@
 // rasterise differently from one GPU to another). A missing golden file, or ORBIS_UPDATE_GOLDEN=1,
 // writes the file from the image and FAILS, so that a golden never passes unreviewed.
 
-#include <orbis/renderer/Image.h>
+#include <orbis/world/ImageFile.h>
 
 #include <catch2/catch.hpp>
 

@@ -3,6 +3,8 @@
 #include <memory>
 #include <sstream>
 
+using namespace orbis::renderer;
+
 namespace orbis::test {
 
 Device& sharedDevice()

@@ -13,7 +13,7 @@ namespace orbis::test {
 
 /// One device for the tests of this process (EGL, or OSMesa when EGL fails), its main context made
 /// current on the calling thread.
-Device& sharedDevice();
+renderer::Device& sharedDevice();
 
 /// A quad covering [x0, x1] x [y0, y1] at depth z (clip coordinates with the default SceneState),
 /// counter-clockwise, indexed.
@@ -25,11 +25,11 @@ inline Mesh fullScreenQuad(double z = 0.0)
 }
 
 /// "position" transformed by og_modelViewProjectionMatrix, coloured by uniform vec4 u_color.
-ShaderProgramDescription solidColorDescription();
+renderer::ShaderProgramDescription solidColorDescription();
 
 /// "position" as it is (clip coordinates), coloured by og_texture0 at "textureCoordinate" times
 /// uniform float u_scale (1: the texture once over a quad).
-ShaderProgramDescription texturedDescription();
+renderer::ShaderProgramDescription texturedDescription();
 
 /// A size x size framebuffer on the shared device, a program and a full-screen quad for it: where
 /// most drawing tests start.
@@ -37,13 +37,13 @@ ShaderProgramDescription texturedDescription();
 ///     test::QuadFixture quad(16);
 ///     auto& [device, context, framebuffer, program, array] = quad;
 struct QuadFixture {
-    explicit QuadFixture(int size, const ShaderProgramDescription& description = solidColorDescription());
+    explicit QuadFixture(int size, const renderer::ShaderProgramDescription& description = solidColorDescription());
 
-    Device& device;
-    Context& context;
-    Framebuffer framebuffer;
-    ShaderProgram program;
-    VertexArray array;
+    renderer::Device& device;
+    renderer::Context& context;
+    renderer::Framebuffer framebuffer;
+    renderer::ShaderProgram program;
+    renderer::VertexArray array;
 };
 
 /// A pixel of an RGBA image (x from the left, y from the top).
@@ -56,7 +56,7 @@ bool pixelNear(const Image& image, int x, int y, const glm::ivec4& expected, int
 std::string describePixel(const Image& image, int x, int y);
 
 /// A command drawing `array` with `program` into `framebuffer`, the book's default render state.
-DrawCommand makeCommand(const VertexArray& array, ShaderProgram& program, Framebuffer& framebuffer,
+renderer::DrawCommand makeCommand(const renderer::VertexArray& array, renderer::ShaderProgram& program, renderer::Framebuffer& framebuffer,
                         const glm::vec4& color, const char* name = "test");
 
 } // namespace orbis::test

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Which buffers a clear writes (combine with |).
 enum class ClearBuffers : std::uint8_t { None = 0, Color = 1, Depth = 2, Stencil = 4, ColorAndDepth = 3, All = 7 };
@@ -34,4 +34,4 @@ struct ClearState {
     std::uint32_t backStencilMask = 0xFFFFFFFFu;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -4,7 +4,7 @@
 #include "orbis/renderer/ClearState.h"
 #include "orbis/renderer/DrawCommand.h"
 #include "orbis/renderer/Framebuffer.h"
-#include "orbis/renderer/Image.h"
+#include "orbis/core/Image.h"
 #include "orbis/renderer/RenderStatistics.h"
 #include "orbis/renderer/SceneState.h"
 #include "orbis/renderer/VertexArray.h"
@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 class ShaderProgram;
@@ -45,7 +45,7 @@ struct FramebufferOptions {
 /// context.setFramebuffer(&target);
 /// context.clear(ClearState{});
 /// context.draw(command, sceneState);
-/// writePng(context.readPixels(), "frame.png");
+/// world::writePng(context.readPixels(), "frame.png"); // orbis/world/ImageFile.h
 /// ```
 class Context final {
 public:
@@ -135,10 +135,10 @@ private:
     Context(Device& device, std::unique_ptr<detail::ContextState> state);
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);
-    Rectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+    PixelRectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

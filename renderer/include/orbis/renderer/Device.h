@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Where the GL context comes from.
 enum class GlBackend : std::uint8_t {
@@ -130,4 +130,4 @@ private:
     std::unique_ptr<Impl> _impl;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 
@@ -39,4 +39,4 @@ private:
     void* _sync = nullptr;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -1,11 +1,11 @@
 #pragma once
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
 
 #include <filesystem>
 #include <memory>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// A font's vertical metrics at a size, in pixels: ascent above the baseline (positive), descent
 /// below it (negative), and the gap between one line's descent and the next line's ascent.
@@ -63,4 +63,4 @@ private:
     std::unique_ptr<Impl> _impl;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

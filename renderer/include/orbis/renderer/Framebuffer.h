@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <memory>
 
-namespace orbis {
+namespace orbis::renderer {
 
 namespace detail {
 class ContextState;
@@ -61,4 +61,4 @@ private:
     int _height = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

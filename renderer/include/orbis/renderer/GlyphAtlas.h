@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// How a GlyphAtlas rasterizes.
 struct GlyphAtlasOptions {
@@ -101,4 +101,4 @@ private:
     std::unordered_map<std::uint64_t, float> _kerning; ///< by (left glyph << 32 | right glyph)
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// The width of one index.
 enum class IndexType : std::uint8_t { UnsignedShort, UnsignedInt };
@@ -51,4 +51,4 @@ private:
     BufferUsage _usage = BufferUsage::StaticDraw;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

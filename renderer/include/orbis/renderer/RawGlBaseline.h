@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <span>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// One draw of the benchmark: which program and vertex array (indices into the lists given), three
 /// render-state switches, and two uniforms (vec2 u_offset, vec4 u_color).
@@ -38,4 +38,4 @@ RenderState baselineRenderState(const BaselineDraw& draw) noexcept;
 std::uint64_t drawWithRawGl(Context& context, Framebuffer& framebuffer, std::span<ShaderProgram* const> programs,
                             std::span<const VertexArray* const> arrays, std::span<const BaselineDraw> draws);
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -4,11 +4,13 @@
 // with every DrawCommand, so that no GL state leaks from one draw to the next. The Context
 // shadows what GL has and changes only the parts that differ.
 
+#include "orbis/renderer/PixelRectangle.h"
+
 #include <glm/vec4.hpp>
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Comparison used by the depth and stencil tests.
 enum class CompareFunction : std::uint8_t { Never, Less, Equal, LessOrEqual, Greater, NotEqual, GreaterOrEqual, Always };
@@ -34,19 +36,11 @@ struct FacetCulling {
 /// How polygons are rasterised (both faces).
 enum class RasterizationMode : std::uint8_t { Point, Line, Fill };
 
-/// A rectangle in pixels, origin at the bottom left (as GL counts).
-struct Rectangle {
-    int x = 0;
-    int y = 0;
-    int width = 0;
-    int height = 0;
-    friend bool operator==(const Rectangle&, const Rectangle&) = default;
-};
-
-/// Fragments outside the rectangle are discarded; clears are limited to it too.
+/// Fragments outside the rectangle (origin at the bottom left) are discarded; clears are limited to
+/// it too.
 struct ScissorTest {
     bool enabled = false;
-    Rectangle rectangle;
+    PixelRectangle rectangle;
     friend bool operator==(const ScissorTest&, const ScissorTest&) = default;
 };
 
@@ -158,4 +152,4 @@ struct RenderState {
     friend bool operator==(const RenderState&, const RenderState&) = default;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

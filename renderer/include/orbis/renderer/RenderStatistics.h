@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// What a Context did since its statistics were last reset (the caller resets, e.g. per frame).
 struct RenderStatistics {
@@ -22,4 +22,4 @@ struct RenderStatistics {
     std::uint64_t glCalls = 0; ///< every GL call made on the context's thread, resources included
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

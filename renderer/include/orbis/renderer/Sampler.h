@@ -1,25 +1,12 @@
 #pragma once
 
+#include <orbis/core/SamplerDescription.h>
+
 #include <cstdint>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
-
-enum class TextureWrap : std::uint8_t { Clamp, Repeat, MirroredRepeat }; ///< Clamp: to the edge texel
-enum class TextureMinificationFilter : std::uint8_t {
-    Nearest, Linear, NearestMipmapNearest, LinearMipmapNearest, NearestMipmapLinear, LinearMipmapLinear
-};
-enum class TextureMagnificationFilter : std::uint8_t { Nearest, Linear };
-
-struct SamplerDescription {
-    TextureMinificationFilter minificationFilter = TextureMinificationFilter::Linear;
-    TextureMagnificationFilter magnificationFilter = TextureMagnificationFilter::Linear;
-    TextureWrap wrapS = TextureWrap::Clamp;
-    TextureWrap wrapT = TextureWrap::Clamp;
-    /// 1: none. Clamped to the device's maximum; ignored where anisotropic filtering is missing.
-    float maximumAnisotropy = 1.0f;
-};
 
 /// How a texture is read (filters, wrapping, anisotropy): one GL sampler object, move-only,
 /// shared between the device's contexts; bound per texture unit by a DrawCommand.
@@ -49,4 +36,4 @@ private:
     float _appliedAnisotropy = 1.0f;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// How clip-space depth becomes window depth in a frame; the projection matrix must match.
 enum class DepthConvention : std::uint8_t {
@@ -33,7 +33,7 @@ struct SceneState {
     glm::dmat4 viewMatrix{1.0};       ///< world to eye
     glm::dmat4 projectionMatrix{1.0}; ///< eye to clip (GL conventions, depth -1..1)
     glm::dvec3 cameraEye{0.0};        ///< the camera position in world coordinates (metres)
-    Rectangle viewport;               ///< width or height 0: the whole target framebuffer
+    PixelRectangle viewport;          ///< origin bottom left; width or height 0: the whole target framebuffer
     double nearDistance = 1.0;        ///< og_nearDistance, metres
     double farDistance = 1000.0;      ///< og_farDistance, metres
     glm::dvec3 sunDirection{0.0, 0.0, 1.0}; ///< towards the sun, world coordinates; normalised when sent
@@ -46,4 +46,4 @@ struct SceneState {
     double ownedFarDistance = std::numeric_limits<double>::infinity();
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

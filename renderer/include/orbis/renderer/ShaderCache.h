@@ -8,7 +8,7 @@
 #include <string>
 #include <unordered_map>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// Programs keyed by their sources, defines and options: each variant is compiled once, the first
 /// time it is asked for, and shared after that. Owned by the Device; thread-safe (a worker thread
@@ -45,4 +45,4 @@ private:
     std::uint64_t _hits = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

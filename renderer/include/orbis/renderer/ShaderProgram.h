@@ -10,7 +10,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 namespace detail {
@@ -174,4 +174,4 @@ private:
     int _capturedComponents = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

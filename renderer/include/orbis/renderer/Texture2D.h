@@ -1,6 +1,6 @@
 #pragma once
 
-#include "orbis/renderer/Image.h"
+#include "orbis/core/Image.h"
 #include "orbis/renderer/RenderState.h"
 
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 
@@ -36,7 +36,7 @@ struct TextureDescription {
 /// are flipped on the way in and out so that an image looks upright when drawn with t up.
 ///
 /// ```
-/// Texture2D texture = device.createTexture2D(readImage("earth.png"), true); // with mipmaps
+/// Texture2D texture = device.createTexture2D(world::readImage("earth.png"), true); // mipmapped; world/ImageFile.h
 /// command.textures.push_back({0, &texture, &sampler}); // read by og_texture0
 /// ```
 class Texture2D final {
@@ -59,8 +59,8 @@ public:
     /// Replaces a whole level. Throws orbis::Error unless texels holds exactly
     /// width x height x bytesPerTexel of that level.
     void copyFromSystemMemory(std::span<const std::byte> texels, int level = 0);
-    /// Replaces a rectangle of a level (rows bottom to top). Throws when it leaves the level.
-    void copyFromSystemMemory(std::span<const std::byte> texels, const Rectangle& region, int level = 0);
+    /// Replaces a rectangle of a level (origin and rows bottom to top). Throws when it leaves the level.
+    void copyFromSystemMemory(std::span<const std::byte> texels, const PixelRectangle& region, int level = 0);
     /// Replaces level 0 with an image (flipped to bottom-up). RGBA8 takes 4 channels, RGB8 3;
     /// throws for other formats or sizes.
     void copyFromImage(const Image& image);
@@ -86,4 +86,4 @@ private:
     int _levels = 1;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

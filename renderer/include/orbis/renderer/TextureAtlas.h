@@ -3,7 +3,8 @@
 // Packs many small images into one, so that a collection of billboards or glyphs draws with one
 // texture bound. CPU only: the atlas image is uploaded by whoever draws it.
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
+#include <orbis/renderer/PixelRectangle.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -11,17 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace orbis {
-
-/// A rectangle of pixels: (x, y) is its top-left pixel, rows counted from the top as in Image.
-struct PixelRectangle {
-    int x = 0;
-    int y = 0;
-    int width = 0;
-    int height = 0;
-
-    friend constexpr bool operator==(const PixelRectangle&, const PixelRectangle&) = default;
-};
+namespace orbis::renderer {
 
 /// Texture coordinates of a rectangle, in [0, 1]: (u0, v0) is the outer corner of its top-left
 /// pixel and (u1, v1) the outer corner of its bottom-right pixel. v grows with the image's row, so
@@ -47,7 +38,7 @@ struct TextureAtlasOptions {
 /// any more are all images packed again from scratch, tallest first.
 ///
 ///     TextureAtlas atlas;
-///     const std::size_t marker = atlas.add(readImage("marker.png")).first;
+///     const std::size_t marker = atlas.add(world::readImage("marker.png")).first;
 ///     const TextureRectangle uv = atlas.textureCoordinates(marker);
 class TextureAtlas {
 public:
@@ -115,4 +106,4 @@ private:
     std::uint64_t _version = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -14,7 +14,7 @@
 #include <variant>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 namespace detail {
 struct UniformValuesAccess;
@@ -97,4 +97,4 @@ private:
     std::vector<unsigned char> _large;  ///< values larger than kInline (mat3, mat4)
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 namespace detail {
 class ContextState;
@@ -122,4 +122,4 @@ private:
     IndexBuffer _ownedIndexBuffer;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

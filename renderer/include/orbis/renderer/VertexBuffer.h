@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
 
 class Device;
 
@@ -55,4 +55,4 @@ private:
     BufferUsage _usage = BufferUsage::StaticDraw;
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace orbis {
+namespace orbis::renderer {
 
 /// What the user did in a window since the last Window::takeInput().
 struct WindowInput {
@@ -53,4 +53,4 @@ private:
     void* _native = nullptr; ///< the GLFWwindow
 };
 
-} // namespace orbis
+} // namespace orbis::renderer

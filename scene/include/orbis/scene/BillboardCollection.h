@@ -2,7 +2,7 @@
 
 #include "orbis/scene/FrameState.h"
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
 #include <orbis/renderer/TextureAtlas.h>
 
 #include <glm/vec2.hpp>
@@ -16,7 +16,11 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::renderer {
+class ShaderProgram;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// Which side of a billboard (or a label's box) sits on its anchor, left to right.
 enum class HorizontalOrigin : std::uint8_t { Left, Center, Right };
@@ -83,8 +87,6 @@ class AtlasTexture;
 class DepthPrograms;
 } // namespace detail
 
-class ShaderProgram;
-
 /// Billboards of book chapter 9: points expanded into screen-aligned quads by a geometry shader,
 /// sized in pixels and snapped to whole pixels, so a 1:1 image is drawn texel for pixel. All
 /// images share one texture atlas and all billboards one vertex buffer: the collection draws in
@@ -99,7 +101,7 @@ class ShaderProgram;
 ///
 /// ```
 /// auto billboards = std::make_shared<BillboardCollection>();
-/// const std::size_t dot = billboards->addImage(readImage("dot.png"));
+/// const std::size_t dot = billboards->addImage(world::readImage("dot.png"));
 /// billboards->add({.position = ellipsoid.toCartesian(where), .image = dot});
 /// scene.add(billboards);
 /// billboards->setPosition(0, elsewhere); // one vertex uploaded on the next frame
@@ -116,7 +118,7 @@ public:
     std::size_t addImage(const Image& image);
     /// Adds several at once (packed tighter); returns the index of the first.
     std::size_t addImages(std::span<const Image> images);
-    const TextureAtlas& atlas() const noexcept { return _atlas; }
+    const renderer::TextureAtlas& atlas() const noexcept { return _atlas; }
 
     /// Adds a billboard; returns its index. Its image must have been added (asserted).
     std::size_t add(const Billboard& billboard);
@@ -158,7 +160,7 @@ private:
     std::size_t addToAtlas(std::span<const Image> images);
 
     BillboardCollectionOptions _options;
-    TextureAtlas _atlas;
+    renderer::TextureAtlas _atlas;
     std::vector<Billboard> _billboards;
     std::unique_ptr<detail::BillboardBatch<detail::BillboardVertex>> _batch;
     std::unique_ptr<detail::BillboardBounds> _bounds;
@@ -167,4 +169,4 @@ private:
     BillboardUploadStatistics _lastUpload;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

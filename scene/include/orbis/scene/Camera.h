@@ -6,6 +6,14 @@
 #include <glm/vec4.hpp>
 
 namespace orbis {
+class Ellipsoid;
+} // namespace orbis
+
+namespace orbis::world {
+struct CameraDescription; // orbis/world/SceneDescription.h
+} // namespace orbis::world
+
+namespace orbis::scene {
 
 /// A perspective camera in double precision: world positions in metres, angles in radians.
 /// The view matrix is built from eye, target and up; the projection from the vertical field of
@@ -40,6 +48,11 @@ private:
     double _fieldOfViewY = 0.7853981633974483; // 45 degrees
 };
 
+/// The camera a scene file's description asks for on an ellipsoid: up is the local vertical, or
+/// north where the view is vertical; a heading-pitch-roll aim puts the target ahead of the eye, as
+/// far as the eye is from the centre.
+Camera makeCamera(const world::CameraDescription& description, const Ellipsoid& ellipsoid);
+
 /// Window position (pixels, y up from the bottom edge) of a clip-space position with w > 0, in
 /// double.
 inline glm::dvec2 clipToWindow(const glm::dvec4& clip, int width, int height) noexcept
@@ -47,4 +60,4 @@ inline glm::dvec2 clipToWindow(const glm::dvec4& clip, int width, int height) no
     return {(clip.x / clip.w * 0.5 + 0.5) * width, (clip.y / clip.w * 0.5 + 0.5) * height};
 }
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -3,10 +3,11 @@
 #include "orbis/scene/Camera.h"
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/world/CameraKeyframe.h>
 
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// A user input, as an interactive window or a scripted test produces it.
 struct InputEvent {
@@ -111,11 +112,7 @@ private:
 /// benchmarks drive the scene with it.
 class CameraPath final {
 public:
-    struct Keyframe {
-        double seconds;
-        Geodetic3D eye;
-        Geodetic3D target;
-    };
+    using Keyframe = world::CameraKeyframe;
 
     explicit CameraPath(const Ellipsoid& ellipsoid) : _ellipsoid(ellipsoid) {}
 
@@ -133,4 +130,4 @@ private:
     std::vector<Keyframe> _keyframes;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -2,15 +2,15 @@
 
 #include "orbis/scene/FrameStatistics.h"
 #include "orbis/scene/MultiFrustum.h"
+#include "orbis/scene/SceneCommand.h"
 
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
-#include <orbis/renderer/DrawCommand.h>
 
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// Step 4 of a frame: culls the commands against the view frustum, then the ellipsoid's
 /// horizon, and bins the survivors into dynamic multi-frustums by their extent along the view
@@ -22,7 +22,7 @@ public:
     /// Culls and bins; adds the culling counts, frustums and redundancy to statistics.
     /// cosHalfDiagonal: the cosine of the angle between the view direction and the frustum's
     /// corners, which turns a command's nearest distance into a nearest depth.
-    void cullAndBin(std::span<const DrawCommand> commands, const Frustum& cullingVolume,
+    void cullAndBin(std::span<const SceneCommand> commands, const Frustum& cullingVolume,
                     const EllipsoidalOccluder& occluder, const glm::dvec3& eye, const glm::dvec3& viewDirection,
                     double cosHalfDiagonal, FrameStatistics& statistics);
 
@@ -41,4 +41,4 @@ private:
     std::vector<DepthInterval> _intervals;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

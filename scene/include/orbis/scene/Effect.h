@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// The visual effects a frame can contain. Primitives tag their draw commands with the effects
-/// they draw (DrawCommand::tags), and FrameStatistics reports those that ran, so tests can prove
+/// they draw (SceneCommand::tags), and FrameStatistics reports those that ran, so tests can prove
 /// that a scene pays only for what it asks for.
 enum class Effect : std::uint32_t {
     Globe = 1u << 0,
@@ -38,4 +38,4 @@ constexpr bool hasEffect(std::uint32_t effects, Effect effect) noexcept
 /// "globe", "lighting", "night lights", ... for each effect in the set, in declaration order.
 std::vector<std::string> effectNames(std::uint32_t effects);
 
-} // namespace orbis
+} // namespace orbis::scene

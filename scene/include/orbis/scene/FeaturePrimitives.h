@@ -1,15 +1,16 @@
 #pragma once
 
-#include "orbis/scene/Feature.h"
 #include "orbis/scene/PolygonCollection.h"
 #include "orbis/scene/PolylineCollection.h"
+
+#include <orbis/world/Feature.h>
 
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 class Scene;
 
@@ -18,7 +19,7 @@ struct FeatureStyle {
     bool fill = true;                          ///< fill Polygon and MultiPolygon geometries
     glm::vec4 fillColor{1.0f, 1.0f, 1.0f, 0.5f};
     /// A colour per feature (by its properties, say); when set it replaces fillColor.
-    std::function<glm::vec4(const Feature&)> fillColorOf;
+    std::function<glm::vec4(const world::Feature&)> fillColorOf;
     bool borders = true;                       ///< draw polygon rings and LineStrings as polylines
     PolylineStyle border{glm::vec4(1.0f), 1.5f, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f), 0.0f, true};
     double granularityRadians = toRadians(1.0); ///< of both the fills and the borders
@@ -49,7 +50,7 @@ struct FeaturePrimitives {
 /// MultiPolygon is one PolygonCollection entry, named for messages as `name` property, feature
 /// index and part ("Fiji (feature 0, polygon 1)"). Throws orbis::Error for a polygon the
 /// triangulation rejects unless style.skipInvalidPolygons.
-FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const FeatureCollection& features,
+FeaturePrimitives buildFeaturePrimitives(const Ellipsoid& ellipsoid, const world::FeatureCollection& features,
                                          const FeatureStyle& style = {});
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -2,24 +2,26 @@
 
 #include "orbis/scene/Camera.h"
 #include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/SceneCommand.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
-#include <orbis/renderer/DrawCommand.h>
 
 #include <cstdint>
 #include <vector>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Context;
 class Device;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
 struct FrameState {
-    Context& context;
-    Device& device;
+    renderer::Context& context;
+    renderer::Device& device;
     const Camera& camera;
     const Ellipsoid& ellipsoid;
     int width;
@@ -36,11 +38,11 @@ struct FrameState {
     double metersPerPixel(double distance) const noexcept;
 };
 
-/// The draw commands primitives append to during Scene::render.
-using CommandList = std::vector<DrawCommand>;
+/// The commands primitives append to during Scene::render.
+using CommandList = std::vector<SceneCommand>;
 
 /// Something drawn in a Scene. update() creates or refreshes its GPU resources lazily and appends
-/// DrawCommands; a primitive with nothing to show appends nothing and allocates nothing.
+/// SceneCommands; a primitive with nothing to show appends nothing and allocates nothing.
 class Primitive {
 public:
     virtual ~Primitive() = default;
@@ -59,4 +61,4 @@ public:
     virtual bool supportsLogarithmicDepth() const { return false; }
 };
 
-} // namespace orbis
+} // namespace orbis::scene

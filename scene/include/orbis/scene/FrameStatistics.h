@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// What one Scene::render did, so that tests can assert that a scene pays only for what it
 /// contains.
@@ -35,7 +35,7 @@ struct FrameStatistics {
     double updateMilliseconds = 0.0;           ///< primitives' update()
     double cullMilliseconds = 0.0;             ///< culling and binning
     double drawMilliseconds = 0.0;             ///< executing commands, GPU finished
-    RenderStatistics renderer;                 ///< the context's own counts for the frame
+    renderer::RenderStatistics renderer;                 ///< the context's own counts for the frame
 
     /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
     /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those
@@ -48,4 +48,4 @@ struct FrameStatistics {
     std::string toJson() const;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

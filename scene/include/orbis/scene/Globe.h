@@ -1,13 +1,12 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
-#include "orbis/scene/GlobeMethod.h"
 
 #include <orbis/core/Tessellation.h>
-
 #include <orbis/renderer/Sampler.h>
 #include <orbis/renderer/Texture2D.h>
 #include <orbis/renderer/VertexArray.h>
+#include <orbis/world/GlobeMethod.h>
 
 #include <glm/vec4.hpp>
 
@@ -16,9 +15,14 @@
 #include <memory>
 #include <optional>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class ShaderProgram;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
+
+/// Named in scene files, hence the world layer's: scene::GlobeMethod is world::GlobeMethod.
+using world::GlobeMethod;
 
 /// Which core tessellator a Tessellated globe uses, and what its level means.
 enum class GlobeTessellation {
@@ -67,15 +71,15 @@ public:
 private:
     void createResources(FrameState& frameState);
     /// The program variant for the frame's depth strategy, compiled on first use.
-    ShaderProgram& program(FrameState& frameState);
+    renderer::ShaderProgram& program(FrameState& frameState);
 
     Ellipsoid _ellipsoid;
     GlobeOptions _options;
-    std::array<std::shared_ptr<ShaderProgram>, 6> _programs; ///< by DepthStrategy
-    std::optional<VertexArray> _vertexArray;
-    std::optional<Texture2D> _dayTexture;
-    std::optional<Texture2D> _nightTexture;
-    std::optional<Sampler> _sampler;
+    std::array<std::shared_ptr<renderer::ShaderProgram>, 6> _programs; ///< by DepthStrategy
+    std::optional<renderer::VertexArray> _vertexArray;
+    std::optional<renderer::Texture2D> _dayTexture;
+    std::optional<renderer::Texture2D> _nightTexture;
+    std::optional<renderer::Sampler> _sampler;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

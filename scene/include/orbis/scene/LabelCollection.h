@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Font;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// Debian's DejaVu Sans (package fonts-dejavu-core).
 inline const std::filesystem::path kDejaVuSansPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
@@ -88,11 +90,11 @@ public:
     /// The box of label `index`'s glyph quads relative to its anchor's pixel corner, offset and
     /// origins applied, in pixels x right and y down ((x, y) its top-left corner): where its
     /// pixels land.
-    PixelRectangle placement(std::size_t index) const;
+    renderer::PixelRectangle placement(std::size_t index) const;
     /// The laid-out text of label `index` (glyph positions y down from the first baseline).
-    const TextLayout& layout(std::size_t index) const { return _labels.at(index).layout; }
+    const renderer::TextLayout& layout(std::size_t index) const { return _labels.at(index).layout; }
     /// The glyph atlas of a font size, created on first use.
-    const GlyphAtlas& glyphAtlas(float fontSizePixels);
+    const renderer::GlyphAtlas& glyphAtlas(float fontSizePixels);
 
     const LabelCollectionOptions& options() const noexcept { return _options; }
     void setDepthOptions(const BillboardDepthOptions& depth) noexcept { _options.depth = depth; }
@@ -114,7 +116,7 @@ private:
     struct SizeBatch;
     struct Record {
         Label label;
-        TextLayout layout;
+        renderer::TextLayout layout;
         std::size_t firstVertex = 0; ///< in its size's batch
         bool decluttered = false;    ///< hidden this frame by an overlapping earlier label
     };
@@ -129,7 +131,7 @@ private:
     void declutter(const FrameState& frameState);
 
     LabelCollectionOptions _options;
-    std::shared_ptr<const Font> _font;
+    std::shared_ptr<const renderer::Font> _font;
     std::map<float, std::unique_ptr<SizeBatch>> _sizes;
     std::vector<Record> _labels;
     std::unique_ptr<detail::BillboardBounds> _bounds;
@@ -139,4 +141,4 @@ private:
     std::size_t _lastDecluttered = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -11,10 +11,12 @@
 #include <memory>
 #include <optional>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class ShaderProgram;
 struct DeviceInfo;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// A core Mesh with world positions in one colour: opaque, or translucent (blended, drawn after
 /// the opaque commands of each frustum). Lit by the Sun when the mesh has normals. Its vertices
@@ -45,8 +47,8 @@ public:
 
     /// The program a MeshPrimitive draws with under a concrete transform and a resolved depth
     /// strategy: shaders/scene/mesh with the built-in library's defines.
-    static ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
-                                                       bool lit, const DeviceInfo& device);
+    static renderer::ShaderProgramDescription programDescription(VertexTransform transform, DepthStrategy depth, Pass pass,
+                                                       bool lit, const renderer::DeviceInfo& device);
 
 private:
     BoundingSphere _boundingSphere;
@@ -59,7 +61,7 @@ private:
     std::optional<glm::dvec3> _occlusionPoint;
     std::unique_ptr<VertexTransformArrays> _arrays;
     /// By concrete transform, then by depth strategy: each variant compiled on first use.
-    std::array<std::array<std::shared_ptr<ShaderProgram>, 6>, 5> _programs;
+    std::array<std::array<std::shared_ptr<renderer::ShaderProgram>, 6>, 5> _programs;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

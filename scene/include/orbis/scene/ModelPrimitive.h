@@ -1,13 +1,13 @@
 #pragma once
 
 #include "orbis/scene/FrameState.h"
-#include "orbis/scene/GltfModel.h"
-#include "orbis/scene/SceneDescription.h"
 
 #include <orbis/core/Geodetic.h>
+#include <orbis/core/HeadingPitchRoll.h>
 #include <orbis/renderer/Sampler.h>
 #include <orbis/renderer/Texture2D.h>
 #include <orbis/renderer/VertexArray.h>
+#include <orbis/world/GltfModel.h>
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
@@ -17,9 +17,11 @@
 #include <optional>
 #include <vector>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class ShaderProgram;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 /// Where a model stands on the ellipsoid and which way it faces.
 struct ModelPlacement {
@@ -67,7 +69,7 @@ glm::dmat4 modelToFixedFrame(const Ellipsoid& ellipsoid, const ModelPlacement& p
 class ModelPrimitive final : public Primitive {
 public:
     /// The model must have at least one triangle (GltfModel::read ensures it; asserted).
-    ModelPrimitive(GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
+    ModelPrimitive(world::GltfModel model, const Ellipsoid& ellipsoid, const ModelPlacement& placement,
                    const ModelOptions& options = {});
     ~ModelPrimitive() override;
 
@@ -107,7 +109,7 @@ private:
     ModelPlacement _placement;
     ModelOptions _options;
     glm::dmat4 _modelMatrix{1.0};
-    GltfModel _model; ///< geometry and encoded images released once uploaded; materials kept
+    world::GltfModel _model; ///< geometry and encoded images released once uploaded; materials kept
     std::vector<Batch> _batches;
     BoundingSphere _localSphere; ///< model frame
     glm::dvec3 _localMinimum{0.0};
@@ -116,8 +118,8 @@ private:
     std::optional<glm::dvec3> _occlusionPoint;
     std::size_t _triangleCount = 0;
     bool _resourcesCreated = false;
-    std::vector<Texture2D> _textures; ///< per GltfModel image
-    std::vector<Sampler> _samplers;   ///< per GltfModel texture
+    std::vector<renderer::Texture2D> _textures; ///< per GltfModel image
+    std::vector<renderer::Sampler> _samplers;   ///< per GltfModel texture
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-namespace orbis {
+namespace orbis::scene {
 
 /// A command's extent along the view direction, in metres from the eye.
 struct DepthInterval {
@@ -74,4 +74,4 @@ private:
     FrustumRange _desired{0.0, 0.0};
 };
 
-} // namespace orbis
+} // namespace orbis::scene

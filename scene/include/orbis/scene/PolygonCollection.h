@@ -1,14 +1,14 @@
 #pragma once
 
-#include "orbis/scene/Feature.h"
 #include "orbis/scene/PolylineCollection.h"
 
 #include <orbis/core/Mesh.h>
+#include <orbis/world/Feature.h>
 
 #include <string>
 #include <string_view>
 
-namespace orbis {
+namespace orbis::scene {
 
 struct PolygonCollectionOptions {
     /// Largest angle at the centre subtended by a triangle's edge (triangulatePolygon's
@@ -57,7 +57,7 @@ public:
     std::size_t add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
                     std::string_view name = "polygon");
     /// The same for a GeoJSON polygon (radians; heights ignored).
-    std::size_t add(const Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon");
+    std::size_t add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon");
 
     std::size_t size() const noexcept;
     bool empty() const noexcept { return size() == 0; }
@@ -86,7 +86,7 @@ public:
 private:
     struct Item;
     void build(FrameState& frameState);
-    void buildIndices(Device& device);
+    void buildIndices(renderer::Device& device);
     void writeColor(std::size_t index, std::vector<std::byte>& out) const;
 
     Ellipsoid _ellipsoid;
@@ -101,4 +101,4 @@ private:
     std::vector<std::size_t> _colorDirty;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

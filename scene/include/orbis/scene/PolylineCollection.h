@@ -1,8 +1,8 @@
 #pragma once
 
-#include "orbis/scene/CurveType.h"
 #include "orbis/scene/FrameState.h"
 
+#include <orbis/core/CurveType.h>
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/Math.h>
 
@@ -15,8 +15,11 @@
 #include <vector>
 
 namespace orbis {
-
 class Geodesic;
+} // namespace orbis
+
+namespace orbis::scene {
+
 namespace detail {
 class VectorBatch;
 } // namespace detail
@@ -129,7 +132,7 @@ public:
 private:
     struct Line;
     void build(FrameState& frameState);
-    void buildIndices(Device& device);
+    void buildIndices(renderer::Device& device);
     void writeStyle(const Line& line, std::vector<std::byte>& out) const;
 
     Ellipsoid _ellipsoid;
@@ -145,4 +148,4 @@ private:
     std::vector<std::size_t> _styleDirty; ///< lines whose style changed since the last upload
 };
 
-} // namespace orbis
+} // namespace orbis::scene

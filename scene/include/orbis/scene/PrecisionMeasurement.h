@@ -11,9 +11,11 @@
 
 #include <cstdint>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Context;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 // ---- Vertex transform jitter (book chapter 5) ------------------------------------------------
 
@@ -40,7 +42,7 @@ struct JitterResult {
 /// read back with transform feedback, projected to the window in double, against the window
 /// position P V p computed in double from the double positions. Automatic is resolved as a
 /// MeshPrimitive would resolve it for the frame.
-JitterResult measureVertexJitter(Context& context, VertexTransform transform, const glm::dvec3& target,
+JitterResult measureVertexJitter(renderer::Context& context, VertexTransform transform, const glm::dvec3& target,
                                  double eyeDistance, const JitterOptions& options = {});
 
 /// A point on the WGS84 surface, 700 km above it and at geostationary height (35,786 km), above
@@ -77,14 +79,14 @@ struct ZFightingResult {
 /// eye are rounded to float as the vertex stage sees them (DSFUN90 relative to eye, exact to that
 /// rounding), so that only depth is measured; separations below the float spacing at `distance`
 /// (1 m at 10,000 km) are raised to it.
-ZFightingResult measureZFighting(Context& context, DepthStrategy strategy, double distance, double separation,
+ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strategy, double distance, double separation,
                                  const ZFightingOptions& options = {});
 
 /// The smallest separation at which measureZFighting finds no pixel wrongly ordered, nor at any
 /// larger one tried: separations from `distance` down by factors of 10^(1/stepsPerDecade) to the
 /// float spacing at `distance` (returned when even that is resolved); infinity when `distance`
 /// itself is not. Wrong pixels come and go as the depth steps fall, hence the scan from above.
-double measureMinimumSeparation(Context& context, DepthStrategy strategy, double distance,
+double measureMinimumSeparation(renderer::Context& context, DepthStrategy strategy, double distance,
                                 const ZFightingOptions& options = {}, int stepsPerDecade = 4);
 
 // ---- The two-sum on the GPU ---------------------------------------------------------------------
@@ -102,7 +104,7 @@ struct TwoSumSurvival {
 /// Runs og_emulatedDoubleSubtract on the GPU for random positions at Earth radius and GEO with eyes
 /// 1 m to 10,000 km away, reads the results back with transform feedback and compares them bit for
 /// bit with the CPU mirror. Throws orbis::Error for Precise on a device without GL_ARB_gpu_shader5.
-TwoSumSurvival measureTwoSumSurvival(Context& context, TwoSumProtection protection, std::size_t samples = 4096,
+TwoSumSurvival measureTwoSumSurvival(renderer::Context& context, TwoSumProtection protection, std::size_t samples = 4096,
                                      std::uint64_t seed = 5);
 
-} // namespace orbis
+} // namespace orbis::scene

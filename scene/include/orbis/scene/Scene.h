@@ -15,11 +15,13 @@
 #include <optional>
 #include <vector>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Context;
 class Framebuffer;
 class Texture2D;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
 
 struct SceneOptions {
     /// The near and far limits of every strategy; the ratio and overlap of MultiFrustum.
@@ -70,15 +72,15 @@ public:
     /// Draws one frame into the context's current framebuffer (which must exist: headless
     /// contexts have no default one). Throws orbis::Error from the renderer for bad commands, and
     /// for a depth strategy the context, target or primitives cannot have (named in the message).
-    FrameStatistics render(Context& context);
+    FrameStatistics render(renderer::Context& context);
 
 private:
     /// The frame's strategy: the one asked for, checked, or Automatic's choice.
-    DepthStrategy chooseDepthStrategy(Context& context, Framebuffer* target, double nearDistance,
+    DepthStrategy chooseDepthStrategy(renderer::Context& context, renderer::Framebuffer* target, double nearDistance,
                                       double farDistance, bool logarithmicAvailable) const;
     /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
     /// is already Depth32F.
-    Framebuffer* floatDepthTarget(Context& context, Framebuffer& target);
+    renderer::Framebuffer* floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target);
 
     Ellipsoid _ellipsoid;
     SceneOptions _options;
@@ -91,9 +93,9 @@ private:
     CommandList _commands; ///< reused across frames
     std::vector<Primitive*> _survivors; ///< reused across frames
     std::optional<DepthStrategy> _lastAutomaticDepth; ///< Automatic's choice last frame
-    std::shared_ptr<Framebuffer> _floatDepthTarget;
-    std::shared_ptr<Texture2D> _floatDepth;
-    const Context* _floatDepthContext = nullptr;
+    std::shared_ptr<renderer::Framebuffer> _floatDepthTarget;
+    std::shared_ptr<renderer::Texture2D> _floatDepth;
+    const renderer::Context* _floatDepthContext = nullptr;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

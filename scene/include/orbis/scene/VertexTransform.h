@@ -12,12 +12,15 @@
 #include <cstdint>
 #include <optional>
 
-namespace orbis {
-
+namespace orbis::renderer {
 class Context;
 struct DeviceInfo;
-struct FrameState;
 struct ShaderProgramDescription;
+} // namespace orbis::renderer
+
+namespace orbis::scene {
+
+struct FrameState;
 
 /// How vertex positions reach the GPU (book chapter 5). Each concrete one is a define for the
 /// built-in og_vertexTransformClip() and og_vertexTransformEye()
@@ -56,8 +59,8 @@ const char* vertexTransformDefine(VertexTransform transform) noexcept;
 /// Adds the transform's define to a program description and, for the GPU relative-to-eye
 /// variants, what keeps their arithmetic as written: OG_PRECISE with GL_ARB_gpu_shader5 where the
 /// device has it, og_opaqueOne otherwise. Automatic adds nothing (resolve it first).
-void addVertexTransformDefines(VertexTransform transform, const DeviceInfo& device,
-                               ShaderProgramDescription& description);
+void addVertexTransformDefines(VertexTransform transform, const renderer::DeviceInfo& device,
+                               renderer::ShaderProgramDescription& description);
 
 /// An upper estimate, in metres, of the position error a transform gives geometry inside `sphere`
 /// seen from `eye`: the rounding of what it sends to float and of the float matrix product, per
@@ -95,7 +98,7 @@ public:
 
     /// The array for a concrete transform that `requested` covers (asserted). RelativeToEyeCpu
     /// rewrites its positions when the eye differs from the last call's.
-    const VertexArray& get(Context& context, VertexTransform transform, const glm::dvec3& eye);
+    const renderer::VertexArray& get(renderer::Context& context, VertexTransform transform, const glm::dvec3& eye);
     /// The model matrix a command drawing with `transform` needs: a translation to the centre for
     /// RelativeToCenter, identity for the others (their positions are world or eye relative).
     glm::dmat4 modelMatrix(VertexTransform transform) const noexcept;
@@ -105,11 +108,11 @@ public:
 
 private:
     struct Variant {
-        VertexBuffer high; ///< "position", or "positionHigh"
-        VertexBuffer low;  ///< "positionLow"
-        std::optional<VertexArray> array;
+        renderer::VertexBuffer high; ///< "position", or "positionHigh"
+        renderer::VertexBuffer low;  ///< "positionLow"
+        std::optional<renderer::VertexArray> array;
     };
-    void create(Context& context);
+    void create(renderer::Context& context);
     bool covers(VertexTransform transform) const noexcept;
 
     Mesh _mesh;
@@ -117,8 +120,8 @@ private:
     VertexTransform _requested;
     bool _created = false;
     PrimitiveType _primitiveType = PrimitiveType::Triangles;
-    VertexBuffer _normals;
-    IndexBuffer _indices;
+    renderer::VertexBuffer _normals;
+    renderer::IndexBuffer _indices;
     bool _hasNormals = false;
     bool _indexed = false;
     std::array<Variant, 5> _variants; ///< by VertexTransform value
@@ -127,4 +130,4 @@ private:
     std::uint64_t _floatsRewritten = 0;
 };
 
-} // namespace orbis
+} // namespace orbis::scene

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis::detail {
+namespace orbis::world::detail {
 
 /// 1-based line and column (in UTF-8 characters) of a byte offset; an offset past the end is
 /// the end. A leading byte-order mark is not counted.
@@ -41,4 +41,4 @@ struct DuplicateKey {
 /// The first duplicate key in document order; empty when none (or the text is not valid JSON).
 std::optional<DuplicateKey> findDuplicateKey(std::string_view text);
 
-} // namespace orbis::detail
+} // namespace orbis::world::detail

@@ -1,6 +1,6 @@
-#include "orbis/scene/SceneFile.h"
+#include "orbis/world/SceneFile.h"
 
-namespace orbis {
+namespace orbis::world {
 
 SceneDescription parseDefaultScene(const SceneParseOptions& options)
 {
@@ -8,4 +8,4 @@ SceneDescription parseDefaultScene(const SceneParseOptions& options)
     return parseSceneText(defaultSceneText(), "<default scene>", std::filesystem::path("."), options);
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,7 +1,7 @@
 #pragma once
 
-#include "orbis/scene/CameraControllers.h"
-#include "orbis/scene/SceneDescription.h"
+#include "orbis/world/CameraKeyframe.h"
+#include "orbis/world/SceneDescription.h"
 
 #include <orbis/core/Error.h>
 
@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// The scene-file version this build reads; files with a higher "version" are refused.
 inline constexpr int kSceneFileVersion = 1;
@@ -62,8 +62,8 @@ SceneDescription parseSceneText(std::string_view text, std::string_view originNa
 /// Reads a camera path file for `orbis render --path` (docs/scene-format.md): {"version": 1,
 /// "keyframes": [{"time": s, "position": {lon, lat, height}, "target": {...}}, ...]}, at least two
 /// keyframes in increasing time. Throws SceneFileError like parseSceneFile.
-std::vector<CameraPath::Keyframe> parseCameraPathFile(const std::filesystem::path& path);
-std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName);
+std::vector<CameraKeyframe> parseCameraPathFile(const std::filesystem::path& path);
+std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::string_view originName);
 
 /// The text of data/scenes/default.json, embedded in the library at build time.
 std::string_view defaultSceneText() noexcept;
@@ -72,4 +72,4 @@ std::string_view defaultSceneText() noexcept;
 /// against the current directory). Throws SceneFileError when a file it names is missing.
 SceneDescription parseDefaultScene(const SceneParseOptions& options = {});
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,11 +1,11 @@
 #pragma once
 
-#include <orbis/renderer/Image.h>
+#include <orbis/core/Image.h>
 
 #include <filesystem>
 #include <optional>
 
-namespace orbis {
+namespace orbis::world {
 
 /// A TMS tile pyramid on disk (tilemapresource.xml beside level folders z/x/y.ext), geodetic
 /// profile (EPSG:4326, two root tiles, origin at the lower left), as ../data/imagery holds.
@@ -27,4 +27,4 @@ Image readTileMapMosaic(const std::filesystem::path& folder, std::optional<int> 
 /// An image file as is, or a TMS folder's finest mosaic.
 Image readGlobeImage(const std::filesystem::path& path);
 
-} // namespace orbis
+} // namespace orbis::world

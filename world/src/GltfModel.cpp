@@ -1,4 +1,4 @@
-#include "orbis/scene/GltfModel.h"
+#include "orbis/world/GltfModel.h"
 
 #include "TinyGltf.h"
 
@@ -22,7 +22,7 @@
 #include <memory>
 #include <span>
 
-namespace orbis {
+namespace orbis::world {
 
 namespace {
 
@@ -921,4 +921,4 @@ std::size_t GltfModel::triangleCount() const noexcept
     return count;
 }
 
-} // namespace orbis
+} // namespace orbis::world

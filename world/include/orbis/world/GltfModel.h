@@ -1,8 +1,8 @@
 #pragma once
 
+#include <orbis/core/Image.h>
 #include <orbis/core/Mesh.h>
-#include <orbis/renderer/Image.h>
-#include <orbis/renderer/Sampler.h>
+#include <orbis/core/SamplerDescription.h>
 
 #include <glm/vec4.hpp>
 
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// How a glTF material's alpha is used (glTF 2.0, material.alphaMode).
 enum class AlphaMode : std::uint8_t {
@@ -95,4 +95,4 @@ struct GltfModel {
     Image decodeImage(std::size_t index) const;
 };
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,4 +1,4 @@
-#include "orbis/scene/CsvPoints.h"
+#include "orbis/world/CsvPoints.h"
 
 #include "orbis/core/Error.h"
 
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <span>
 
-namespace orbis {
+namespace orbis::world {
 
 const std::vector<std::string>* CsvPoints::column(std::string_view name) const noexcept
 {
@@ -343,4 +343,4 @@ CsvPoints loadCsvPoints(const std::filesystem::path& path, const CsvPointsOption
     return parseCsvPoints(readTextFile(path, "CSV"), path.string(), options);
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <fstream>
 
-namespace orbis {
+namespace orbis::world {
 
 std::string readTextFile(const std::filesystem::path& path, const char* kind)
 {
@@ -26,4 +26,4 @@ std::string readTextFile(const std::filesystem::path& path, const char* kind)
     return text;
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,4 +1,4 @@
-#include <orbis/scene/GeoJson.h>
+#include <orbis/world/GeoJson.h>
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
@@ -12,6 +12,7 @@
 #include <cmath>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 
@@ -40,7 +41,7 @@ const std::string kSquare = R"({"type": "Polygon", "coordinates": [[[0, 0], [1, 
 
 } // namespace
 
-TEST_CASE("loadGeoJson reads the 177 Natural Earth countries with names and valid positions", "[scene][geojson]")
+TEST_CASE("loadGeoJson reads the 177 Natural Earth countries with names and valid positions", "[world][geojson]")
 {
     const FeatureCollection countries = loadGeoJson(kDataDir / "natural-earth/countries-110m.geojson");
     REQUIRE(countries.features.size() == 177);
@@ -69,7 +70,7 @@ TEST_CASE("loadGeoJson reads the 177 Natural Earth countries with names and vali
     CHECK(ring.front() == ring.back());
 }
 
-TEST_CASE("loadGeoJson reads the Natural Earth land polygons", "[scene][geojson]")
+TEST_CASE("loadGeoJson reads the Natural Earth land polygons", "[world][geojson]")
 {
     const FeatureCollection land = loadGeoJson(kDataDir / "natural-earth/land-110m.geojson");
     REQUIRE_FALSE(land.features.empty());
@@ -81,7 +82,7 @@ TEST_CASE("loadGeoJson reads the Natural Earth land polygons", "[scene][geojson]
     }
 }
 
-TEST_CASE("parseGeoJson reads every geometry type, heights, holes and properties", "[scene][geojson]")
+TEST_CASE("parseGeoJson reads every geometry type, heights, holes and properties", "[world][geojson]")
 {
     const std::string text = collection({
         R"({"type": "Feature", "id": 7, "properties": {"name": "here", "population": 1500, "capital": true,
@@ -141,7 +142,7 @@ TEST_CASE("parseGeoJson reads every geometry type, heights, holes and properties
     CHECK(result.features[7].index == 7);
 }
 
-TEST_CASE("parseGeoJson accepts a single Feature or a bare geometry at top level", "[scene][geojson]")
+TEST_CASE("parseGeoJson accepts a single Feature or a bare geometry at top level", "[world][geojson]")
 {
     const FeatureCollection single = parseGeoJson(feature("one", kSquare), "feature.geojson");
     REQUIRE(single.features.size() == 1);
@@ -153,7 +154,7 @@ TEST_CASE("parseGeoJson accepts a single Feature or a bare geometry at top level
     CHECK(bare.features[0].properties.empty());
 }
 
-TEST_CASE("GeoJSON errors name the file, the feature, its name, the JSON path and the problem", "[scene][geojson]")
+TEST_CASE("GeoJSON errors name the file, the feature, its name, the JSON path and the problem", "[world][geojson]")
 {
     const test::TempDirectory directory;
     const std::string bad = R"({"type": "Polygon", "coordinates": [[[177, -17], [178, -17], [178, -16], [177, 95], [177, -17]]]})";
@@ -163,7 +164,7 @@ TEST_CASE("GeoJSON errors name the file, the feature, its name, the JSON path an
                       ": feature 1 (name \"Fiji\"): geometry.coordinates[0][3]: latitude 95 out of range [-90, 90]"));
 }
 
-TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[scene][geojson]")
+TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[world][geojson]")
 {
     const test::TempDirectory directory;
     const std::string whole = collection({feature("a", kSquare), feature("b", kSquare)});
@@ -196,7 +197,7 @@ TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[scene]
                Contains("empty.json: JSON syntax error at line 1, column 1 (byte 0)"));
 }
 
-TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected with a path", "[scene][geojson]")
+TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected with a path", "[world][geojson]")
 {
     struct Case {
         std::string geometry;
@@ -254,7 +255,7 @@ TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected
                Equals("f: coordinates: latitude -91 out of range [-90, 90]"));
 }
 
-TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and warns", "[scene][geojson]")
+TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and warns", "[world][geojson]")
 {
     const std::string open = collection(
         {feature("open", R"({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [1, 1], [0, 1]]]})")});
@@ -279,7 +280,7 @@ TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and w
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(twoCorners, "f", options); }), Contains("got 3"));
 }
 
-TEST_CASE("skipInvalidFeatures keeps the valid features and reports each bad one", "[scene][geojson]")
+TEST_CASE("skipInvalidFeatures keeps the valid features and reports each bad one", "[world][geojson]")
 {
     const test::TempDirectory directory;
     const auto path = directory.write(
@@ -304,7 +305,7 @@ TEST_CASE("skipInvalidFeatures keeps the valid features and reports each bad one
     CHECK_THROWS_AS(parseGeoJson("{\"type\": ", "f", options), Error);
 }
 
-TEST_CASE("loadGeoJson names the path of a missing file", "[scene][geojson]")
+TEST_CASE("loadGeoJson names the path of a missing file", "[world][geojson]")
 {
     CHECK_THAT(test::errorMessage([] { loadGeoJson("/nonexistent/countries.geojson"); }),
                Contains("/nonexistent/countries.geojson: cannot open GeoJSON file"));

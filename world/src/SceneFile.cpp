@@ -1,6 +1,6 @@
-#include "orbis/scene/SceneFile.h"
+#include "orbis/world/SceneFile.h"
 
-#include "orbis/scene/CsvPoints.h"
+#include "orbis/world/CsvPoints.h"
 
 #include "JsonLocator.h"
 
@@ -22,7 +22,7 @@
 #include <sstream>
 #include <system_error>
 
-namespace orbis {
+namespace orbis::world {
 
 SceneFileError::SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
                                std::string reason)
@@ -403,7 +403,7 @@ public:
         return scene;
     }
 
-    std::vector<CameraPath::Keyframe> readCameraPath(const Json& root) const
+    std::vector<CameraKeyframe> readCameraPath(const Json& root) const
     {
         if (!root.is_object()) {
             fail("", "expected a JSON object at the top of the file, got " + describe(root));
@@ -414,7 +414,7 @@ public:
         if (!keyframes.is_array() || keyframes.size() < 2) {
             fail("/keyframes", "expected an array of at least two keyframes, got " + describe(keyframes));
         }
-        std::vector<CameraPath::Keyframe> path;
+        std::vector<CameraKeyframe> path;
         for (std::size_t i = 0; i < keyframes.size(); ++i) {
             const std::string pointer = "/keyframes/" + std::to_string(i);
             const Json& keyframe = keyframes[i];
@@ -1206,14 +1206,14 @@ SceneDescription parseSceneText(std::string_view text, std::string_view originNa
     return SceneReader(text, origin, absoluteDirectory(baseDirectory), options).read(root);
 }
 
-std::vector<CameraPath::Keyframe> parseCameraPathText(std::string_view text, std::string_view originName)
+std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::string_view originName)
 {
     const std::string origin(originName);
     const Json root = parseJsonDocument(text, origin);
     return SceneReader(text, origin, fs::path("."), SceneParseOptions{false}).readCameraPath(root);
 }
 
-std::vector<CameraPath::Keyframe> parseCameraPathFile(const fs::path& path)
+std::vector<CameraKeyframe> parseCameraPathFile(const fs::path& path)
 {
     return parseCameraPathText(readDocument(path, "a camera path file"), path.string());
 }
@@ -1225,4 +1225,4 @@ SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& o
     return parseSceneText(text, path.string(), parent.empty() ? fs::path(".") : parent, options);
 }
 
-} // namespace orbis
+} // namespace orbis::world

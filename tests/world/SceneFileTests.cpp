@@ -1,5 +1,6 @@
-#include <orbis/scene/SceneFile.h>
+#include <orbis/world/SceneFile.h>
 
+#include <orbis/core/Ellipsoid.h>
 #include <orbis/core/SunPosition.h>
 
 #include <glm/geometric.hpp>
@@ -11,6 +12,7 @@
 #include <sstream>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 namespace fs = std::filesystem;
@@ -86,7 +88,7 @@ std::string withLayer(std::string_view layer)
 // ---------------------------------------------------------------------------------------------
 // Files that must work
 
-TEST_CASE("Every example scene in data/scenes parses, with its files present", "[scene][scenefile]")
+TEST_CASE("Every example scene in data/scenes parses, with its files present", "[world][scenefile]")
 {
     std::size_t count = 0;
     for (const fs::directory_entry& entry : fs::directory_iterator(kScenes)) {
@@ -101,7 +103,7 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
     REQUIRE(count >= 4);
 }
 
-TEST_CASE("The built-in default scene is data/scenes/default.json", "[scene][scenefile]")
+TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
 {
     REQUIRE(defaultSceneText() == readText(kScenes / "default.json"));
     const SceneDescription builtIn = parseDefaultScene();
@@ -118,7 +120,7 @@ TEST_CASE("The built-in default scene is data/scenes/default.json", "[scene][sce
     REQUIRE(builtIn.layers.empty());
 }
 
-TEST_CASE("A scene of only a version takes the documented defaults", "[scene][scenefile]")
+TEST_CASE("A scene of only a version takes the documented defaults", "[world][scenefile]")
 {
     const SceneDescription scene = parse(R"({"version": 1})");
     REQUIRE(scene.width == 1280);
@@ -136,7 +138,7 @@ TEST_CASE("A scene of only a version takes the documented defaults", "[scene][sc
     REQUIRE_THAT(glm::dot(scene.sun.directionEarthFixed, glm::normalize(eye)), WithinAbs(1.0, 1e-15));
 }
 
-TEST_CASE("Every key reads into the description, degrees to radians", "[scene][scenefile]")
+TEST_CASE("Every key reads into the description, degrees to radians", "[world][scenefile]")
 {
     const SceneDescription scene = parse(R"({
         "version": 1, "width": 640, "height": 480, "background": "#336699cc",
@@ -207,14 +209,14 @@ TEST_CASE("Every key reads into the description, degrees to radians", "[scene][s
     REQUIRE_THAT(model.orientation.roll, WithinAbs(toRadians(-5.0), kAngleTolerance));
 }
 
-TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[scene][scenefile]")
+TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[world][scenefile]")
 {
     const auto layer = std::get<GeoJsonLayer>(parse(withLayer(R"({"type": "geojson", "source": "a.json"})")).layers[0]);
     REQUIRE(layer.stroke == StrokeStyle{});
     REQUIRE_FALSE(layer.fill.has_value());
 }
 
-TEST_CASE("Lines take their granularity in degrees and their curve", "[scene][scenefile]")
+TEST_CASE("Lines take their granularity in degrees and their curve", "[world][scenefile]")
 {
     const auto geojson = std::get<GeoJsonLayer>(
         parse(withLayer(R"({"type": "geojson", "source": "a.json", "granularity": 0.25, "curve": "geodesic"})")).layers[0]);
@@ -238,7 +240,7 @@ TEST_CASE("Lines take their granularity in degrees and their curve", "[scene][sc
           R"(test.json:1:76: /layers/0/curve: unknown value "geodetic" (did you mean "geodesic"?))");
 }
 
-TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[scene][scenefile]")
+TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[world][scenefile]")
 {
     const SceneDescription scene = parse(R"({"version": 1, "time": "2026-06-21T12:00:00Z"})");
     const auto utc = parseUtcTime("2026-06-21T12:00:00Z");
@@ -252,7 +254,7 @@ TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[scen
     REQUIRE_THAT(toDegrees(scene.sun.subsolarPoint.longitude), WithinAbs(0.0, 2.0));
 }
 
-TEST_CASE("Relative paths resolve against the scene file's folder", "[scene][scenefile]")
+TEST_CASE("Relative paths resolve against the scene file's folder", "[world][scenefile]")
 {
     const TemporaryFolder folder;
     writeText(folder.path() / "data" / "countries.geojson", "{}");
@@ -285,32 +287,10 @@ TEST_CASE("Relative paths resolve against the scene file's folder", "[scene][sce
     REQUIRE(relative == scene);
 }
 
-TEST_CASE("makeCamera looks at the target, or along heading and pitch", "[scene][scenefile][camera]")
-{
-    const Ellipsoid earth = Ellipsoid::wgs84();
-    CameraDescription description;
-    description.position = Geodetic3D::fromDegrees(10.0, 50.0, 1e6);
-    description.aim = Geodetic3D::fromDegrees(10.0, 50.0, 0.0);
-    const Camera down = makeCamera(description, earth);
-    const glm::dvec3 normal = earth.geodeticSurfaceNormal(description.position);
-    REQUIRE_THAT(glm::dot(down.direction(), -normal), WithinAbs(1.0, 1e-12));
-    // Looking straight down, up is north: perpendicular to the view and pointing to the pole.
-    REQUIRE_THAT(glm::dot(down.up(), down.direction()), WithinAbs(0.0, 1e-12));
-    REQUIRE(down.up().z > 0.5);
-    REQUIRE_THAT(down.fieldOfViewY(), WithinAbs(toRadians(45.0), kAngleTolerance));
-
-    description.aim = HeadingPitchRoll{0.0, -kHalfPi, 0.0};
-    REQUIRE_THAT(glm::dot(makeCamera(description, earth).direction(), -normal), WithinAbs(1.0, 1e-12));
-    description.aim = HeadingPitchRoll{0.0, 0.0, 0.0}; // level, facing north
-    const Camera level = makeCamera(description, earth);
-    REQUIRE_THAT(glm::dot(level.direction(), normal), WithinAbs(0.0, 1e-12));
-    REQUIRE(level.direction().z > 0.5);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Errors: each names the file, line and column, the JSON pointer, and what was expected
 
-TEST_CASE("Scene file errors carry the origin, pointer, line, column and reason", "[scene][scenefile][errors]")
+TEST_CASE("Scene file errors carry the origin, pointer, line, column and reason", "[world][scenefile][errors]")
 {
     try {
         parseSceneText("{\n  \"version\": 1,\n  \"width\": \"wide\"\n}", "scenes/bad.json", kScenes);
@@ -325,7 +305,7 @@ TEST_CASE("Scene file errors carry the origin, pointer, line, column and reason"
     }
 }
 
-TEST_CASE("Unknown keys are errors with their path and a suggestion", "[scene][scenefile][errors]")
+TEST_CASE("Unknown keys are errors with their path and a suggestion", "[world][scenefile][errors]")
 {
     CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "colour": "#ff0000"})")) ==
             R"(test.json:1:79: /layers/0/colour: unknown key "colour" (did you mean "color"?))");
@@ -344,7 +324,7 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[scene][s
             R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "globe", "layers")");
 }
 
-TEST_CASE("Out-of-range values are errors naming the range", "[scene][scenefile][errors]")
+TEST_CASE("Out-of-range values are errors naming the range", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 95}}})") ==
             "test.json:1:57: /camera/position/lat: 95 is out of range [-90, 90]");
@@ -373,7 +353,7 @@ TEST_CASE("Out-of-range values are errors naming the range", "[scene][scenefile]
             "test.json:1:74: /layers/0/positions/1/1: 91 is out of range [-90, 90]");
 }
 
-TEST_CASE("Wrong types are errors saying what was expected and what came", "[scene][scenefile][errors]")
+TEST_CASE("Wrong types are errors saying what was expected and what came", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"version": 1, "width": 12.5})") == "test.json:1:25: /width: expected a positive integer, got 12.5");
     CHECK(errorOf(R"({"version": 1, "camera": []})") == "test.json:1:26: /camera: expected an object, got an empty array");
@@ -413,7 +393,7 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[sce
                 R"(..."; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
 }
 
-TEST_CASE("Unknown enumeration values are errors with a suggestion", "[scene][scenefile][errors]")
+TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"version": 1, "depth": "logarithmc"})") ==
             R"(test.json:1:25: /depth: unknown value "logarithmc" (did you mean "logarithmic"?))");
@@ -429,7 +409,7 @@ TEST_CASE("Unknown enumeration values are errors with a suggestion", "[scene][sc
             R"(test.json:1:27: /layers/0: missing required key "type" (one of "geojson", "points", "polyline", "model"))");
 }
 
-TEST_CASE("The version is required and only version 1 is understood", "[scene][scenefile][errors]")
+TEST_CASE("The version is required and only version 1 is understood", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"width": 640})") == R"(test.json:1:1: missing required key "version" (this orbis reads version 1))");
     CHECK(errorOf(R"({"version": 2, "newKey": true})") ==
@@ -439,7 +419,7 @@ TEST_CASE("The version is required and only version 1 is understood", "[scene][s
     CHECK(errorOf(R"({"version": 1.0})") == "test.json:1:13: /version: expected an integer, got 1.0");
 }
 
-TEST_CASE("Missing required keys are errors naming the key", "[scene][scenefile][errors]")
+TEST_CASE("Missing required keys are errors naming the key", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 10}}})") ==
             R"(test.json:1:39: /camera/position: missing required key "lat")");
@@ -451,7 +431,7 @@ TEST_CASE("Missing required keys are errors naming the key", "[scene][scenefile]
             R"(test.json:1:74: /layers/0/label: missing required key "field")");
 }
 
-TEST_CASE("Keys that contradict each other are errors", "[scene][scenefile][errors]")
+TEST_CASE("Keys that contradict each other are errors", "[world][scenefile][errors]")
 {
     CHECK(errorOf(R"({"version": 1, "camera": {"target": {"lon": 0, "lat": 0}, "pitch": -30}})") ==
             R"(test.json:1:59: /camera/pitch: "target" and "heading"/"pitch"/"roll" both aim the camera; give one or the other)");
@@ -463,7 +443,7 @@ TEST_CASE("Keys that contradict each other are errors", "[scene][scenefile][erro
             R"(test.json:1:24: /time: expected a UTC time "YYYY-MM-DDTHH:MM:SSZ", got "2026-02-30T12:00:00Z")");
 }
 
-TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[scene][scenefile][errors]")
+TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[world][scenefile][errors]")
 {
     // NaN and Infinity are not JSON.
     CHECK(errorOf("{\"version\": 1,\n \"width\": NaN}") ==
@@ -486,13 +466,13 @@ TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[sc
             "test.json: invalid scene: nested deeper than 64 levels");
 }
 
-TEST_CASE("A key given twice is an error at the second", "[scene][scenefile][errors]")
+TEST_CASE("A key given twice is an error at the second", "[world][scenefile][errors]")
 {
     CHECK(errorOf("{\"version\": 1,\n \"camera\": {\"fovY\": 30,\n  \"fovY\": 40}}") ==
             R"(test.json:3:3: /camera/fovY: duplicate key "fovY" (first given at line 2))");
 }
 
-TEST_CASE("Missing and unsuitable files are errors naming the key and the file", "[scene][scenefile][errors]")
+TEST_CASE("Missing and unsuitable files are errors naming the key and the file", "[world][scenefile][errors]")
 {
     const TemporaryFolder folder;
     const fs::path base = folder.path();
@@ -530,7 +510,7 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
             R"(test.json:1:89: /layers/0/label/field: no column "nmae" in "places.csv" (did you mean "name"?))");
 }
 
-TEST_CASE("parseSceneFile names files it cannot read", "[scene][scenefile][errors]")
+TEST_CASE("parseSceneFile names files it cannot read", "[world][scenefile][errors]")
 {
     const TemporaryFolder folder;
     const fs::path missing = folder.path() / "missing.json";

@@ -1,4 +1,4 @@
-#include "orbis/renderer/Image.h"
+#include "orbis/world/ImageFile.h"
 
 #include "orbis/core/Error.h"
 
@@ -10,7 +10,7 @@
 #include <memory>
 #include <system_error>
 
-namespace orbis {
+namespace orbis::world {
 
 Image readImage(const std::filesystem::path& path, int desiredChannels)
 {
@@ -50,4 +50,4 @@ void writePng(const Image& image, const std::filesystem::path& path)
     }
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,12 +1,12 @@
 #pragma once
 
-#include "orbis/scene/Camera.h"
-#include "orbis/scene/CurveType.h"
-#include "orbis/scene/DepthStrategy.h"
-#include "orbis/scene/GlobeMethod.h"
+#include "orbis/world/DepthStrategy.h"
+#include "orbis/world/GlobeMethod.h"
 
-#include <orbis/core/Ellipsoid.h>
+#include <orbis/core/CurveType.h>
 #include <orbis/core/Geodetic.h>
+#include <orbis/core/HeadingPitchRoll.h>
+#include <orbis/core/Math.h>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -19,21 +19,12 @@
 #include <variant>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 // What a scene file (docs/scene-format.md) describes, as plain values: angles in radians, heights
 // in metres, sizes in pixels, colours as non-premultiplied RGBA in 0..1, paths absolute. A scene
-// file is read into these by parseSceneFile (SceneFile.h); the renderer turns them into objects.
-
-/// Heading (clockwise from north), pitch (up from the horizontal) and roll (clockwise about the
-/// view direction), radians.
-struct HeadingPitchRoll {
-    double heading = 0.0;
-    double pitch = 0.0;
-    double roll = 0.0;
-
-    friend bool operator==(const HeadingPitchRoll&, const HeadingPitchRoll&) = default;
-};
+// file is read into these by parseSceneFile (SceneFile.h); the scene layer turns them into objects
+// (populateScene and makeCamera, orbis/scene/SceneBuilder.h).
 
 /// Where the camera is and where it looks: at a target point, or along a heading, pitch and roll.
 struct CameraDescription {
@@ -44,11 +35,6 @@ struct CameraDescription {
 
     friend bool operator==(const CameraDescription&, const CameraDescription&) = default;
 };
-
-/// The camera a description asks for on an ellipsoid: up is the local vertical, or north where
-/// the view is vertical; a heading-pitch-roll aim puts the target ahead of the eye, as far as
-/// the eye is from the centre.
-Camera makeCamera(const CameraDescription& description, const Ellipsoid& ellipsoid);
 
 /// What placed the Sun.
 enum class SunSource {
@@ -169,7 +155,7 @@ struct PolylineLayer {
 
 /// A glTF model placed at a position, its +x east, +y north and +z up before the heading,
 /// pitch and roll turn it: glTF's -x, +z (the asset's front) and +y (up), see gltfToEastNorthUp()
-/// in ModelPrimitive.h and docs/scene-format.md.
+/// in orbis/scene/ModelPrimitive.h and docs/scene-format.md.
 struct ModelLayer {
     enum class Format { Gltf, Glb };
     std::filesystem::path source;
@@ -199,4 +185,4 @@ struct SceneDescription {
     friend bool operator==(const SceneDescription&, const SceneDescription&) = default;
 };
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,4 +1,6 @@
-#include "orbis/scene/TileMapService.h"
+#include "orbis/world/TileMapService.h"
+
+#include "orbis/world/ImageFile.h"
 
 #include <orbis/core/Error.h>
 
@@ -7,7 +9,7 @@
 #include <regex>
 #include <sstream>
 
-namespace orbis {
+namespace orbis::world {
 
 namespace {
 
@@ -110,4 +112,4 @@ Image readGlobeImage(const std::filesystem::path& path)
     return readImage(path, 3);
 }
 
-} // namespace orbis
+} // namespace orbis::world

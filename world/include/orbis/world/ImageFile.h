@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-namespace orbis {
+namespace orbis::world {
 
 /// Reads a PNG or JPEG file. Throws orbis::Error naming the file when it cannot be read or decoded.
 Image readImage(const std::filesystem::path& path, int desiredChannels = 4);
@@ -13,4 +13,4 @@ Image readImage(const std::filesystem::path& path, int desiredChannels = 4);
 /// renamed. Throws orbis::Error naming the file on failure.
 void writePng(const Image& image, const std::filesystem::path& path);
 
-} // namespace orbis
+} // namespace orbis::world

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <unordered_map>
 
-namespace orbis::detail {
+namespace orbis::world::detail {
 
 namespace {
 
@@ -389,4 +389,4 @@ std::optional<DuplicateKey> findDuplicateKey(std::string_view text)
     return finder.found;
 }
 
-} // namespace orbis::detail
+} // namespace orbis::world::detail

@@ -1,4 +1,4 @@
-#include <orbis/scene/CsvPoints.h>
+#include <orbis/world/CsvPoints.h>
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
@@ -11,6 +11,7 @@
 #include <algorithm>
 
 using namespace orbis;
+using namespace orbis::world;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 
@@ -25,7 +26,7 @@ std::size_t indexOf(const std::vector<std::string>& column, std::string_view val
 
 } // namespace
 
-TEST_CASE("loadCsvPoints reads all 171075 GeoNames cities with the default columns", "[scene][csv]")
+TEST_CASE("loadCsvPoints reads all 171075 GeoNames cities with the default columns", "[world][csv]")
 {
     const CsvPoints cities = loadCsvPoints(kCities);
     REQUIRE(cities.size() == 171075);
@@ -50,7 +51,7 @@ TEST_CASE("loadCsvPoints reads all 171075 GeoNames cities with the default colum
     test::checkPosition(cities.positions[gjader], 19.59139, 41.88);
 }
 
-TEST_CASE("parseCsvPoints follows RFC 4180 quoting, line ends and a byte-order mark", "[scene][csv]")
+TEST_CASE("parseCsvPoints follows RFC 4180 quoting, line ends and a byte-order mark", "[world][csv]")
 {
     const std::string text = "\xEF\xBB\xBFname,lat,lon,note\r\n"
                              "\"Saint-Jean, Quebec\",46.3,-72.2,plain\r\n"
@@ -74,7 +75,7 @@ TEST_CASE("parseCsvPoints follows RFC 4180 quoting, line ends and a byte-order m
     test::checkPosition(points.positions[2], -46.63, -23.55);
 }
 
-TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and chosen properties", "[scene][csv]")
+TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and chosen properties", "[world][csv]")
 {
     const std::string text = "id;x;y;z;label;unused\n"
                              "a;10.5;-20.25;1200;first;-\n"
@@ -98,7 +99,7 @@ TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and
     CHECK(parseCsvPoints(text, "points.csv", options).propertyNames.empty());
 }
 
-TEST_CASE("CSV errors name the file, the line and the column", "[scene][csv]")
+TEST_CASE("CSV errors name the file, the line and the column", "[world][csv]")
 {
     const test::TempDirectory directory;
     const auto missingColumn = directory.write("missing.csv", "name,latitude,lon\nx,1,2\n");
@@ -143,7 +144,7 @@ TEST_CASE("CSV errors name the file, the line and the column", "[scene][csv]")
                Contains("/nonexistent/cities.csv: cannot open CSV file"));
 }
 
-TEST_CASE("skipInvalidRows keeps the valid rows and reports each bad one with its line", "[scene][csv]")
+TEST_CASE("skipInvalidRows keeps the valid rows and reports each bad one with its line", "[world][csv]")
 {
     const std::string text = "name,lat,lon\n"
                              "a,1,2\n"

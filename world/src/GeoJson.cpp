@@ -1,4 +1,4 @@
-#include "orbis/scene/GeoJson.h"
+#include "orbis/world/GeoJson.h"
 
 #include "orbis/core/Error.h"
 #include "orbis/core/Math.h"
@@ -12,7 +12,7 @@
 #include <charconv>
 #include <cmath>
 
-namespace orbis {
+namespace orbis::world {
 
 using Json = nlohmann::json;
 
@@ -571,4 +571,4 @@ FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOp
     return parseGeoJson(readTextFile(path, "GeoJSON"), path.string(), options);
 }
 
-} // namespace orbis
+} // namespace orbis::world

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// Which columns loadCsvPoints reads; the defaults fit data/geonames/cities.csv (name,lat,lon,country).
 /// The column names scene files accept for coordinates, compared without regard to case.
@@ -55,4 +55,4 @@ CsvPoints loadCsvPoints(const std::filesystem::path& path, const CsvPointsOption
 /// Parses CSV text already in memory; `sourceName` stands for the file in messages.
 CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const CsvPointsOptions& options = {});
 
-} // namespace orbis
+} // namespace orbis::world

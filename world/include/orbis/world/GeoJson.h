@@ -1,11 +1,11 @@
 #pragma once
 
-#include <orbis/scene/Feature.h>
+#include <orbis/world/Feature.h>
 
 #include <filesystem>
 #include <string_view>
 
-namespace orbis {
+namespace orbis::world {
 
 /// How loadGeoJson treats bad features and open rings.
 struct GeoJsonOptions {
@@ -33,4 +33,4 @@ FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOp
 FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName,
                                const GeoJsonOptions& options = {});
 
-} // namespace orbis
+} // namespace orbis::world

@@ -14,7 +14,7 @@
 #include <variant>
 #include <vector>
 
-namespace orbis {
+namespace orbis::world {
 
 /// A feature property: null, a boolean, a number or a string. GeoJSON arrays and objects are kept
 /// as their compact JSON text in the string alternative; integers beyond 2^53 lose precision.
@@ -89,4 +89,4 @@ struct FeatureCollection {
     std::vector<std::string> warnings; ///< one line per skipped feature or repaired ring, naming the file
 };
 
-} // namespace orbis
+} // namespace orbis::world

@@ -1,6 +1,6 @@
 #pragma once
 
-namespace orbis {
+namespace orbis::world {
 
 /// How the globe is drawn.
 enum class GlobeMethod {
@@ -8,4 +8,4 @@ enum class GlobeMethod {
     Tessellated, ///< a mesh from a core tessellator, relative to the eye on the GPU
 };
 
-} // namespace orbis
+} // namespace orbis::world
