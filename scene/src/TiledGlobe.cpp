@@ -416,7 +416,7 @@ std::shared_ptr<renderer::Texture2D> TiledGlobe::Impl::reproject(FrameState& fra
         renderer::VertexAttributeFormat sourceV{renderer::ComponentType::Float, 1, false, false, 3 * sizeof(float),
                                                 2 * sizeof(float)};
         reprojectionArray->setAttribute(renderer::VertexAttributeLocation::Position, *reprojectionStrip, position);
-        reprojectionArray->setAttribute(reprojectionProgram->attributeLocation("sourceV"), *reprojectionStrip, sourceV);
+        reprojectionArray->setAttribute(renderer::VertexAttributeLocation::TextureCoordinate, *reprojectionStrip, sourceV);
     }
     reprojectionStrip->copyFromSystemMemory(bytes);
 
@@ -800,7 +800,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
         command.draw.uniforms.set("u_baseColor", _options.baseColor);
-        command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
+            command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+        }
         for (std::size_t t = 0; t < uses.size(); ++t) {
             const TextureUse& use = uses[t];
             const ImageryLayerStyle& style = impl.layers[static_cast<std::size_t>(use.layer)].layer.style;

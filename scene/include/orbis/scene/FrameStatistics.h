@@ -38,6 +38,9 @@ struct FrameStatistics {
     double cullMilliseconds = 0.0;             ///< culling and binning
     double drawMilliseconds = 0.0;             ///< executing commands, GPU finished
     renderer::RenderStatistics renderer;                 ///< the context's own counts for the frame
+    /// The streamed surface's figures; empty in a scene without a TiledGlobe, which does none of
+    /// that work.
+    std::optional<TileStatistics> tiles;
 
     /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
     /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those
