@@ -162,6 +162,11 @@ std::string FrameStatistics::toJson() const
             << ", \"memoryLimited\": " << (t.memoryLimited ? "true" : "false")
             << ", \"converged\": " << (t.converged ? "true" : "false") << "}";
     }
+    if (framesToConverge) {
+        out << ",\n  \"framesToConverge\": " << *framesToConverge;
+    } else if (tiles) {
+        out << ",\n  \"framesToConverge\": null";
+    }
     out << "\n}\n";
     return out.str();
 }

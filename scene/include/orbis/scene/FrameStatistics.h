@@ -41,6 +41,9 @@ struct FrameStatistics {
     /// The streamed surface's figures; empty in a scene without a TiledGlobe, which does none of
     /// that work.
     std::optional<TileStatistics> tiles;
+    /// Set by a caller that renders a still picture until its tiles converge (`orbis render`): how
+    /// many frames that took; empty when it did not.
+    std::optional<std::uint64_t> framesToConverge;
 
     /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
     /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those
