@@ -173,7 +173,11 @@ struct TiledGlobe::Impl {
 
 void TiledGlobe::Impl::warn(const std::string& message) const
 {
-    std::cerr << "orbis: " << message << "\n";
+    if (options->onWarning) {
+        options->onWarning(message);
+    } else {
+        std::cerr << "orbis: " << message << "\n";
+    }
 }
 
 void TiledGlobe::Impl::created(QuadtreeTile& tile)
@@ -710,6 +714,11 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         // Candidates the loader does not start this frame go back to Unloaded: they are asked for
         // again next frame if the view still wants them.
         impl.loader.endFrame();
+        _loadsStarted.clear();
+        for (const std::uint64_t ticket : impl.loader.startedTickets()) {
+            const LoadTarget& target = impl.targets.at(ticket);
+            _loadsStarted.push_back({target.layer, target.key});
+        }
         for (auto entry = impl.targets.begin(); entry != impl.targets.end();) {
             if (impl.loader.isLoading(entry->first)) {
                 ++entry;

@@ -12,7 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <string>
 #include <optional>
 #include <vector>
 
@@ -57,6 +59,9 @@ struct TiledGlobeOptions {
     bool skirts = false;
     bool lighting = true;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
+    /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
+    /// the standard error stream.
+    std::function<void(const std::string&)> onWarning;
 };
 
 /// The globe's surface streamed as tiles (book chapter 12, course chapter 3): each frame selects
@@ -84,11 +89,21 @@ public:
     /// Every drawn tile at the level its error asks for with its own imagery, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }
 
+    /// A load this globe started: a surface tile's mesh (layer -1) or an imagery layer's tile.
+    struct Load {
+        int layer;
+        TileKey key;
+        friend bool operator==(const Load&, const Load&) = default;
+    };
+    /// The loads started in the last frame, in the order they started.
+    const std::vector<Load>& loadsStarted() const noexcept { return _loadsStarted; }
+
 private:
     struct Impl;
     std::unique_ptr<Impl> _impl;
     TiledGlobeOptions _options;
     TileStatistics _statistics;
+    std::vector<Load> _loadsStarted;
 };
 
 } // namespace orbis::scene
