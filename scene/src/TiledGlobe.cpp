@@ -793,6 +793,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         impl.sampler = frameState.device.createSampler(sampler);
     }
     const glm::dvec3& eye = frameState.camera.eye();
+    // Nothing of a tile is nearer than the eye's height above its highest point: far tighter than
+    // the box of a large tile, which a low eye is inside of.
+    const double eyeHeight = impl.ellipsoid.toGeodetic3D(eye).height;
     for (std::size_t i = 0; i < impl.selection.drawn.size(); ++i) {
         QuadtreeTile& tile = *impl.selection.drawn[i];
         SurfaceTile& surface = surfaceOf(tile);
@@ -825,7 +828,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
             command.draw.textures.push_back({static_cast<int>(t), use.imagery->texture.get(), &*impl.sampler});
         }
         command.boundingSphere = tile.region.boundingSphere();
-        command.nearestDistance = tile.region.distanceTo(eye);
+        command.nearestDistance = std::max(tile.region.distanceTo(eye), eyeHeight - tile.region.maximumHeight());
         command.tags = Effect::Globe | Effect::TiledImagery;
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;

@@ -1,5 +1,7 @@
 #include "SceneTestSupport.h"
 
+#include "TestHttpServer.h"
+
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/TiledGlobe.h>
@@ -8,7 +10,12 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <string>
 
 using namespace orbis;
 using namespace orbis::scene;
@@ -182,4 +189,145 @@ TEST_CASE("A scene without tiled imagery does none of the tile work", "[scene][t
     REQUIRE(tiledFrame.statistics.tiles);
     CHECK(tiledFrame.statistics.tiles->drawn == 2); // the roots: no imagery asks for more
     CHECK(tiledFrame.statistics.toJson().find("\"tiles\"") != std::string::npos);
+}
+
+TEST_CASE("The tile cache never holds more than its cap: the selection coarsens and says so", "[scene][tiles][gl]")
+{
+    TiledGlobeOptions options;
+    options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
+    options.lighting = false;
+    options.cacheBytes = 2u << 20; // 2 MiB: about ten textures
+    options.loader.workerThreads = 2;
+    options.loader.latencyFrames = 1;
+    options.uploadBytesPerFrame = 200000;
+    Scene scene(kEarth);
+    scene.options().background = glm::vec4(1.0f, 0.0f, 1.0f, 1.0f);
+    auto globe = std::make_shared<TiledGlobe>(kEarth, options);
+    scene.add(globe);
+    bool limited = false;
+    std::size_t evicted = 0;
+    for (int frame = 0; frame < 150; ++frame) {
+        // Low and fast along the 45th parallel, looking down: always new tiles.
+        place(scene, Geodetic3D::fromDegrees(-20.0 + 0.8 * frame, 45.0, 150000.0), 90.0, -90.0);
+        const RenderedFrame rendered = renderFrame(scene, 128, 128);
+        const TileStatistics& tiles = *rendered.statistics.tiles;
+        INFO("frame " << frame << "\n" << rendered.statistics.toText());
+        REQUIRE(tiles.residentBytesCpu + tiles.residentBytesGpu <= options.cacheBytes);
+        // An upload may go over the budget by its one tile, never more (the first frame loads the
+        // roots whatever the budget, so that it has no hole).
+        if (frame > 0) {
+            REQUIRE(tiles.uploadedBytes <= options.uploadBytesPerFrame + 256 * 256 * 4 * 4 / 3);
+        }
+        limited = limited || tiles.memoryLimited;
+        evicted += tiles.evicted;
+        int holes = 0;
+        for (std::size_t i = 0; i < rendered.image.pixels.size(); i += 4) {
+            holes += rendered.image.pixels[i] == 255 && rendered.image.pixels[i + 1] == 0 && rendered.image.pixels[i + 2] == 255;
+        }
+        REQUIRE(holes == 0);
+    }
+    CHECK(limited);
+    CHECK(evicted > 50);
+}
+
+namespace {
+
+std::vector<std::uint8_t> readBytes(const std::string& path)
+{
+    std::ifstream file(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+} // namespace
+
+TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles, then a server gone; parents stay "
+          "drawn, each failure named once, nothing hangs",
+          "[scene][tiles][gl][http]")
+{
+    TestHttpServer server;
+    const std::string folder = dataPath("imagery/BlueMarble");
+    server.set("/tms/tilemapresource.xml", ScriptedResponse::ok(readBytes(folder + "/tilemapresource.xml")));
+    // Levels 0 and 1 answer at once; level 2 tiles by turns: slow, missing, failing once, cut
+    // short, corrupt, or fine; levels 3 and 4 are not on this server.
+    for (std::uint32_t level = 0; level <= 2; ++level) {
+        for (std::uint32_t x = 0; x < (2u << level); ++x) {
+            for (std::uint32_t y = 0; y < (1u << level); ++y) {
+                const std::string name = "/" + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y) + ".jpg";
+                ScriptedResponse response = ScriptedResponse::ok(readBytes(folder + name));
+                response.contentType = "image/jpeg";
+                if (level == 2) {
+                    switch ((x + 3 * y) % 6) {
+                    case 0: response.delay = std::chrono::milliseconds(150); break;
+                    case 1: response = ScriptedResponse::withStatus(404); break;
+                    case 2: response.failuresFirst = 1; break;
+                    case 3: response.truncateAfter = response.body.size() / 3; break;
+                    case 4: std::fill(response.body.begin() + 200, response.body.end(), std::uint8_t{0x5a}); break;
+                    default: break;
+                    }
+                }
+                server.set("/tms" + name, std::move(response));
+            }
+        }
+    }
+    world::TileSourceOptions sourceOptions;
+    sourceOptions.http.retries = 1;
+    sourceOptions.http.backoff = std::chrono::milliseconds(5);
+    sourceOptions.http.totalTimeout = std::chrono::milliseconds(3000);
+    TiledGlobeOptions options;
+    options.imagery.push_back({world::openTileSource(server.url("/tms/"), sourceOptions), {}});
+    options.lighting = false;
+    options.loader.workerThreads = 2;
+    options.loader.latencyFrames = 1;
+    std::map<std::string, int> warnings;
+    options.onWarning = [&](const std::string& message) { ++warnings[message]; };
+    Scene scene(kEarth);
+    scene.options().background = glm::vec4(1.0f, 0.0f, 1.0f, 1.0f);
+    scene.add(std::make_shared<TiledGlobe>(kEarth, options));
+
+    auto countHoles = [](const Image& image) {
+        int holes = 0;
+        for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+            holes += image.pixels[i] == 255 && image.pixels[i + 1] == 0 && image.pixels[i + 2] == 255;
+        }
+        return holes;
+    };
+    // Looking down on Europe from 1,500 km: level 2 and 3 tiles wanted.
+    place(scene, Geodetic3D::fromDegrees(10.0, 45.0, 1.5e6), 0.0, -90.0);
+    RenderedFrame frame;
+    for (int i = 0; i < 60 && !(frame.statistics.tiles && frame.statistics.tiles->converged); ++i) {
+        frame = renderFrame(scene, 128, 128);
+        REQUIRE(countHoles(frame.image) == 0);
+    }
+    INFO(frame.statistics.toText());
+    REQUIRE(frame.statistics.tiles->converged);
+    CHECK(frame.statistics.tiles->missing > 0);
+    // The truncated and the corrupt tiles failed; the one that failed once came on its retry.
+    CHECK(frame.statistics.tiles->failed >= 2);
+    int retried = 0;
+    for (std::uint32_t x = 0; x < 8; ++x) {
+        for (std::uint32_t y = 0; y < 4; ++y) {
+            const std::string path = "/tms/2/" + std::to_string(x) + "/" + std::to_string(y) + ".jpg";
+            if ((x + 3 * y) % 6 == 2 && server.requests(path) > 0) {
+                CHECK(server.requests(path) == 2); // failed once, then fine
+                ++retried;
+            }
+        }
+    }
+    CHECK(retried > 0);
+
+    // The server goes away; a new view needs tiles it can no longer give: they fail, the parents stay.
+    server.stop();
+    place(scene, Geodetic3D::fromDegrees(-100.0, 40.0, 1.5e6), 0.0, -90.0);
+    for (int i = 0; i < 60 && !(frame.statistics.tiles->converged && i > 0); ++i) {
+        frame = renderFrame(scene, 128, 128);
+        REQUIRE(countHoles(frame.image) == 0);
+    }
+    INFO(frame.statistics.toText());
+    CHECK(frame.statistics.tiles->converged);
+    CHECK(frame.statistics.tiles->failed >= 4);
+    for (const auto& [message, count] : warnings) {
+        INFO(message);
+        CHECK(count == 1);
+    }
+    CHECK(warnings.size() == frame.statistics.tiles->failed);
 }
