@@ -3,6 +3,7 @@
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/Effect.h"
 #include "orbis/scene/ImageryCoverage.h"
+#include "orbis/scene/MercatorReprojection.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/TileMesh.h>
@@ -164,11 +165,7 @@ struct TiledGlobe::Impl {
     std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
     std::map<std::array<int, 4>, renderer::IndexBuffer> indexBuffers;
     std::optional<renderer::Sampler> sampler;
-    std::optional<renderer::Sampler> reprojectionSampler;
-    std::shared_ptr<renderer::ShaderProgram> reprojectionProgram;
-    std::optional<renderer::VertexBuffer> reprojectionStrip;
-    std::optional<renderer::VertexArray> reprojectionArray;
-    std::optional<renderer::Framebuffer> reprojectionTarget;
+    std::optional<MercatorReprojection> reprojection;
 };
 
 void TiledGlobe::Impl::warn(const std::string& message) const
@@ -180,11 +177,32 @@ void TiledGlobe::Impl::warn(const std::string& message) const
     }
 }
 
+namespace {
+
+/// True for the first layer when it is Web Mercator: beyond its latitude limit its edge rows
+/// stretch to the poles, so the globe has no cap of bare base colour.
+bool stretchesToPoles(std::size_t layerIndex, const ImageryTiling& tiling)
+{
+    return layerIndex == 0 && tiling.scheme.projection() == TilingProjection::WebMercator;
+}
+
+} // namespace
+
 void TiledGlobe::Impl::created(QuadtreeTile& tile)
 {
     auto surface = std::make_unique<SurfaceTile>();
-    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
-    for (const Layer& layer : layers) {
+    const GeodeticExtent tileExtent = quadtree.scheme().tileExtent(tile.key);
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+        const Layer& layer = layers[l];
+        GeodeticExtent extent = tileExtent;
+        if (stretchesToPoles(l, layer.tiling)) {
+            // The edge rows' tiles for what lies beyond the limit: the extent kept within it.
+            const GeodeticExtent limit = layer.tiling.scheme.coverage();
+            const double band = 1e-9;
+            extent.south = std::clamp(extent.south, limit.south, limit.north - band);
+            extent.north = std::clamp(extent.north, limit.south + band, limit.north);
+            extent.north = std::max(extent.north, extent.south + band);
+        }
         std::uint32_t level = imageryLevelFor(layer.tiling, ellipsoid, extent, tile.geometricError);
         std::vector<TileKey> keys = imageryTilesOver(layer.tiling, level, extent);
         while (keys.size() > kMaximumTexturesPerLayer && level > layer.tiling.minimumLevel) {
@@ -390,57 +408,13 @@ bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStat
 std::shared_ptr<renderer::Texture2D> TiledGlobe::Impl::reproject(FrameState& frameState, const Layer& layer,
                                                                  const TileKey& key, const Image& image)
 {
-    renderer::Device& device = frameState.device;
-    renderer::Context& context = frameState.context;
-    if (!reprojectionProgram) {
-        renderer::ShaderProgramDescription description;
-        description.name = "Web Mercator reprojection";
-        description.vertex = renderer::ShaderSource::embedded("scene/tiles/reproject_mercator.vert.glsl");
-        description.fragment = renderer::ShaderSource::embedded("scene/tiles/reproject_mercator.frag.glsl");
-        reprojectionProgram = device.shaderCache().get(description);
-        SamplerDescription linear;
-        reprojectionSampler = device.createSampler(linear);
-        reprojectionTarget = context.createFramebuffer();
+    if (!reprojection) {
+        reprojection.emplace(frameState.context);
     }
-    // One pair of vertices per row edge of the output, each with the Mercator row it samples,
-    // computed in doubles (mercatorRowEdges).
-    const std::vector<double> edges = mercatorRowEdges(layer.tiling.scheme.tileExtent(key), image.height);
-    std::vector<float> strip;
-    strip.reserve(edges.size() * 6);
-    for (std::size_t k = 0; k < edges.size(); ++k) {
-        const float y = static_cast<float>(static_cast<double>(k) / static_cast<double>(image.height));
-        const float v = static_cast<float>(edges[k]);
-        strip.insert(strip.end(), {0.0f, y, v, 1.0f, y, v});
-    }
-    const std::span<const std::byte> bytes = std::as_bytes(std::span(strip));
-    if (!reprojectionStrip || reprojectionStrip->sizeInBytes() < bytes.size()) {
-        reprojectionStrip = device.createVertexBuffer(bytes.size(), renderer::BufferUsage::DynamicDraw);
-        reprojectionArray = context.createVertexArray();
-        renderer::VertexAttributeFormat position{renderer::ComponentType::Float, 2, false, false, 3 * sizeof(float), 0};
-        renderer::VertexAttributeFormat sourceV{renderer::ComponentType::Float, 1, false, false, 3 * sizeof(float),
-                                                2 * sizeof(float)};
-        reprojectionArray->setAttribute(renderer::VertexAttributeLocation::Position, *reprojectionStrip, position);
-        reprojectionArray->setAttribute(renderer::VertexAttributeLocation::TextureCoordinate, *reprojectionStrip, sourceV);
-    }
-    reprojectionStrip->copyFromSystemMemory(bytes);
-
-    const renderer::Texture2D source = device.createTexture2D(image, false);
-    auto target = std::make_shared<renderer::Texture2D>(
-        device.createTexture2D(renderer::TextureDescription{image.width, image.height, renderer::TextureFormat::RGBA8, true}));
-    reprojectionTarget->setColorAttachment(0, target);
-    renderer::DrawCommand command;
-    command.debugName = "Web Mercator reprojection of " + layer.layer.source->locate(key);
-    command.vertexArray = &*reprojectionArray;
-    command.primitiveType = PrimitiveType::TriangleStrip;
-    command.count = edges.size() * 2;
-    command.shaderProgram = reprojectionProgram.get();
-    command.framebuffer = &*reprojectionTarget;
-    command.renderState.depthTest.enabled = false;
-    command.renderState.depthMask = false;
-    command.renderState.facetCulling.enabled = false;
-    command.textures.push_back({0, &source, &*reprojectionSampler});
-    context.draw(command);
-    reprojectionTarget->setColorAttachment(0, nullptr);
+    const renderer::Texture2D source = frameState.device.createTexture2D(image, false);
+    auto target = std::make_shared<renderer::Texture2D>(frameState.device.createTexture2D(
+        renderer::TextureDescription{image.width, image.height, renderer::TextureFormat::RGBA8, true}));
+    reprojection->reproject(source, layer.tiling.scheme.tileExtent(key), target);
     target->generateMipmaps();
     return target;
 }
@@ -512,8 +486,17 @@ std::vector<TextureUse> TiledGlobe::Impl::texturesFor(QuadtreeTile& tile, std::u
             if (!imagery || static_cast<int>(uses.size()) >= kMaximumTextures) {
                 continue;
             }
-            // The wanted key's part of the tile, drawn from whichever texture stands for it.
-            const GeodeticExtent keyExtent = layer.tiling.scheme.tileExtent(key);
+            // The wanted key's part of the tile, drawn from whichever texture stands for it; an edge
+            // row of a layer stretched to the poles covers up to the pole, its texture clamped.
+            GeodeticExtent keyExtent = layer.tiling.scheme.tileExtent(key);
+            if (stretchesToPoles(l, layer.tiling)) {
+                if (key.y == 0) {
+                    keyExtent.north = kHalfPi;
+                }
+                if (key.y + 1 == layer.tiling.scheme.tilesY(key.level)) {
+                    keyExtent.south = -kHalfPi;
+                }
+            }
             const auto part = placeImagery(keyExtent, extent, layer.layer.style.rectangle);
             auto placement = placeImagery(layer.tiling.scheme.tileExtent(used), extent, layer.layer.style.rectangle);
             if (!part || !placement) {
@@ -821,7 +804,14 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
             const std::string n = std::to_string(t);
             command.draw.uniforms.set("u_textureTransform" + n,
                                       glm::vec4(glm::dvec4(use.placement.translation, use.placement.scale)));
-            command.draw.uniforms.set("u_textureRectangle" + n, glm::vec4(use.placement.tileRectangle));
+            // A side on the tile's own edge is left open: texture coordinates interpolated across a
+            // triangle overshoot 0 and 1 by a rounding at the edges, which must not drop the texture.
+            glm::dvec4 rectangle = use.placement.tileRectangle;
+            rectangle.x = rectangle.x <= 0.0 ? -1.0 : rectangle.x;
+            rectangle.y = rectangle.y <= 0.0 ? -1.0 : rectangle.y;
+            rectangle.z = rectangle.z >= 1.0 ? 2.0 : rectangle.z;
+            rectangle.w = rectangle.w >= 1.0 ? 2.0 : rectangle.w;
+            command.draw.uniforms.set("u_textureRectangle" + n, glm::vec4(rectangle));
             command.draw.uniforms.set("u_textureAdjustment" + n,
                                       glm::vec4(static_cast<float>(style.alpha), static_cast<float>(style.brightness),
                                                 static_cast<float>(style.contrast), static_cast<float>(1.0 / style.gamma)));

@@ -1,10 +1,12 @@
 #include "SceneTestSupport.h"
 
+#include "TempFiles.h"
 #include "TestHttpServer.h"
 
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/TiledGlobe.h>
+#include <orbis/world/ImageCodec.h>
 #include <orbis/world/TileSource.h>
 
 #include <catch2/catch.hpp>
@@ -232,6 +234,14 @@ TEST_CASE("The tile cache never holds more than its cap: the selection coarsens 
 
 namespace {
 
+/// "/level/x/y.jpg", as a TMS folder names a tile.
+std::string tileName(std::uint32_t level, std::uint32_t x, std::uint32_t y)
+{
+    std::string name("/");
+    name.append(std::to_string(level)).append("/").append(std::to_string(x)).append("/");
+    return name.append(std::to_string(y)).append(".jpg");
+}
+
 std::vector<std::uint8_t> readBytes(const std::string& path)
 {
     std::ifstream file(path, std::ios::binary);
@@ -252,7 +262,7 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
     for (std::uint32_t level = 0; level <= 2; ++level) {
         for (std::uint32_t x = 0; x < (2u << level); ++x) {
             for (std::uint32_t y = 0; y < (1u << level); ++y) {
-                const std::string name = "/" + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y) + ".jpg";
+                const std::string name = tileName(level, x, y);
                 ScriptedResponse response = ScriptedResponse::ok(readBytes(folder + name));
                 response.contentType = "image/jpeg";
                 if (level == 2) {
@@ -306,7 +316,7 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
     int retried = 0;
     for (std::uint32_t x = 0; x < 8; ++x) {
         for (std::uint32_t y = 0; y < 4; ++y) {
-            const std::string path = "/tms/2/" + std::to_string(x) + "/" + std::to_string(y) + ".jpg";
+            const std::string path = "/tms" + tileName(2, x, y);
             if ((x + 3 * y) % 6 == 2 && server.requests(path) > 0) {
                 CHECK(server.requests(path) == 2); // failed once, then fine
                 ++retried;
@@ -330,4 +340,114 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
         CHECK(count == 1);
     }
     CHECK(warnings.size() == frame.statistics.tiles->failed);
+}
+
+namespace {
+
+/// A Web Mercator pyramid ({z}/{x}/{y}.png, XYZ rows from the north) of a graticule: opaque white
+/// lines three texels wide every 10 degrees of latitude and longitude, placed by the Mercator
+/// formulas, transparent (white with no alpha, so that filtering keeps the lines white) elsewhere;
+/// and an opaque red band over the last 2 degrees below the latitude limit.
+std::string writeMercatorGraticule(const TempDirectory& folder, std::uint32_t levels)
+{
+    const TilingScheme mercator = TilingScheme::webMercator();
+    const double limit = toDegrees(mercator.coverage().north);
+    for (std::uint32_t z = 0; z <= levels; ++z) {
+        const double tiles = std::ldexp(1.0, static_cast<int>(z));
+        for (std::uint32_t x = 0; x < mercator.tilesX(z); ++x) {
+            for (std::uint32_t y = 0; y < mercator.tilesY(z); ++y) {
+                Image image(256, 256, 4);
+                for (int j = 0; j < 256; ++j) {
+                    const double row = (y + (j + 0.5) / 256.0) / tiles;
+                    const double latitude = toDegrees(TilingScheme::mercatorLatitude(kPi * (1.0 - 2.0 * row)));
+                    // Degrees of latitude per texel here, so the lines are a texel wide.
+                    const double texelDegrees = 360.0 / (256.0 * tiles) * std::cos(toRadians(latitude));
+                    for (int i = 0; i < 256; ++i) {
+                        const double longitude = (x + (i + 0.5) / 256.0) / tiles * 360.0 - 180.0;
+                        const double toParallel = std::abs(std::remainder(latitude, 10.0));
+                        const double toMeridian = std::abs(std::remainder(longitude, 10.0));
+                        std::uint8_t* p = image.pixel(i, j);
+                        p[0] = p[1] = p[2] = 255;
+                        if (std::abs(latitude) > limit - 2.0) {
+                            p[1] = p[2] = 0;
+                            p[3] = 255;
+                        } else if (toParallel < 1.5 * texelDegrees || toMeridian < 1.5 * 360.0 / (256.0 * tiles)) {
+                            p[3] = 255;
+                        }
+                    }
+                }
+                const std::filesystem::path tileFolder = folder.path() / std::to_string(z) / std::to_string(x);
+                std::filesystem::create_directories(tileFolder);
+                const std::vector<std::uint8_t> png = world::encodePng(image, 1);
+                std::ofstream(tileFolder / (std::to_string(y) + ".png"), std::ios::binary)
+                    .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+            }
+        }
+    }
+    return (folder.path() / "{z}/{x}/{y}.png").string();
+}
+
+} // namespace
+
+TEST_CASE("A Web Mercator layer over a geographic one: its parallels fall where their latitudes are",
+          "[scene][tiles][gl]")
+{
+    TempDirectory folder;
+    world::TileSourceOptions mercatorOptions;
+    mercatorOptions.maximumLevel = 3;
+    const std::shared_ptr<world::TileSource> graticule =
+        world::openTileSource(writeMercatorGraticule(folder, 3), mercatorOptions);
+    REQUIRE(graticule->info().scheme.projection() == TilingProjection::WebMercator);
+    TiledGlobeOptions options;
+    options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
+    options.imagery.push_back({graticule, {}});
+    options.lighting = false;
+    Scene scene(kEarth);
+    scene.add(std::make_shared<TiledGlobe>(kEarth, options));
+    place(scene, Geodetic3D::fromDegrees(15.0, 60.0, 2.5e6), 0.0, -90.0);
+    constexpr int kSize = 256;
+    const RenderedFrame frame = renderConverged(scene, kSize, kSize);
+    INFO(frame.statistics.toText());
+    REQUIRE(frame.statistics.tiles->converged);
+    world::writePng(frame.image, "/tmp/tiled-mercator-over-geographic.png");
+    auto white = [&](double longitude, double latitude) {
+        const glm::ivec2 pixel = projectToPixel(scene, kEarth.toCartesian(Geodetic2D::fromDegrees(longitude, latitude)), kSize, kSize);
+        const std::uint8_t* p = frame.image.pixel(pixel.x, pixel.y);
+        return p[0] > 200 && p[1] > 200 && p[2] > 200;
+    };
+    int onLine = 0;
+    int between = 0;
+    for (double longitude = 5.5; longitude < 25.0; longitude += 1.0) {
+        onLine += white(longitude, 60.0) ? 1 : 0;
+        between += white(longitude, 62.5) || white(longitude, 57.5) ? 1 : 0;
+    }
+    CHECK(onLine >= 18); // of 20: the line is a pixel wide, rounding may miss one or two
+    CHECK(between == 0);
+}
+
+TEST_CASE("Beyond the Web Mercator limit the first layer's edge row reaches the pole", "[scene][tiles][gl]")
+{
+    TempDirectory folder;
+    world::TileSourceOptions mercatorOptions;
+    mercatorOptions.maximumLevel = 3;
+    TiledGlobeOptions options;
+    options.imagery.push_back({world::openTileSource(writeMercatorGraticule(folder, 3), mercatorOptions), {}});
+    options.lighting = false;
+    options.baseColor = glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
+    Scene scene(kEarth);
+    scene.add(std::make_shared<TiledGlobe>(kEarth, options));
+    place(scene, Geodetic3D::fromDegrees(0.0, 89.9999, 1.5e6), 0.0, -90.0);
+    constexpr int kSize = 128;
+    const RenderedFrame frame = renderConverged(scene, kSize, kSize);
+    REQUIRE(frame.statistics.tiles->converged);
+    world::writePng(frame.image, "/tmp/tiled-mercator-pole.png");
+    for (const double latitude : {90.0, 88.0, 86.0}) {
+        for (const double longitude : {-150.0, -60.0, 0.0, 45.0, 135.0}) {
+            const glm::ivec2 pixel = projectToPixel(scene, kEarth.toCartesian(Geodetic2D::fromDegrees(longitude, latitude)), kSize, kSize);
+            const std::uint8_t* p = frame.image.pixel(pixel.x, pixel.y);
+            INFO("lon " << longitude << " lat " << latitude);
+            CHECK(p[0] > 200);
+            CHECK(p[2] < 50); // red, the edge row's: not the blue base colour
+        }
+    }
 }
