@@ -27,23 +27,51 @@ bool EllipsoidalOccluder::isPointVisible(const glm::dvec3& p) const noexcept
     return isScaledSpacePointVisible(toScaledSpace(p));
 }
 
-bool EllipsoidalOccluder::isScaledSpacePointVisible(const glm::dvec3& scaledPoint) const noexcept
+namespace {
+
+/// The horizon test in a scaled space where the occluder is the unit sphere; distanceToLimbSquared
+/// is |camera|^2 - 1.
+bool isVisibleFrom(const glm::dvec3& camera, double distanceToLimbSquared, const glm::dvec3& scaledPoint) noexcept
 {
-    if (!canOcclude()) {
+    if (!(distanceToLimbSquared > 0.0)) {
         return true;
     }
-    const glm::dvec3& camera = _cameraPositionScaled;
     const glm::dvec3 cameraToPoint = scaledPoint - camera;
     // How far the point lies beyond the camera along the line to the centre; the horizon plane
-    // (through the limb) is at _distanceToLimbSquared.
+    // (through the limb) is at distanceToLimbSquared.
     const double depth = -glm::dot(cameraToPoint, camera);
-    if (!(depth > _distanceToLimbSquared)) {
+    if (!(depth > distanceToLimbSquared)) {
         return true;
     }
     // depth^2 / |cameraToPoint|^2 = |camera|^2 cos^2 of the angle off the line to the centre; it
     // exceeds |camera|^2 - 1 exactly inside the cone tangent to the sphere. depth > 0 here, so
     // cameraToPoint is not zero.
-    return !(depth * depth > _distanceToLimbSquared * glm::dot(cameraToPoint, cameraToPoint));
+    return !(depth * depth > distanceToLimbSquared * glm::dot(cameraToPoint, cameraToPoint));
+}
+
+} // namespace
+
+bool EllipsoidalOccluder::isScaledSpacePointVisible(const glm::dvec3& scaledPoint) const noexcept
+{
+    return isVisibleFrom(_cameraPositionScaled, _distanceToLimbSquared, scaledPoint);
+}
+
+bool EllipsoidalOccluder::isScaledSpacePointVisible(const glm::dvec3& scaledPoint, double minimumHeight) const noexcept
+{
+    if (minimumHeight >= 0.0) {
+        return isScaledSpacePointVisible(scaledPoint);
+    }
+    const Ellipsoid occluding = occludingEllipsoid(_ellipsoid, minimumHeight);
+    const glm::dvec3 camera = _cameraPosition * occluding.oneOverRadii();
+    return isVisibleFrom(camera, glm::dot(camera, camera) - 1.0, scaledPoint);
+}
+
+Ellipsoid EllipsoidalOccluder::occludingEllipsoid(const Ellipsoid& ellipsoid, double minimumHeight) noexcept
+{
+    if (!(minimumHeight < 0.0)) {
+        return ellipsoid;
+    }
+    return Ellipsoid(glm::max(ellipsoid.radii() + minimumHeight, 0.5 * ellipsoid.radii()));
 }
 
 std::optional<glm::dvec3> EllipsoidalOccluder::horizonOcclusionPoint(const glm::dvec3& directionToPoint,

@@ -48,17 +48,33 @@ Frustum Frustum::fromViewProjection(const glm::dmat4& m) noexcept
     return f;
 }
 
-Intersect Frustum::intersect(const BoundingSphere& sphere) const noexcept
+namespace {
+
+/// Outside one plane is outside; inside all six is inside.
+template <typename Volume>
+Intersect intersectPlanes(const std::array<Plane, 6>& planes, const Volume& volume) noexcept
 {
     bool inside = true;
-    for (const Plane& plane : _planes) {
-        const Intersect result = sphere.intersect(plane);
+    for (const Plane& plane : planes) {
+        const Intersect result = volume.intersect(plane);
         if (result == Intersect::Outside) {
             return Intersect::Outside;
         }
         inside = inside && result == Intersect::Inside;
     }
     return inside ? Intersect::Inside : Intersect::Intersecting;
+}
+
+} // namespace
+
+Intersect Frustum::intersect(const BoundingSphere& sphere) const noexcept
+{
+    return intersectPlanes(_planes, sphere);
+}
+
+Intersect Frustum::intersect(const OrientedBoundingBox& box) const noexcept
+{
+    return intersectPlanes(_planes, box);
 }
 
 bool Frustum::contains(const glm::dvec3& p) const noexcept

@@ -42,6 +42,14 @@ public:
     bool isPointVisible(const glm::dvec3& p) const noexcept;
     /// The same test for a point already in scaled space (a horizon occlusion point).
     bool isScaledSpacePointVisible(const glm::dvec3& scaledPoint) const noexcept;
+    /// The test for a point in the scaled space of occludingEllipsoid(ellipsoid(), minimumHeight),
+    /// for geometry that reaches below the surface (terrain under the sea): that smaller
+    /// ellipsoid is what hides it. The plain test when minimumHeight >= 0.
+    bool isScaledSpacePointVisible(const glm::dvec3& scaledPoint, double minimumHeight) const noexcept;
+
+    /// The ellipsoid that may hide geometry reaching down to minimumHeight: the radii shortened by
+    /// -minimumHeight when it is negative (to no less than half of each), else the ellipsoid itself.
+    static Ellipsoid occludingEllipsoid(const Ellipsoid& ellipsoid, double minimumHeight) noexcept;
 
     /// The horizon occlusion point of positions (world metres) along directionToPoint (world,
     /// from the centre, usually towards the tile's bounding-sphere centre), in scaled space: the

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/core/BoundingSphere.h"
+#include "orbis/core/OrientedBoundingBox.h"
 #include "orbis/core/Intersect.h"
 #include "orbis/core/Plane.h"
 
@@ -32,6 +33,8 @@ public:
     /// Where the sphere lies: Outside when wholly outside one plane, Inside when wholly inside
     /// all six, Intersecting otherwise (conservative near edges and corners).
     Intersect intersect(const BoundingSphere& sphere) const noexcept;
+    /// The same for an oriented box.
+    Intersect intersect(const OrientedBoundingBox& box) const noexcept;
 
     /// True when p is inside or on every plane.
     bool contains(const glm::dvec3& p) const noexcept;
