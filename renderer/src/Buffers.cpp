@@ -1,7 +1,9 @@
-// VertexBuffer and IndexBuffer: GL buffer objects. Uploads and reads go through the copy-write and
-// copy-read binding points, which no vertex array records, so they never disturb a draw's state.
+// VertexBuffer, IndexBuffer and PixelBuffer: GL buffer objects. Uploads and reads go through the
+// copy-write and copy-read binding points, which no vertex array records, so they never disturb a
+// draw's state.
 
 #include "orbis/renderer/IndexBuffer.h"
+#include "orbis/renderer/PixelBuffer.h"
 #include "orbis/renderer/VertexBuffer.h"
 
 #include "ContextState.h"
@@ -217,6 +219,51 @@ IndexBuffer Device::createIndexBuffer(std::span<const std::uint32_t> indices, Bu
     detail::ContextState& state = detail::requireCurrent(this, "Device::createIndexBuffer");
     return IndexBuffer(*this, createBuffer(state.gl, indices.size_bytes(), indices.data(), usage),
                        IndexType::UnsignedInt, indices.size(), usage);
+}
+
+// PixelBuffer
+
+PixelBuffer::PixelBuffer(Device& device, unsigned name, std::size_t size) noexcept
+    : _device(&device), _name(name), _size(size)
+{
+}
+
+PixelBuffer::~PixelBuffer()
+{
+    deleteBuffer(_device, _name);
+}
+
+PixelBuffer::PixelBuffer(PixelBuffer&& other) noexcept
+    : _device(other._device)
+    , _name(std::exchange(other._name, 0u))
+    , _size(std::exchange(other._size, 0u))
+{
+}
+
+PixelBuffer& PixelBuffer::operator=(PixelBuffer&& other) noexcept
+{
+    if (this != &other) {
+        deleteBuffer(_device, _name);
+        _device = other._device;
+        _name = std::exchange(other._name, 0u);
+        _size = std::exchange(other._size, 0u);
+    }
+    return *this;
+}
+
+std::vector<std::byte> PixelBuffer::copyToSystemMemory(std::size_t offsetInBytes,
+                                                       std::optional<std::size_t> sizeInBytes) const
+{
+    detail::ContextState& state = detail::requireCurrent(_device, "PixelBuffer::copyToSystemMemory");
+    const std::size_t size = sizeInBytes.value_or(offsetInBytes <= _size ? _size - offsetInBytes : 0);
+    checkRange("PixelBuffer::copyToSystemMemory", offsetInBytes, size, _size, "bytes");
+    return readBuffer(state.gl, _name, offsetInBytes, size);
+}
+
+PixelBuffer Device::createPixelBuffer(std::size_t sizeInBytes)
+{
+    detail::ContextState& state = detail::requireCurrent(this, "Device::createPixelBuffer");
+    return PixelBuffer(*this, createBuffer(state.gl, sizeInBytes, nullptr, BufferUsage::StreamRead), sizeInBytes);
 }
 
 } // namespace orbis::renderer

@@ -602,11 +602,10 @@ std::vector<float> Context::captureVertexOutputs(const DrawCommand& command, con
     return captured;
 }
 
-Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
+PixelRectangle Context::bindReadSource(const Framebuffer* framebuffer, int colorAttachment)
 {
     detail::ContextState& state = *_state;
     Framebuffer* target = bindTarget(const_cast<Framebuffer*>(framebuffer), ErrorSource{"Context::readPixels", {}});
-    const PixelRectangle size = targetRectangle(target);
     if (target) {
         if (colorAttachment < 0 || colorAttachment >= Framebuffer::kMaxColorAttachments ||
             !target->_colors[colorAttachment]) {
@@ -617,6 +616,32 @@ Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
     } else {
         state.gl.glReadBuffer(GL_BACK);
     }
+    return targetRectangle(target);
+}
+
+void Context::readPixels(PixelBuffer& destination, const Framebuffer* framebuffer, int colorAttachment)
+{
+    detail::ContextState& state = *_state;
+    const PixelRectangle size = bindReadSource(framebuffer, colorAttachment);
+    const std::size_t bytes = static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height) * 4;
+    if (!destination.valid() || destination.sizeInBytes() < bytes) {
+        throw Error("Context::readPixels: " + std::to_string(size.width) + " x " + std::to_string(size.height) +
+                    " pixels need a pixel buffer of " + std::to_string(bytes) + " bytes, and this one has " +
+                    std::to_string(destination.sizeInBytes()));
+    }
+    if (bytes == 0) {
+        return;
+    }
+    // Bound only for the copy: every other read (readPixels into memory, texture reads) wants none.
+    state.gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, destination._name);
+    state.gl.glReadPixels(0, 0, size.width, size.height, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    state.gl.glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+}
+
+Image Context::readPixels(const Framebuffer* framebuffer, int colorAttachment)
+{
+    detail::ContextState& state = *_state;
+    const PixelRectangle size = bindReadSource(framebuffer, colorAttachment);
     Image image(size.width, size.height, 4);
     if (size.width > 0 && size.height > 0) {
         state.gl.glReadPixels(0, 0, size.width, size.height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());

@@ -44,9 +44,37 @@ void TileStatistics::add(const TileStatistics& other) noexcept
     converged = converged && other.converged;
 }
 
+void VirtualTextureStatistics::add(const VirtualTextureStatistics& other) noexcept
+{
+    pagesWanted += other.pagesWanted;
+    pagesRequested += other.pagesRequested;
+    pagesLoaded += other.pagesLoaded;
+    pagesEvicted += other.pagesEvicted;
+    pagesResident += other.pagesResident;
+    physicalPages += other.physicalPages;
+    pagesPending += other.pagesPending;
+    pagesMissing += other.pagesMissing;
+    pagesFailed += other.pagesFailed;
+    fallbackPixels += other.fallbackPixels;
+    feedbackPixels += other.feedbackPixels;
+    fallbackFraction = feedbackPixels == 0 ? 0.0 : static_cast<double>(fallbackPixels) / static_cast<double>(feedbackPixels);
+    feedbackLatencyFrames = std::max(feedbackLatencyFrames, other.feedbackLatencyFrames);
+    feedbackWidth = std::max(feedbackWidth, other.feedbackWidth);
+    feedbackHeight = std::max(feedbackHeight, other.feedbackHeight);
+    uploadedBytes += other.uploadedBytes;
+    lodBias = std::max(lodBias, other.lodBias);
+    lodBiasRaised = lodBiasRaised || other.lodBiasRaised;
+    gpuBytes += other.gpuBytes;
+    hardwarePages = hardwarePages || other.hardwarePages;
+    converged = converged && other.converged;
+}
+
 std::vector<std::string> FrameStatistics::effectsRun() const
 {
     std::vector<std::string> names = effectNames(effects);
+    if (virtualTexture && virtualTexture->feedbackWidth > 0) {
+        names.emplace_back("feedback pass");
+    }
     if (translucentPasses > 0) {
         names.emplace_back("translucent pass");
     }
@@ -108,6 +136,20 @@ std::string FrameStatistics::toText() const
             << number(static_cast<double>(t.uploadedBytes) / 1048576.0) << " MiB; "
             << (t.converged ? "converged" : "not converged") << "\n";
     }
+    if (virtualTexture) {
+        const VirtualTextureStatistics& v = *virtualTexture;
+        out << "virtual texture: " << v.pagesResident << " of " << v.physicalPages << " pages resident, "
+            << v.pagesWanted << " wanted; " << v.pagesRequested << " requested, " << v.pagesLoaded << " loaded, "
+            << v.pagesEvicted << " evicted, " << v.pagesPending << " pending, " << v.pagesMissing << " missing, "
+            << v.pagesFailed << " failed\n"
+            << "  fallback " << number(100.0 * v.fallbackFraction) << "% (" << v.fallbackPixels << " of "
+            << v.feedbackPixels << " feedback pixels, " << v.feedbackWidth << "x" << v.feedbackHeight << "), read back "
+            << v.feedbackLatencyFrames << " frames late; LOD bias " << number(v.lodBias)
+            << (v.lodBiasRaised ? " (raised: the view needs more pages than fit)" : "") << "\n"
+            << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
+            << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB" << (v.hardwarePages ? " (sparse texture)" : "")
+            << "; " << (v.converged ? "converged" : "not converged") << "\n";
+    }
     return out.str();
 }
 
@@ -161,6 +203,20 @@ std::string FrameStatistics::toJson() const
             << ", \"maximumScreenSpaceError\": " << number(t.maximumScreenSpaceError)
             << ", \"memoryLimited\": " << (t.memoryLimited ? "true" : "false")
             << ", \"converged\": " << (t.converged ? "true" : "false") << "}";
+    }
+    if (virtualTexture) {
+        const VirtualTextureStatistics& v = *virtualTexture;
+        out << ",\n  \"virtualTexture\": {\"pagesWanted\": " << v.pagesWanted << ", \"pagesRequested\": " << v.pagesRequested
+            << ", \"pagesLoaded\": " << v.pagesLoaded << ", \"pagesEvicted\": " << v.pagesEvicted
+            << ", \"pagesResident\": " << v.pagesResident << ", \"physicalPages\": " << v.physicalPages
+            << ", \"pagesPending\": " << v.pagesPending << ", \"pagesMissing\": " << v.pagesMissing
+            << ", \"pagesFailed\": " << v.pagesFailed << ", \"fallbackPixels\": " << v.fallbackPixels
+            << ", \"feedbackPixels\": " << v.feedbackPixels << ", \"fallbackFraction\": " << number(v.fallbackFraction)
+            << ", \"feedbackLatencyFrames\": " << v.feedbackLatencyFrames << ", \"feedbackWidth\": " << v.feedbackWidth
+            << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
+            << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
+            << ", \"gpuBytes\": " << v.gpuBytes << ", \"hardwarePages\": " << (v.hardwarePages ? "true" : "false")
+            << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
     }
     if (framesToConverge) {
         out << ",\n  \"framesToConverge\": " << *framesToConverge;

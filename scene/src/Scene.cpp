@@ -243,6 +243,13 @@ FrameStatistics Scene::render(renderer::Context& context)
             }
             statistics.tiles->add(*tiles);
         }
+        if (const VirtualTextureStatistics* pages = primitive->virtualTextureStatistics()) {
+            if (!statistics.virtualTexture) {
+                statistics.virtualTexture = *pages;
+            } else {
+                statistics.virtualTexture->add(*pages);
+            }
+        }
     }
     statistics.depthStrategy = plan.strategy;
     statistics.depthStrategyAutomatic = automatic;

@@ -16,6 +16,7 @@
 namespace orbis::renderer {
 
 class Device;
+class PixelBuffer;
 class ShaderProgram;
 namespace detail {
 class ContextState;
@@ -109,6 +110,13 @@ public:
     /// first. Float formats are clamped to 0..1.
     Image readPixels(const Framebuffer* framebuffer = nullptr, int colorAttachment = 0);
 
+    /// Queues a copy of a colour attachment of a framebuffer (the current one when null) into the
+    /// buffer and returns at once: RGBA8, 4 bytes a pixel, rows bottom to top, tightly packed. The
+    /// copy has happened once a Fence created after this call signals; read it then with
+    /// PixelBuffer::copyToSystemMemory. Throws orbis::Error when the buffer holds fewer than
+    /// width x height x 4 bytes or the attachment does not exist.
+    void readPixels(PixelBuffer& destination, const Framebuffer* framebuffer = nullptr, int colorAttachment = 0);
+
     /// Copies colour attachment 0 of `source` over the whole of `destination`, or of the window's
     /// framebuffer when null (whatever framebuffer is current), filtering linearly when the sizes
     /// differ: how a frame rendered offscreen, with a depth buffer the window cannot have, is shown.
@@ -136,6 +144,8 @@ private:
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);
     PixelRectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+    /// Binds the framebuffer for reading and selects the attachment; returns its size.
+    PixelRectangle bindReadSource(const Framebuffer* framebuffer, int colorAttachment);
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;

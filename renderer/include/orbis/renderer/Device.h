@@ -3,6 +3,7 @@
 #include "orbis/renderer/Context.h"
 #include "orbis/renderer/Fence.h"
 #include "orbis/renderer/IndexBuffer.h"
+#include "orbis/renderer/PixelBuffer.h"
 #include "orbis/renderer/Sampler.h"
 #include "orbis/renderer/ShaderCache.h"
 #include "orbis/renderer/ShaderProgram.h"
@@ -110,6 +111,9 @@ public:
     IndexBuffer createIndexBuffer(IndexType type, std::size_t count, BufferUsage usage = BufferUsage::StaticDraw);
     IndexBuffer createIndexBuffer(std::span<const std::uint16_t> indices, BufferUsage usage = BufferUsage::StaticDraw);
     IndexBuffer createIndexBuffer(std::span<const std::uint32_t> indices, BufferUsage usage = BufferUsage::StaticDraw);
+
+    /// GPU memory for Context::readPixels to copy pixels into without waiting (a pixel-pack buffer).
+    PixelBuffer createPixelBuffer(std::size_t sizeInBytes);
 
     /// Compiles and links. Throws orbis::Error with the driver's messages mapped to file and line.
     ShaderProgram createShaderProgram(const ShaderProgramDescription& description);

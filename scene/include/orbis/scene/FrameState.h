@@ -19,6 +19,7 @@ class Device;
 namespace orbis::scene {
 
 struct TileStatistics;
+struct VirtualTextureStatistics;
 
 /// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
 struct FrameState {
@@ -65,6 +66,11 @@ public:
     /// The streamed tiles' figures of the last update, for primitives that stream tiles (a
     /// TiledGlobe); null for the others. Scene::render adds them up into FrameStatistics::tiles.
     virtual const TileStatistics* tileStatistics() const { return nullptr; }
+
+    /// The virtual texture's figures of the last update, for primitives drawn with one (a
+    /// VirtualTextureGlobe); null for the others. Scene::render reports them in
+    /// FrameStatistics::virtualTexture.
+    virtual const VirtualTextureStatistics* virtualTextureStatistics() const { return nullptr; }
 };
 
 } // namespace orbis::scene

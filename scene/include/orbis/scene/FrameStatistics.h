@@ -3,6 +3,7 @@
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/MultiFrustum.h"
 #include "orbis/scene/TileStatistics.h"
+#include "orbis/scene/VirtualTextureStatistics.h"
 
 #include <orbis/renderer/RenderStatistics.h>
 
@@ -41,11 +42,15 @@ struct FrameStatistics {
     /// The streamed surface's figures; empty in a scene without a TiledGlobe, which does none of
     /// that work.
     std::optional<TileStatistics> tiles;
+    /// The virtual texture's figures; empty in a scene without one, which compiles no virtual
+    /// texture program and runs no feedback pass.
+    std::optional<VirtualTextureStatistics> virtualTexture;
     /// Set by a caller that renders a still picture until its tiles converge (`orbis render`): how
     /// many frames that took; empty when it did not.
     std::optional<std::uint64_t> framesToConverge;
 
-    /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
+    /// The effects drawn, by name, and "feedback pass" (a virtual texture's), "translucent pass",
+    /// "overlay pass", "multi-frustum",
     /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those
     /// ran: what the frame paid for.
     std::vector<std::string> effectsRun() const;

@@ -1,0 +1,993 @@
+#include "orbis/scene/VirtualTextureGlobe.h"
+
+#include "TileGeometry.h"
+
+#include "orbis/scene/DepthStrategy.h"
+#include "orbis/scene/Effect.h"
+#include "orbis/scene/PageTable.h"
+#include "orbis/scene/PhysicalPageCache.h"
+#include "orbis/scene/TileQuadtree.h"
+
+#include <orbis/core/Error.h>
+#include <orbis/core/TileMesh.h>
+#include <orbis/renderer/Context.h>
+#include <orbis/renderer/Device.h>
+#include <orbis/renderer/Fence.h>
+#include <orbis/renderer/Framebuffer.h>
+#include <orbis/renderer/PixelBuffer.h>
+#include <orbis/renderer/Sampler.h>
+#include <orbis/renderer/ShaderCache.h>
+#include <orbis/renderer/ShaderProgram.h>
+#include <orbis/renderer/Texture2D.h>
+#include <orbis/world/TileSource.h>
+#include <orbis/world/VirtualTextureSource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <iostream>
+#include <map>
+#include <set>
+#include <tuple>
+#include <string>
+#include <unordered_set>
+#include <utility>
+
+namespace orbis::scene {
+
+namespace {
+
+/// A surface tile's mesh on the GPU, made when the tile is first drawn.
+struct SurfaceTile final : TileData {
+    std::optional<detail::TileGpuMesh> mesh;
+    std::uint64_t lastDrawnFrame = 0;
+};
+
+SurfaceTile& surfaceOf(QuadtreeTile& tile)
+{
+    return static_cast<SurfaceTile&>(*tile.data);
+}
+
+/// A page cut on a worker: its slot's texels, rows from the north.
+struct PageContent final : world::TileContent {
+    explicit PageContent(Image image_) : image(std::move(image_)) {}
+    std::size_t byteSize() const noexcept override { return image.pixels.size(); }
+    Image image;
+};
+
+/// What a feedback buffer was drawn from: the view and the bias. A feedback describes the present
+/// picture only while these are the same.
+struct FeedbackView {
+    glm::dvec3 eye{0.0};
+    glm::dvec3 target{0.0};
+    glm::dvec3 up{0.0};
+    double fieldOfViewY = 0.0;
+    int width = 0;
+    int height = 0;
+    double lodBias = 0.0;
+    friend bool operator==(const FeedbackView&, const FeedbackView&) = default;
+};
+
+/// A feedback buffer on its way back from the GPU.
+struct FeedbackRead {
+    std::uint64_t frame = 0;
+    renderer::PixelBuffer buffer;
+    renderer::Fence fence;
+    int width = 0;
+    int height = 0;
+    FeedbackView view;
+};
+
+/// The LOD clamp's "no page waits here" (vtLodClamp): far below any level of detail.
+constexpr float kNoClamp = -1000.0f;
+
+std::uint64_t ticketOf(const PageKey& page)
+{
+    return VirtualTextureLayout::linearIndex(page) + 1;
+}
+
+std::string pageName(const PageKey& page)
+{
+    return std::to_string(page.level) + "/" + std::to_string(page.x) + "/" + std::to_string(page.y);
+}
+
+/// The physical texture's slots: about square.
+std::pair<int, int> slotGrid(int pages)
+{
+    const int across = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(pages))));
+    return {across, (pages + across - 1) / across};
+}
+
+void validate(const VirtualTextureGlobeOptions& options)
+{
+    const VirtualTextureOptions& vt = options.virtualTexture;
+    if (!options.source) {
+        throw Error("VirtualTextureGlobe: no imagery source");
+    }
+    if (options.style.rectangle) {
+        throw Error("VirtualTextureGlobe: a virtual texture covers the whole globe; an imagery rectangle is not "
+                    "supported with it");
+    }
+    if (vt.physicalPages < 4) {
+        throw Error("VirtualTextureGlobe: physicalPages must be at least 4 (the two coarsest pages never leave), not " +
+                    std::to_string(vt.physicalPages));
+    }
+    if (vt.feedbackDivisor < 1 || vt.feedbackDivisor > 16) {
+        throw Error("VirtualTextureGlobe: feedbackDivisor must be 1 to 16, not " + std::to_string(vt.feedbackDivisor));
+    }
+    if (vt.feedbackLatencyFrames < 1 || vt.feedbackLatencyFrames > 8) {
+        throw Error("VirtualTextureGlobe: feedbackLatencyFrames must be 1 to 8, not " +
+                    std::to_string(vt.feedbackLatencyFrames));
+    }
+    if (!(vt.maximumAnisotropy >= 1.0f) || vt.maximumAnisotropy > std::max(1.0f, 2.0f * static_cast<float>(vt.border))) {
+        throw Error("VirtualTextureGlobe: maximumAnisotropy must be 1 to twice the border (" +
+                    std::to_string(2 * vt.border) + "), so that the filter stays inside the page's border");
+    }
+    if (!std::isfinite(vt.lodBias)) {
+        throw Error("VirtualTextureGlobe: lodBias must be a finite number of levels");
+    }
+    if (!(options.maximumScreenSpaceError > 0.0)) {
+        throw Error("VirtualTextureGlobe: maximumScreenSpaceError must be above 0 pixels");
+    }
+    if (options.samplesLog2 < 1 || options.samplesLog2 > 7) {
+        throw Error("VirtualTextureGlobe: samplesLog2 must be 1 to 7, not " + std::to_string(options.samplesLog2));
+    }
+}
+
+} // namespace
+
+struct VirtualTextureGlobe::Impl {
+    Impl(const Ellipsoid& ellipsoid_, const VirtualTextureGlobeOptions& options_)
+        : ellipsoid(ellipsoid_)
+        , options(&options_)
+        , pages(std::make_shared<world::VirtualTextureSource>(
+              options_.source,
+              world::VirtualTextureSourceOptions{options_.virtualTexture.pageSize, options_.virtualTexture.border,
+                                                 options_.virtualTexture.tileCacheBytes}))
+        , layout(pages->layout())
+        , quadtree(ellipsoid_, TilingScheme::geographic(), 64,
+                   [](QuadtreeTile& tile) {
+                       tile.data = std::make_unique<SurfaceTile>();
+                       tile.wantsLoad = false; // meshes are made when drawn: nothing to wait for
+                   })
+        , loader(options_.loader)
+        , pageTable(layout.finestLevel)
+        , indexBuffers(options_.samplesLog2, false)
+    {
+        const auto [across, up] = slotGrid(options_.virtualTexture.physicalPages);
+        cache.emplace(across, up);
+    }
+
+    void start(FrameState& frameState);
+    void receive(world::TileLoadResult result);
+    bool uploadPage(FrameState& frameState, const PageKey& page, const Image& image);
+    /// Sends the page table's changed rectangles, and the LOD clamp's, to the GPU.
+    void uploadTables();
+    void updateLodClamp();
+    void readFeedback(FrameState& frameState);
+    void adjustBias();
+    void requestPages();
+    void drawFeedback(FrameState& frameState, const FeedbackView& view);
+    void ensureMeshes(FrameState& frameState);
+    renderer::ShaderProgram& program(FrameState& frameState, bool feedback);
+    void setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double bias) const;
+    bool evictable(const PageKey& page) const;
+    double bias() const noexcept { return options->virtualTexture.lodBias + dynamicBias; }
+    void warn(const std::string& message) const;
+    std::size_t gpuBytes() const noexcept;
+
+    Ellipsoid ellipsoid;
+    const VirtualTextureGlobeOptions* options;
+    std::shared_ptr<world::VirtualTextureSource> pages; ///< shared with the workers' loads
+    VirtualTextureLayout layout;
+    TileQuadtree quadtree;
+    world::TileLoader loader;
+    PageTable pageTable;
+    std::optional<PhysicalPageCache> cache;
+    detail::TileIndexBuffers indexBuffers;
+    bool started = false;
+    std::optional<std::uint64_t> streamedFrame;
+    VirtualTextureStatistics statistics; ///< this frame's, being filled
+    std::size_t missingCount = 0;
+    std::size_t failedCount = 0;
+
+    // Pages on their way: loads started, and pages loaded and waiting for their upload.
+    std::set<PageKey> inFlight;
+    std::map<PageKey, Image> arrived;
+
+    // The latest feedback read back, and what the view needs from it.
+    std::optional<FeedbackView> feedbackView;
+    FeedbackSummary summary;
+    std::vector<PageCount> needed;
+    std::unordered_set<PageKey, TileKeyHash> neededSet;
+    std::vector<std::uint32_t> feedbackSamples; ///< rows bottom to top
+    int feedbackSamplesWidth = 0;
+    int feedbackSamplesHeight = 0;
+    double dynamicBias = 0.0;
+    bool requestsOutstanding = false;
+
+    // GPU resources, made on the first frame.
+    std::optional<renderer::Texture2D> physical;
+    std::optional<renderer::Texture2D> pageTableTexture;
+    std::optional<renderer::Texture2D> lodClamp;
+    /// Per page of the finest level: the coarsest level of detail its resident pages allow, and the
+    /// same where a page the view asks for is still missing there (else none): see vtLodClamp.
+    std::vector<glm::vec2> clampValues;
+    std::vector<std::uint8_t> waiting;               ///< finest pages under a page asked for, not resident
+    std::vector<PageRectangle> waitingFootprints;    ///< those pages' extents at the finest level
+    std::optional<renderer::Texture2D> tail; ///< level 0's two pages, mipmapped
+    std::optional<renderer::Sampler> tailSampler;
+    std::optional<renderer::Sampler> physicalSampler;
+    std::optional<renderer::Sampler> pointSampler;
+    std::unique_ptr<renderer::Framebuffer> feedbackTarget;
+    std::deque<FeedbackRead> feedbackReads; ///< oldest first
+    std::vector<renderer::PixelBuffer> spareBuffers;
+    std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
+
+    // The surface.
+    TileSelection selection;
+    std::vector<QuadtreeTile*> meshTiles; ///< tiles with a mesh on the GPU
+    std::size_t meshBytes = 0;
+    std::size_t meshUploadedBytes = 0;
+    std::vector<std::uint8_t> staging;
+};
+
+void VirtualTextureGlobe::Impl::warn(const std::string& message) const
+{
+    if (options->onWarning) {
+        options->onWarning(message);
+    } else {
+        std::cerr << "orbis: " << message << "\n";
+    }
+}
+
+std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
+{
+    std::size_t bytes = 0;
+    if (physical) {
+        bytes += static_cast<std::size_t>(physical->width()) * physical->height() * 4;
+    }
+    if (tail) {
+        bytes += static_cast<std::size_t>(tail->width()) * tail->height() * 4 * 4 / 3;
+    }
+    if (pageTableTexture) {
+        bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 4 * 4 / 3;
+    }
+    bytes += clampValues.size() * sizeof(glm::vec2);
+    if (feedbackTarget) {
+        // Colour and depth-stencil, and the pixel buffers in flight or spare.
+        bytes += static_cast<std::size_t>(feedbackTarget->width()) * feedbackTarget->height() * 8;
+    }
+    for (const FeedbackRead& read : feedbackReads) {
+        bytes += read.buffer.sizeInBytes();
+    }
+    for (const renderer::PixelBuffer& buffer : spareBuffers) {
+        bytes += buffer.sizeInBytes();
+    }
+    return bytes;
+}
+
+bool VirtualTextureGlobe::Impl::evictable(const PageKey& page) const
+{
+    if (page.level == 0) {
+        return false; // the coarsest pages are every pixel's last fallback
+    }
+    if (page.level < layout.finestLevel) {
+        for (int c = 0; c < 4; ++c) {
+            if (pageTable.isMapped(page.child(c))) {
+                return false; // a mapped page's ancestors stay: they are its fallbacks
+            }
+        }
+    }
+    return true;
+}
+
+void VirtualTextureGlobe::Impl::start(FrameState& frameState)
+{
+    renderer::Device& device = frameState.device;
+    const int maximum = device.info().maxTextureSize;
+    const int slot = layout.slotSize();
+    if (cache->slotsX() * slot > maximum || cache->slotsY() * slot > maximum) {
+        throw Error("VirtualTextureGlobe: a physical texture of " + std::to_string(cache->capacity()) + " pages of " +
+                    std::to_string(slot) + " texels is " + std::to_string(cache->slotsX() * slot) + " x " +
+                    std::to_string(cache->slotsY() * slot) + " texels, beyond this device's " +
+                    std::to_string(maximum) + "; ask for fewer physicalPages or a smaller pageSize");
+    }
+    const std::uint32_t pagesX = VirtualTextureLayout::pagesX(layout.finestLevel);
+    const std::uint32_t pagesY = VirtualTextureLayout::pagesY(layout.finestLevel);
+    if (static_cast<int>(pagesX) + 1 > maximum) {
+        throw Error("VirtualTextureGlobe: the page table of " + pages->tileSource().info().name + " needs " +
+                    std::to_string(pagesX + 1) + " texels across, beyond this device's " + std::to_string(maximum) +
+                    "; use larger pages");
+    }
+    physical = device.createTexture2D(
+        {cache->slotsX() * slot, cache->slotsY() * slot, renderer::TextureFormat::RGBA8, false});
+    pageTableTexture = device.createTexture2D(
+        {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RGBA8, true});
+    lodClamp = device.createTexture2D(
+        {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RG32F, false});
+    clampValues.assign(static_cast<std::size_t>(pagesX) * pagesY, glm::vec2(static_cast<float>(layout.finestLevel), kNoClamp));
+    waiting.assign(static_cast<std::size_t>(pagesX) * pagesY, 0);
+    SamplerDescription linear;
+    linear.maximumAnisotropy = options->virtualTexture.maximumAnisotropy;
+    physicalSampler = device.createSampler(linear);
+    SamplerDescription point;
+    point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
+    point.magnificationFilter = TextureMagnificationFilter::Nearest;
+    pointSampler = device.createSampler(point);
+
+    SamplerDescription trilinear = linear;
+    trilinear.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
+    trilinear.wrapS = TextureWrap::Repeat; // across the antimeridian
+    tailSampler = device.createSampler(trilinear);
+
+    // The coarsest level, here and now: every pixel of the first frame has a page.
+    Image tailImage(2 * layout.pageSize, layout.pageSize, 4);
+    for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(0); ++x) {
+        const PageKey root{0, x, 0};
+        std::optional<Image> image;
+        try {
+            image = pages->cutPage(root);
+        } catch (const std::exception& error) {
+            ++failedCount;
+            warn("virtual texture: " + pages->describe(root) + " failed, drawn transparent: " + error.what());
+        }
+        if (!image) {
+            image = Image(slot, slot, 4); // transparent: the base colour shows
+        }
+        uploadPage(frameState, root, *image);
+        for (int row = 0; row < layout.pageSize; ++row) {
+            std::memcpy(tailImage.pixel(static_cast<int>(x) * layout.pageSize, row),
+                        image->pixel(layout.border, layout.border + row), static_cast<std::size_t>(layout.pageSize) * 4);
+        }
+    }
+    tail = device.createTexture2D(tailImage, true);
+    uploadTables();
+}
+
+bool VirtualTextureGlobe::Impl::uploadPage(FrameState& frameState, const PageKey& page, const Image& image)
+{
+    const std::optional<PhysicalPageCache::Placement> placement =
+        cache->insert(page, frameState.frameNumber, [this](const PageKey& key) { return evictable(key); });
+    if (!placement) {
+        return false;
+    }
+    if (placement->evicted) {
+        pageTable.unmap(*placement->evicted);
+        ++statistics.pagesEvicted;
+    }
+    const int slot = layout.slotSize();
+    // Rows from the north in the image, from the south in GL.
+    const std::size_t rowBytes = static_cast<std::size_t>(slot) * 4;
+    staging.resize(rowBytes * slot);
+    for (int row = 0; row < slot; ++row) {
+        std::memcpy(staging.data() + static_cast<std::size_t>(row) * rowBytes,
+                    image.pixels.data() + static_cast<std::size_t>(slot - 1 - row) * rowBytes, rowBytes);
+    }
+    physical->copyFromSystemMemory(std::as_bytes(std::span(staging)),
+                                   {placement->slot.x * slot, placement->slot.y * slot, slot, slot});
+    pageTable.map(page, placement->slot.x, placement->slot.y);
+    statistics.uploadedBytes += staging.size();
+    ++statistics.pagesLoaded;
+    return true;
+}
+
+void VirtualTextureGlobe::Impl::uploadTables()
+{
+    const std::uint32_t finest = layout.finestLevel;
+    for (std::uint32_t level = 0; level <= finest; ++level) {
+        const std::optional<PageRectangle>& dirty = pageTable.dirty(level);
+        if (!dirty) {
+            continue;
+        }
+        const std::span<const PageTableEntry> entries = pageTable.level(level);
+        const std::uint32_t columns = VirtualTextureLayout::pagesX(level);
+        const std::uint32_t width = dirty->x1 - dirty->x0;
+        staging.resize(static_cast<std::size_t>(width) * (dirty->y1 - dirty->y0) * sizeof(PageTableEntry));
+        std::uint8_t* out = staging.data();
+        for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
+            std::memcpy(out, entries.data() + static_cast<std::size_t>(y) * columns + dirty->x0,
+                        width * sizeof(PageTableEntry));
+            out += width * sizeof(PageTableEntry);
+        }
+        pageTableTexture->copyFromSystemMemory(
+            std::as_bytes(std::span(staging)),
+            {static_cast<int>(dirty->x0), static_cast<int>(dirty->y0), static_cast<int>(width),
+             static_cast<int>(dirty->y1 - dirty->y0)},
+            static_cast<int>(finest - level));
+        statistics.uploadedBytes += staging.size();
+    }
+    updateLodClamp();
+    pageTable.clearDirty();
+}
+
+namespace {
+
+PageRectangle unite(const std::optional<PageRectangle>& a, const PageRectangle& b)
+{
+    if (!a) {
+        return b;
+    }
+    return {std::min(a->x0, b.x0), std::min(a->y0, b.y0), std::max(a->x1, b.x1), std::max(a->y1, b.y1)};
+}
+
+} // namespace
+
+void VirtualTextureGlobe::Impl::updateLodClamp()
+{
+    // Where the view asks for pages that are not resident yet: their extents at the finest level.
+    const std::uint32_t finest = layout.finestLevel;
+    std::vector<PageRectangle> footprints;
+    for (const PageCount& asked : summary.pages) {
+        if (asked.page.level > finest || pageTable.isMapped(asked.page) || pageTable.isMissing(asked.page)) {
+            continue;
+        }
+        const std::uint32_t shift = finest - asked.page.level;
+        footprints.push_back({asked.page.x << shift, asked.page.y << shift, (asked.page.x + 1) << shift,
+                              (asked.page.y + 1) << shift});
+    }
+    std::sort(footprints.begin(), footprints.end(), [](const PageRectangle& a, const PageRectangle& b) {
+        return std::tie(a.y0, a.x0, a.y1, a.x1) < std::tie(b.y0, b.x0, b.y1, b.x1);
+    });
+    std::optional<PageRectangle> dirty = pageTable.dirty(finest);
+    if (footprints != waitingFootprints) {
+        for (const PageRectangle& footprint : footprints) {
+            if (!std::binary_search(waitingFootprints.begin(), waitingFootprints.end(), footprint,
+                                    [](const PageRectangle& a, const PageRectangle& b) {
+                                        return std::tie(a.y0, a.x0, a.y1, a.x1) < std::tie(b.y0, b.x0, b.y1, b.x1);
+                                    })) {
+                dirty = unite(dirty, footprint);
+            }
+        }
+        for (const PageRectangle& footprint : waitingFootprints) {
+            if (!std::binary_search(footprints.begin(), footprints.end(), footprint,
+                                    [](const PageRectangle& a, const PageRectangle& b) {
+                                        return std::tie(a.y0, a.x0, a.y1, a.x1) < std::tie(b.y0, b.x0, b.y1, b.x1);
+                                    })) {
+                dirty = unite(dirty, footprint);
+            }
+        }
+        waitingFootprints = std::move(footprints);
+    }
+    if (!dirty) {
+        return;
+    }
+    const std::uint32_t pagesX = VirtualTextureLayout::pagesX(finest);
+    for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
+        std::fill_n(waiting.begin() + static_cast<std::ptrdiff_t>(y) * pagesX + dirty->x0, dirty->x1 - dirty->x0, 0);
+    }
+    for (const PageRectangle& footprint : waitingFootprints) {
+        const PageRectangle overlap{std::max(footprint.x0, dirty->x0), std::max(footprint.y0, dirty->y0),
+                                    std::min(footprint.x1, dirty->x1), std::min(footprint.y1, dirty->y1)};
+        for (std::uint32_t y = overlap.y0; y < overlap.y1; ++y) {
+            for (std::uint32_t x = overlap.x0; x < overlap.x1; ++x) {
+                waiting[static_cast<std::size_t>(y) * pagesX + x] = 1;
+            }
+        }
+    }
+    const std::span<const PageTableEntry> entries = pageTable.level(finest);
+    std::vector<glm::vec2> region;
+    region.reserve(static_cast<std::size_t>(dirty->x1 - dirty->x0) * (dirty->y1 - dirty->y0));
+    for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
+        for (std::uint32_t x = dirty->x0; x < dirty->x1; ++x) {
+            const std::size_t at = static_cast<std::size_t>(y) * pagesX + x;
+            const PageTableEntry& entry = entries[at];
+            const float own = (entry.flags & PageTableEntry::kValid) ? static_cast<float>(finest - entry.level)
+                                                                      : static_cast<float>(finest);
+            clampValues[at] = {own, waiting[at] ? own : kNoClamp};
+            region.push_back(clampValues[at]);
+        }
+    }
+    lodClamp->copyFromSystemMemory(std::as_bytes(std::span(region)),
+                                   {static_cast<int>(dirty->x0), static_cast<int>(dirty->y0),
+                                    static_cast<int>(dirty->x1 - dirty->x0), static_cast<int>(dirty->y1 - dirty->y0)});
+    statistics.uploadedBytes += region.size() * sizeof(glm::vec2);
+}
+
+void VirtualTextureGlobe::Impl::receive(world::TileLoadResult result)
+{
+    const PageKey page = VirtualTextureLayout::pageOfIndex(result.ticket - 1);
+    inFlight.erase(page);
+    switch (result.status) {
+    case world::TileLoadResult::Status::Loaded:
+        arrived.emplace(page, std::move(static_cast<PageContent&>(*result.content).image));
+        break;
+    case world::TileLoadResult::Status::Missing:
+        pageTable.markMissing(page);
+        ++missingCount;
+        break;
+    case world::TileLoadResult::Status::Failed:
+        // Named once: the page is never asked for again, and its ancestor stays drawn there.
+        pageTable.markMissing(page);
+        ++failedCount;
+        warn("virtual texture: " + pages->describe(page) + " failed, its ancestor stays drawn: " + result.message);
+        break;
+    }
+}
+
+void VirtualTextureGlobe::Impl::readFeedback(FrameState& frameState)
+{
+    const VirtualTextureOptions& vt = options->virtualTexture;
+    const bool deterministic = options->loader.latencyFrames > 0;
+    std::optional<FeedbackRead> ready;
+    // The newest buffer that is due (and, with asynchronous timing, done); older ones are dropped.
+    while (!feedbackReads.empty()) {
+        FeedbackRead& oldest = feedbackReads.front();
+        if (oldest.frame + static_cast<std::uint64_t>(vt.feedbackLatencyFrames) > frameState.frameNumber) {
+            break;
+        }
+        if (!deterministic && !oldest.fence.signaled()) {
+            break;
+        }
+        if (ready) {
+            spareBuffers.push_back(std::move(ready->buffer));
+        }
+        ready = std::move(oldest);
+        feedbackReads.pop_front();
+    }
+    if (!ready) {
+        return;
+    }
+    // Deterministic timing waits here if the GPU is behind; the buffer is then read without a stall.
+    if (ready->fence.clientWait() != renderer::Fence::Status::Signaled) {
+        throw Error("VirtualTextureGlobe: the feedback read-back did not finish within 10 s");
+    }
+    const std::vector<std::byte> bytes = ready->buffer.copyToSystemMemory(
+        0, static_cast<std::size_t>(ready->width) * ready->height * 4);
+    feedbackSamples.resize(bytes.size() / 4);
+    std::memcpy(feedbackSamples.data(), bytes.data(), bytes.size());
+    feedbackSamplesWidth = ready->width;
+    feedbackSamplesHeight = ready->height;
+    spareBuffers.push_back(std::move(ready->buffer));
+    statistics.feedbackLatencyFrames = frameState.frameNumber - ready->frame;
+
+    summary = reduceFeedback(feedbackSamples);
+    needed = withAncestors(summary);
+    neededSet.clear();
+    for (const PageCount& count : needed) {
+        neededSet.insert(count.page);
+    }
+    feedbackView = ready->view;
+    // Pages the view uses are the most recently used; their ancestors with them.
+    for (const PageCount& count : needed) {
+        cache->touch(count.page, frameState.frameNumber);
+    }
+    // Requests the view no longer makes are dropped (Mayer 4.2): loads in flight, pages not uploaded.
+    for (auto page = inFlight.begin(); page != inFlight.end();) {
+        if (neededSet.contains(*page)) {
+            ++page;
+            continue;
+        }
+        loader.cancel(ticketOf(*page));
+        page = inFlight.erase(page);
+    }
+    std::erase_if(arrived, [&](const auto& entry) { return !neededSet.contains(entry.first); });
+    adjustBias();
+}
+
+void VirtualTextureGlobe::Impl::adjustBias()
+{
+    if (!options->virtualTexture.dynamicLodBias || !feedbackView || feedbackView->lodBias != bias()) {
+        return; // only a feedback drawn with the present bias says what it asks for
+    }
+    const double capacity = static_cast<double>(cache->capacity());
+    // What the slots must hold: the pages asked for and their ancestors, and the level-0 pages,
+    // which never leave.
+    std::size_t slotsNeeded = needed.size();
+    for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(0); ++x) {
+        slotsNeeded += neededSet.contains(PageKey{0, x, 0}) ? 0 : 1;
+    }
+    const double wanted = static_cast<double>(slotsNeeded);
+    // A quarter of a level coarser while more than 90% of the slots are asked for; back an eighth
+    // (at most 19% more pages) while under 45%, so the two never chase each other. A close view
+    // magnifies the finest level: the bias may have to exceed the levels there are.
+    if (wanted > 0.9 * capacity && dynamicBias < static_cast<double>(kMaximumTileLevel)) {
+        dynamicBias += 0.25;
+    } else if (wanted < 0.45 * capacity && dynamicBias > 0.0) {
+        dynamicBias = std::max(0.0, dynamicBias - 0.125);
+    }
+}
+
+void VirtualTextureGlobe::Impl::requestPages()
+{
+    const std::vector<PageCount> requests =
+        sortRequests(needed,
+                     [this](const PageKey& page) {
+                         return !pageTable.isMapped(page) && !pageTable.isMissing(page) && !inFlight.contains(page) &&
+                                !arrived.contains(page);
+                     },
+                     options->virtualTexture.requestOrder);
+    requestsOutstanding = !requests.empty();
+    // The loader starts the first ones within its budget (equal priorities by ticket); those it
+    // does not start are offered again next frame if the view still asks for them.
+    double rank = 0.0;
+    for (const PageCount& request : requests) {
+        const PageKey page = request.page;
+        std::shared_ptr<world::VirtualTextureSource> source = pages;
+        loader.request(ticketOf(page), rank, [source, page]() -> std::unique_ptr<world::TileContent> {
+            std::optional<Image> image = source->cutPage(page);
+            if (!image) {
+                return nullptr;
+            }
+            return std::make_unique<PageContent>(std::move(*image));
+        });
+        rank += 1.0;
+    }
+    loader.endFrame();
+    for (const std::uint64_t ticket : loader.startedTickets()) {
+        inFlight.insert(VirtualTextureLayout::pageOfIndex(ticket - 1));
+    }
+    statistics.pagesRequested = loader.startedLastFrame();
+}
+
+renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback)
+{
+    // The feedback pass draws with its own plain projection, whatever the frame's depth strategy.
+    const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
+    std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback ? 1 : 0, strategy}];
+    if (program) {
+        return *program;
+    }
+    renderer::ShaderProgramDescription description;
+    description.name = feedback ? "virtual texture feedback" : "virtual texture";
+    description.vertex = renderer::ShaderSource::embedded("scene/tiles/tile.vert.glsl");
+    description.fragment = renderer::ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl");
+    if (feedback) {
+        description.defines.push_back({"VT_FEEDBACK"});
+    } else if (options->lighting) {
+        description.defines.push_back({"LIGHTING"});
+    }
+    if (options->virtualTexture.trilinear) {
+        description.defines.push_back({"VT_TRILINEAR"});
+    }
+    for (renderer::ShaderDefine& define : depthStrategyDefines(strategy, Pass::Opaque)) {
+        description.defines.push_back(std::move(define));
+    }
+    if (frameState.device.info().gpuShader5) {
+        // Keeps og_emulatedDoubleSubtract's two-sum (built-in functions.glsl).
+        description.defines.push_back({"OG_PRECISE"});
+        description.extensions.push_back("GL_ARB_gpu_shader5");
+    }
+    program = frameState.device.shaderCache().get(description);
+    return *program;
+}
+
+void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double lodBias) const
+{
+    draw.uniforms.set("u_tileKey", glm::ivec3(static_cast<int>(tile.key.level), static_cast<int>(tile.key.x),
+                                              static_cast<int>(tile.key.y)));
+    draw.uniforms.set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border,
+                                             layout.slotSize()));
+    if (draw.shaderProgram->hasUniform("u_physicalTexelSize")) { // not in the feedback pass, which reads no texel
+        draw.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / static_cast<float>(physical->width()),
+                                                           1.0f / static_cast<float>(physical->height())));
+    }
+    draw.uniforms.set("u_lodBias", static_cast<float>(lodBias));
+    draw.uniforms.set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
+    draw.uniforms.set("u_waiting", !waitingFootprints.empty());
+}
+
+void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
+{
+    renderer::Context& context = frameState.context;
+    renderer::Device& device = frameState.device;
+    const int divisor = options->virtualTexture.feedbackDivisor;
+    const int width = std::max(1, (frameState.width + divisor - 1) / divisor);
+    const int height = std::max(1, (frameState.height + divisor - 1) / divisor);
+    if (!feedbackTarget || feedbackTarget->width() != width || feedbackTarget->height() != height) {
+        feedbackTarget = std::make_unique<renderer::Framebuffer>(context.createFramebuffer(width, height));
+        spareBuffers.clear();
+        feedbackReads.clear();
+    }
+    const std::size_t bytes = static_cast<std::size_t>(width) * height * 4;
+    renderer::PixelBuffer buffer;
+    if (!spareBuffers.empty()) {
+        buffer = std::move(spareBuffers.back());
+        spareBuffers.pop_back();
+    } else {
+        buffer = device.createPixelBuffer(bytes);
+    }
+
+    renderer::ClearState clear;
+    clear.color = glm::vec4(0.0f); // an uncovered pixel packs to 0
+    context.clear(clear, feedbackTarget.get());
+
+    // Depth only has to order the globe's own surfaces: from a little above the nearest point
+    // (the eye's height) to the horizon's far side.
+    const Camera& camera = frameState.camera;
+    const double eyeHeight = ellipsoid.toGeodetic3D(camera.eye()).height;
+    const double nearDistance = std::max(1.0, 0.9 * eyeHeight);
+    const double radius = ellipsoid.minimumRadius();
+    const double eyeDistance = glm::length(camera.eye());
+    const double horizon = std::sqrt(std::max(eyeDistance * eyeDistance - radius * radius, 0.0));
+    const double farDistance = std::max(nearDistance * 2.0, horizon + ellipsoid.maximumRadius() - radius + 1000.0);
+    renderer::SceneState sceneState;
+    sceneState.viewMatrix = camera.viewMatrix();
+    sceneState.projectionMatrix = camera.projectionMatrix(
+        static_cast<double>(frameState.width) / std::max(frameState.height, 1), nearDistance, farDistance);
+    sceneState.cameraEye = camera.eye();
+    sceneState.viewport = {0, 0, width, height};
+    sceneState.nearDistance = nearDistance;
+    sceneState.farDistance = farDistance;
+
+    renderer::ShaderProgram& feedbackProgram = program(frameState, true);
+    const double shift = std::log2(static_cast<double>(divisor)); // the feedback's pixels are larger
+    renderer::DrawCommand draw;
+    draw.shaderProgram = &feedbackProgram;
+    draw.framebuffer = feedbackTarget.get();
+    draw.renderState.facetCulling.enabled = false;
+    draw.textures = {{0, &*pageTableTexture, &*pointSampler}, {2, &*lodClamp, &*pointSampler}};
+    for (const QuadtreeTile* tile : selection.drawn) {
+        const SurfaceTile& surface = static_cast<const SurfaceTile&>(*tile->data);
+        draw.debugName = "virtual texture feedback " + pageName(tile->key);
+        draw.vertexArray = &surface.mesh->array;
+        setUniforms(draw, *tile, bias() - shift);
+        context.draw(draw, sceneState);
+    }
+    context.readPixels(buffer, feedbackTarget.get());
+    feedbackReads.push_back({frameState.frameNumber, std::move(buffer), device.createFence(), width, height, view});
+    statistics.feedbackWidth = width;
+    statistics.feedbackHeight = height;
+}
+
+void VirtualTextureGlobe::Impl::ensureMeshes(FrameState& frameState)
+{
+    const std::uint64_t frame = frameState.frameNumber;
+    DrawnTileSet drawn;
+    for (const QuadtreeTile* tile : selection.drawn) {
+        drawn.insert(tile->key);
+    }
+    for (QuadtreeTile* tile : selection.drawn) {
+        SurfaceTile& surface = surfaceOf(*tile);
+        if (!surface.mesh) {
+            const TileMesh mesh =
+                TileMesh::build(ellipsoid, TilingScheme::geographic(), tile->key, options->samplesLog2, {}, 0.0);
+            surface.mesh = detail::uploadTileMesh(frameState.context, mesh);
+            meshBytes += surface.mesh->bytes;
+            meshUploadedBytes += surface.mesh->bytes;
+            meshTiles.push_back(tile);
+        }
+        surface.lastDrawnFrame = frame;
+        indexBuffers.bind(frameState.device, *surface.mesh, edgeCoarsening(quadtree.scheme(), tile->key, drawn));
+    }
+    if (meshBytes <= options->meshCacheBytes) {
+        return;
+    }
+    // Over the cap: the least recently drawn go, never one drawn in this frame.
+    std::sort(meshTiles.begin(), meshTiles.end(), [](QuadtreeTile* a, QuadtreeTile* b) {
+        const std::uint64_t da = surfaceOf(*a).lastDrawnFrame;
+        const std::uint64_t db = surfaceOf(*b).lastDrawnFrame;
+        return da != db ? da > db : a->key < b->key;
+    });
+    while (meshBytes > options->meshCacheBytes && !meshTiles.empty() &&
+           surfaceOf(*meshTiles.back()).lastDrawnFrame < frame) {
+        SurfaceTile& surface = surfaceOf(*meshTiles.back());
+        meshBytes -= surface.mesh->bytes;
+        surface.mesh.reset();
+        meshTiles.pop_back();
+    }
+}
+
+VirtualTextureGlobe::VirtualTextureGlobe(const Ellipsoid& ellipsoid, VirtualTextureGlobeOptions options)
+    : _options(std::move(options))
+{
+    validate(_options);
+    _impl = std::make_unique<Impl>(ellipsoid, _options);
+    _statistics.physicalPages = _impl->cache->capacity();
+}
+
+VirtualTextureGlobe::~VirtualTextureGlobe() = default;
+
+const VirtualTextureLayout& VirtualTextureGlobe::layout() const noexcept
+{
+    return _impl->layout;
+}
+
+const PageTable& VirtualTextureGlobe::pageTable() const noexcept
+{
+    return _impl->pageTable;
+}
+
+std::optional<BoundingSphere> VirtualTextureGlobe::boundingSphere() const
+{
+    return BoundingSphere{glm::dvec3(0.0), _impl->ellipsoid.maximumRadius()};
+}
+
+void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
+{
+    Impl& impl = *_impl;
+    const std::uint64_t frame = frameState.frameNumber;
+    if (impl.streamedFrame != frame) {
+        // Once per frame, however many times the scene updates its primitives.
+        impl.streamedFrame = frame;
+        impl.statistics = VirtualTextureStatistics{};
+        impl.meshUploadedBytes = 0;
+        if (!impl.started) {
+            impl.started = true;
+            impl.start(frameState);
+        }
+        for (world::TileLoadResult& result : impl.loader.beginFrame(frame)) {
+            impl.receive(std::move(result));
+        }
+        impl.readFeedback(frameState);
+
+        // Uploads, coarse before fine (a page goes in once its parent is in), until the budget is
+        // spent; at least one a frame.
+        const std::size_t budget = _options.virtualTexture.uploadBytesPerFrame;
+        for (auto entry = impl.arrived.begin(); entry != impl.arrived.end();) {
+            if (impl.statistics.pagesLoaded > 0 && impl.statistics.uploadedBytes >= budget) {
+                break;
+            }
+            const PageKey page = entry->first;
+            if (impl.pageTable.isMissing(page)) {
+                entry = impl.arrived.erase(entry); // under a page that failed: it can never be shown
+                continue;
+            }
+            if (page.level > 0 && !impl.pageTable.isMapped(page.parent())) {
+                ++entry; // waits for its parent
+                continue;
+            }
+            if (!impl.uploadPage(frameState, page, entry->second)) {
+                break; // every slot holds a page this frame uses: the bias will rise
+            }
+            entry = impl.arrived.erase(entry);
+        }
+        impl.uploadTables();
+        impl.requestPages();
+
+        // The surface's tiles, as a TiledGlobe of the same source would select them.
+        const Camera& camera = frameState.camera;
+        TileView view;
+        view.eye = camera.eye();
+        view.direction = camera.direction();
+        view.frustum = frameState.cullingVolume;
+        view.viewportHeightPixels = frameState.height;
+        view.fieldOfViewY = camera.fieldOfViewY();
+        TileSelectionOptions selectionOptions;
+        selectionOptions.maximumScreenSpaceError = _options.maximumScreenSpaceError;
+        selectionOptions.maximumLevel = impl.pages->tileSource().info().maximumLevel;
+        const std::uint32_t deepest = kMaximumTileLevel - static_cast<std::uint32_t>(_options.samplesLog2);
+        impl.quadtree.select(view, selectionOptions, frame, impl.selection, [deepest](QuadtreeTile& tile) {
+            tile.renderable = true;
+            tile.wantsLoad = false;
+            tile.refinable = tile.key.level < deepest;
+        });
+        impl.ensureMeshes(frameState);
+
+        const FeedbackView current{camera.eye(), camera.target(), camera.up(), camera.fieldOfViewY(),
+                                   frameState.width, frameState.height, impl.bias()};
+        impl.drawFeedback(frameState, current);
+
+        VirtualTextureStatistics& s = impl.statistics;
+        s.pagesWanted = impl.needed.size();
+        s.pagesResident = impl.cache->size();
+        s.physicalPages = impl.cache->capacity();
+        s.pagesPending = impl.inFlight.size() + impl.arrived.size();
+        s.pagesMissing = impl.missingCount;
+        s.pagesFailed = impl.failedCount;
+        s.fallbackPixels = impl.summary.fallback;
+        s.feedbackPixels = impl.summary.pixels;
+        s.fallbackFraction = impl.summary.fallbackFraction();
+        s.lodBias = impl.bias();
+        s.lodBiasRaised = impl.dynamicBias > 0.0;
+        s.gpuBytes = impl.gpuBytes();
+        s.converged = impl.feedbackView && *impl.feedbackView == current && impl.summary.fallback == 0 &&
+                      s.pagesPending == 0 && !impl.requestsOutstanding;
+        _statistics = s;
+
+        TileStatistics tiles;
+        const TileSelection& selection = impl.selection;
+        tiles.visited = selection.visited;
+        tiles.culledByFrustum = selection.culledByFrustum;
+        tiles.culledByHorizon = selection.culledByHorizon;
+        tiles.selected = selection.selected;
+        tiles.drawn = selection.drawn.size();
+        for (std::size_t i = 0; i < selection.drawn.size(); ++i) {
+            tiles.deepestLevelDrawn = std::max(tiles.deepestLevelDrawn, selection.drawn[i]->key.level);
+            tiles.largestScreenSpaceErrorDrawn =
+                std::max(tiles.largestScreenSpaceErrorDrawn, selection.drawnScreenSpaceErrors[i]);
+        }
+        // The pages stand for the tiles' imagery: what is loading, what went up, what is held.
+        tiles.requested = s.pagesRequested;
+        tiles.loadedThisFrame = s.pagesLoaded;
+        tiles.pending = s.pagesPending;
+        tiles.failed = s.pagesFailed;
+        tiles.missing = s.pagesMissing;
+        tiles.evicted = s.pagesEvicted;
+        tiles.residentBytesGpu = impl.meshBytes + s.gpuBytes;
+        tiles.uploadedBytes = impl.meshUploadedBytes + s.uploadedBytes;
+        tiles.maximumScreenSpaceError = _options.maximumScreenSpaceError;
+        tiles.converged = s.converged;
+        _tileStatistics = tiles;
+    }
+
+    // The commands: one per drawn tile, all reading the one virtual texture.
+    renderer::ShaderProgram& program = impl.program(frameState, false);
+    const glm::dvec3& eye = frameState.camera.eye();
+    const double eyeHeight = impl.ellipsoid.toGeodetic3D(eye).height;
+    const ImageryLayerStyle& style = _options.style;
+    for (QuadtreeTile* tile : impl.selection.drawn) {
+        SurfaceTile& surface = surfaceOf(*tile);
+        SceneCommand command;
+        command.draw.debugName = "virtual texture tile " + pageName(tile->key);
+        command.draw.vertexArray = &surface.mesh->array;
+        command.draw.shaderProgram = &program;
+        command.draw.renderState.facetCulling.enabled = false;
+        impl.setUniforms(command.draw, *tile, impl.bias());
+        command.draw.uniforms.set("u_baseColor", _options.baseColor);
+        command.draw.uniforms.set("u_textureAdjustment",
+                                  glm::vec4(static_cast<float>(style.alpha), static_cast<float>(style.brightness),
+                                            static_cast<float>(style.contrast), static_cast<float>(1.0 / style.gamma)));
+        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
+            command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+        }
+        command.draw.textures = {{0, &*impl.pageTableTexture, &*impl.pointSampler},
+                                 {1, &*impl.physical, &*impl.physicalSampler},
+                                 {2, &*impl.lodClamp, &*impl.pointSampler},
+                                 {3, &*impl.tail, &*impl.tailSampler}};
+        command.boundingSphere = tile->region.boundingSphere();
+        command.nearestDistance = std::max(tile->region.distanceTo(eye), eyeHeight - tile->region.maximumHeight());
+        command.tags = Effect::Globe | Effect::VirtualTexture;
+        if (_options.lighting) {
+            command.tags = command.tags | Effect::Lighting;
+        }
+        commands.push_back(std::move(command));
+    }
+}
+
+std::array<std::uint8_t, 4> VirtualTextureGlobe::levelColor(std::uint32_t level) noexcept
+{
+    // Cold to warm, coarse to fine, cycling after twelve levels.
+    static constexpr std::uint8_t kColors[12][3] = {
+        {48, 18, 59},   {67, 87, 201},  {57, 154, 246}, {24, 214, 203}, {70, 247, 131}, {164, 252, 60},
+        {225, 221, 55}, {254, 164, 49}, {244, 98, 23},  {206, 43, 6},   {148, 12, 2},   {122, 4, 3}};
+    const std::uint8_t* c = kColors[level % 12];
+    return {c[0], c[1], c[2], 255};
+}
+
+Image VirtualTextureGlobe::physicalTextureImage() const
+{
+    return _impl->physical ? _impl->physical->copyToImage() : Image();
+}
+
+Image VirtualTextureGlobe::pageTableImage() const
+{
+    const PageTable& table = _impl->pageTable;
+    const std::uint32_t finest = table.finestLevel();
+    const int width = static_cast<int>(VirtualTextureLayout::pagesX(finest));
+    const int height = static_cast<int>(VirtualTextureLayout::pagesY(finest));
+    Image image(width, height, 4);
+    const std::span<const PageTableEntry> entries = table.level(finest);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const PageTableEntry& entry = entries[static_cast<std::size_t>(y) * width + x];
+            const auto color = (entry.flags & PageTableEntry::kValid) ? levelColor(entry.level)
+                                                                      : std::array<std::uint8_t, 4>{0, 0, 0, 255};
+            std::memcpy(image.pixel(x, height - 1 - y), color.data(), 4);
+        }
+    }
+    return image;
+}
+
+Image VirtualTextureGlobe::feedbackImage() const
+{
+    const Impl& impl = *_impl;
+    Image image(impl.feedbackSamplesWidth, impl.feedbackSamplesHeight, 4);
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const FeedbackSample sample =
+                unpackFeedback(impl.feedbackSamples[static_cast<std::size_t>(y) * image.width + x]);
+            std::array<std::uint8_t, 4> color{0, 0, 0, 255};
+            if (sample.fallback) {
+                color = {255, 255, 255, 255};
+            } else if (sample.covered) {
+                color = levelColor(sample.page.level);
+            }
+            std::memcpy(image.pixel(x, image.height - 1 - y), color.data(), 4);
+        }
+    }
+    return image;
+}
+
+} // namespace orbis::scene

@@ -1,0 +1,233 @@
+// Software virtual texturing over the globe (Mayer 4.4, course 6.1): a tile of the surface reads
+// one virtual texture through the page table. The level of detail comes from the derivatives of
+// the texture coordinates, anisotropic as the course's 6.1.1; it is clamped from below by the
+// LOD-clamp texture so that it never asks for a level the page table cannot give there, and the
+// clamp varies smoothly across pages (course 6.1.2), so a region waiting for its pages shows as a
+// gradual blur, never as a seam; then two levels are looked up in the page table (point-sampled,
+// explicit level) and blended (trilinear filtering with two translations, course 6.1.2), each read
+// from its page's slot with corrected gradients, inside the page's border.
+//
+// Positions are worked out per surface tile in integers (the page under a point at any level) and
+// small fractions (where in the page), so that the precision does not depend on how deep the
+// virtual texture goes.
+//
+// VT_FEEDBACK draws the feedback pass instead: each pixel writes the page its texels ask for and
+// whether it was shown a coarser one (orbis::packFeedback, VirtualTextureLayout.h). The functions
+// take their inputs as arguments, so that a test can run them in a vertex shader against a CPU
+// reference (tests/scene/VirtualTextureGlobeTests.cpp).
+
+#ifdef OG_FRAGMENT_SHADER
+in vec2 v_tileCoordinates; // u and v within the surface tile, 0..1 west to east and south to north
+in vec3 v_normal;
+out vec4 fragmentColor;
+#endif
+
+uniform sampler2D og_texture0; // page table: mip m holds level N - m; RGBA8 slot x, slot y, level, flags
+uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border
+uniform sampler2D og_texture2; // LOD clamp, RG32F, a texel per page of the finest level
+uniform sampler2D og_texture3; // the mip tail: level 0's two pages as one mipmapped texture
+uniform ivec3 u_tileKey;       // the surface tile: level, column, row (from the south)
+uniform ivec4 u_layout;        // finest level N, page size P, border B, slot size S (texels)
+uniform vec2 u_physicalTexelSize; // 1 / the physical texture's width and height
+uniform float u_lodBias;          // levels, > 0 coarser; the feedback pass adds log2 of its divisor
+uniform float u_maximumAnisotropyLog2;
+
+const float kMissing = 4.0; // PageTableEntry::kMissing
+
+// The page under a point of the surface tile at a level, and where in it the point is (0..1).
+struct PagePosition {
+    ivec2 page;
+    vec2 inPage;
+};
+
+PagePosition vtPagePosition(int level, vec2 tileCoordinates)
+{
+    int finer = level - u_tileKey.x;
+    if (finer >= 0) {
+        float pages = float(1 << finer); // pages of this level across the tile
+        vec2 scaled = tileCoordinates * pages;
+        // Interpolated coordinates overshoot 0 and 1 by a rounding at the tile's edges.
+        vec2 whole = clamp(floor(scaled), vec2(0.0), vec2(pages - 1.0));
+        return PagePosition(u_tileKey.yz * (1 << finer) + ivec2(whole), scaled - whole);
+    }
+    int coarser = -finer;
+    ivec2 page = u_tileKey.yz >> coarser;
+    ivec2 within = u_tileKey.yz - (page << coarser);
+    return PagePosition(page, (vec2(within) + tileCoordinates) / float(1 << coarser));
+}
+
+// A page-table entry: the slot, the level of the page in it (the page's own or an ancestor's), and
+// whether the source has no such page.
+struct PageEntry {
+    vec2 slot;
+    int level;
+    bool missing;
+};
+
+PageEntry vtPageEntry(int level, ivec2 page)
+{
+    vec4 entry = floor(texelFetch(og_texture0, page, u_layout.x - level) * 255.0 + 0.5);
+    return PageEntry(entry.rg, int(entry.b), mod(floor(entry.a / kMissing), 2.0) == 1.0);
+}
+
+// Where a point of the tile is in the physical texture, read through the entry of its page at a
+// level, and how many physical texels one unit of tile coordinates spans there.
+vec2 vtPhysicalPosition(PageEntry entry, int level, PagePosition wanted, vec2 tileCoordinates, out float texelsPerTile)
+{
+    PagePosition shown = entry.level == level ? wanted : vtPagePosition(entry.level, tileCoordinates);
+    vec2 texel = entry.slot * float(u_layout.w) + float(u_layout.z) + shown.inPage * float(u_layout.y);
+    texelsPerTile = float(u_layout.y) * exp2(float(entry.level - u_tileKey.x));
+    return texel * u_physicalTexelSize;
+}
+
+// The level of detail, in levels above the finest (0: the finest level's texels match the pixels),
+// from the derivatives of the tile coordinates across and up one pixel.
+float vtLevelOfDetail(vec2 dx, vec2 dy)
+{
+    float texelsPerTile = float(u_layout.y) * exp2(float(u_layout.x - u_tileKey.x));
+    vec2 a = dx * texelsPerTile;
+    vec2 b = dy * texelsPerTile;
+    float pa = max(dot(a, a), 1e-30);
+    float pb = max(dot(b, b), 1e-30);
+    float maxLod = 0.5 * log2(max(pa, pb));
+    float minLod = 0.5 * log2(min(pa, pb));
+    // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes.
+    return maxLod - min(maxLod - minLod, u_maximumAnisotropyLog2) + u_lodBias;
+}
+
+// The coarsest level of detail the pages there allow (course 6.1.2's LOD clamp): never finer than
+// the finest page's resident levels reach (the red channel), so every level blended is resident;
+// and around a page the view asks for that is not resident yet (the green channel, far below zero
+// elsewhere), a ramp of u_layout.x or 8 levels a page falling away from it, so that the coarser
+// look of a region waiting for its pages blends into its resident neighbours instead of ending
+// at a seam. The ramps are steep enough that no page beyond the eight neighbours can reach in.
+// u_waiting is false when nothing waits anywhere: then only the page's own clamp counts.
+uniform bool u_waiting;
+
+float vtLodClamp(vec2 tileCoordinates)
+{
+    PagePosition finest = vtPagePosition(u_layout.x, tileCoordinates);
+    vec2 own = texelFetch(og_texture2, finest.page, 0).rg;
+    float allowed = max(own.r, own.g);
+    if (!u_waiting) {
+        return allowed;
+    }
+    ivec2 size = textureSize(og_texture2, 0);
+    vec2 f = clamp(finest.inPage, 0.0, 1.0);
+    float slope = float(max(8, u_layout.x));
+    for (int dy = -1; dy <= 1; ++dy) {
+        int y = finest.page.y + dy;
+        if (y < 0 || y >= size.y) {
+            continue; // nothing beyond the poles
+        }
+        float distanceY = dy < 0 ? f.y : (dy > 0 ? 1.0 - f.y : 0.0);
+        for (int dx = -1; dx <= 1; ++dx) {
+            if (dx == 0 && dy == 0) {
+                continue;
+            }
+            int x = (finest.page.x + dx + size.x) % size.x; // the antimeridian wraps
+            float distanceX = dx < 0 ? f.x : (dx > 0 ? 1.0 - f.x : 0.0);
+            float waiting = texelFetch(og_texture2, ivec2(x, y), 0).g;
+            allowed = max(allowed, waiting - slope * max(distanceX, distanceY));
+        }
+    }
+    return allowed;
+}
+
+// What a point shows: the finer of the two levels blended and the weight of the coarser one; or,
+// for a footprint wider than a texel of level 0, the mip tail (Mayer 4.1: no page is smaller than
+// a page, so below level 0 the two pages are an ordinary mipmapped texture).
+struct LevelChoice {
+    int finer;           // level (0 coarsest .. N finest)
+    float coarserWeight; // 0 when only the finer level is read
+    int asked;           // the level the point's texels ask for, before the clamp
+    bool tail;
+};
+
+LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
+{
+    float finest = float(u_layout.x);
+    float allowed = vtLodClamp(tileCoordinates);
+#ifdef VT_TRILINEAR
+    float asked = clamp(floor(lod), 0.0, finest);
+    float shown = clamp(max(lod, allowed), 0.0, finest);
+    float finer = floor(shown);
+    float weight = shown - finer;
+#else
+    float asked = clamp(floor(lod + 0.5), 0.0, finest);
+    float finer = clamp(max(asked, ceil(allowed - 1e-3)), 0.0, finest);
+    float weight = 0.0;
+#endif
+    return LevelChoice(u_layout.x - int(finer), finer < finest ? weight : 0.0, u_layout.x - int(asked),
+                       max(lod, allowed) > finest);
+}
+
+#ifdef OG_FRAGMENT_SHADER
+
+vec4 vtSample(int level, vec2 tileCoordinates, vec2 dx, vec2 dy)
+{
+    PagePosition wanted = vtPagePosition(level, tileCoordinates);
+    PageEntry entry = vtPageEntry(level, wanted.page);
+    float texelsPerTile;
+    vec2 physical = vtPhysicalPosition(entry, level, wanted, tileCoordinates, texelsPerTile);
+    vec2 scale = texelsPerTile * u_physicalTexelSize;
+    return textureGrad(og_texture1, physical, dx * scale, dy * scale);
+}
+
+#ifdef VT_FEEDBACK
+
+void main()
+{
+    vec2 tc = v_tileCoordinates;
+    LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dFdx(tc), dFdy(tc)), tc);
+    PagePosition asked = vtPagePosition(choice.asked, tc);
+    PageEntry askedEntry = vtPageEntry(choice.asked, asked.page);
+    PageEntry shownEntry = choice.finer == choice.asked ? askedEntry
+                                                        : vtPageEntry(choice.finer, vtPagePosition(choice.finer, tc).page);
+    bool fallback = min(shownEntry.level, choice.finer) < choice.asked && !askedEntry.missing;
+    uint bits = uint(asked.page.x) | (uint(asked.page.y) << 13) | (uint(choice.asked) << 26) |
+                (fallback ? (1u << 30) : 0u) | (1u << 31);
+    fragmentColor = vec4(float(bits & 255u), float((bits >> 8) & 255u), float((bits >> 16) & 255u),
+                         float(bits >> 24)) / 255.0;
+}
+
+#else
+
+uniform vec4 u_baseColor;
+uniform vec4 u_textureAdjustment; // alpha, brightness, contrast, 1 / gamma
+#ifdef LIGHTING
+uniform vec3 og_sunDirection;
+#endif
+
+void main()
+{
+    og_depthFragment();
+    vec2 tc = v_tileCoordinates;
+    vec2 dx = dFdx(tc);
+    vec2 dy = dFdy(tc);
+    LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dx, dy), tc);
+    vec4 texel;
+    if (choice.tail) {
+        // Level 0 as a whole: u and v over the globe, the gradients scaled by the bias.
+        vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
+        vec2 scale = exp2(u_lodBias) / tiles;
+        texel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
+    } else {
+        texel = vtSample(choice.finer, tc, dx, dy);
+        if (choice.coarserWeight > 0.0) {
+            texel = mix(texel, vtSample(choice.finer - 1, tc, dx, dy), choice.coarserWeight);
+        }
+    }
+    vec3 color = u_baseColor.rgb;
+    vec3 adjusted = texel.rgb * u_textureAdjustment.y;
+    adjusted = mix(vec3(0.5), adjusted, u_textureAdjustment.z);
+    adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
+    color = mix(color, adjusted, texel.a * u_textureAdjustment.x);
+#ifdef LIGHTING
+    color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
+#endif
+    fragmentColor = vec4(color, 1.0);
+}
+
+#endif // VT_FEEDBACK
+#endif // OG_FRAGMENT_SHADER

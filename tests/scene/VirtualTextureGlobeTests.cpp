@@ -1,0 +1,529 @@
+#include "SceneTestSupport.h"
+
+#include "GoldenImage.h"
+#include "ProceduralTileSource.h"
+
+#include <orbis/core/Transforms.h>
+#include <orbis/scene/PageTable.h>
+#include <orbis/scene/TiledGlobe.h>
+#include <orbis/scene/VirtualTextureGlobe.h>
+#include <orbis/world/TileSource.h>
+
+#include <orbis/renderer/Device.h>
+#include <orbis/renderer/EmbeddedShaders.h>
+
+#include "RendererTestSupport.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+using namespace orbis;
+using namespace orbis::scene;
+using namespace orbis::test;
+
+namespace {
+
+const Ellipsoid kEarth = Ellipsoid::wgs84();
+
+std::string dataPath(const std::string& relative)
+{
+    return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
+}
+
+void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
+{
+    const glm::dvec3 eye = kEarth.toCartesian(position);
+    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
+    scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
+}
+
+/// Renders until the frame statistics say converged (at most maxFrames); the last frame.
+RenderedFrame renderConverged(Scene& scene, int width, int height, int maxFrames = 100)
+{
+    RenderedFrame frame;
+    for (int i = 0; i < maxFrames; ++i) {
+        frame = renderFrame(scene, width, height);
+        if (frame.statistics.tiles && frame.statistics.tiles->converged) {
+            break;
+        }
+    }
+    return frame;
+}
+
+VirtualTextureGlobeOptions blueMarble()
+{
+    VirtualTextureGlobeOptions options;
+    options.source = world::openTileSource(dataPath("imagery/BlueMarble"));
+    options.lighting = false;
+    options.loader.workerThreads = 0;
+    options.loader.latencyFrames = 1;
+    return options;
+}
+
+} // namespace
+
+TEST_CASE("A virtual texture over the Alps converges to the Blue Marble's deepest level", "[scene][virtual][gl]")
+{
+    VirtualTextureGlobeOptions options = blueMarble();
+    auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
+    Scene scene(kEarth);
+    scene.add(globe);
+    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame frame = renderConverged(scene, 640, 360);
+    INFO(frame.statistics.toText());
+    world::writePng(frame.image, "/tmp/vt-alps.png");
+    world::writePng(globe->physicalTextureImage(), "/tmp/vt-alps-physical.png");
+    world::writePng(globe->pageTableImage(), "/tmp/vt-alps-pagetable.png");
+    world::writePng(globe->feedbackImage(), "/tmp/vt-alps-feedback.png");
+    REQUIRE(frame.statistics.virtualTexture);
+    CHECK(frame.statistics.virtualTexture->converged);
+    CHECK(frame.statistics.virtualTexture->fallbackFraction == 0.0);
+}
+
+TEST_CASE("A converged virtual texture draws the tiled globe's golden images", "[scene][virtual][gl][golden]")
+{
+    struct View {
+        const char* name;
+        Geodetic3D position;
+        double heading;
+        double pitch;
+    };
+    const View views[] = {
+        {"tiles-paris-10km", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0},
+        {"tiles-north-pole", Geodetic3D::fromDegrees(30.0, 87.0, 300000.0), 180.0, -50.0},
+        {"tiles-antimeridian", Geodetic3D::fromDegrees(177.0, -17.5, 150000.0), 90.0, -45.0},
+    };
+    for (const View& view : views) {
+        Scene scene(kEarth);
+        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
+        place(scene, view.position, view.heading, view.pitch);
+        const RenderedFrame frame = renderConverged(scene, 256, 144);
+        INFO(view.name << "\n" << frame.statistics.toText());
+        REQUIRE(frame.statistics.virtualTexture->converged);
+        // Measured on llvmpipe: Paris within 1 everywhere; the pole and the antimeridian 0.5% and
+        // 0.2% of pixels beyond 2 (the per-tile textures clamp at their edges, the pages blend
+        // into their borders; the tiles' own mipmaps against the source's coarser levels).
+        ORBIS_REQUIRE_GOLDEN(frame.image, view.name, GoldenTolerance{4, 0.01});
+    }
+}
+
+namespace {
+
+/// The shader's functions (virtual_texture.frag.glsl) run per vertex: each point is a tile
+/// coordinate and a level, and captures where the page table sends it, the level it shows, and
+/// the level of detail of a footprint (its two axes in "normal" and "color").
+const char* kTranslationMain = R"(
+in vec3 position;          // s, t within the tile; the level asked for
+in vec3 normal;            // dx: the derivatives of s and t across a pixel (z unused)
+in vec4 color;             // dy in xy
+out vec4 v_physical;       // physical x, y; the level shown; texels per tile unit there
+out float v_levelOfDetail;
+void main()
+{
+    int level = int(position.z);
+    PagePosition wanted = vtPagePosition(level, position.xy);
+    PageEntry entry = vtPageEntry(level, wanted.page);
+    float texelsPerTile;
+    vec2 physical = vtPhysicalPosition(entry, level, wanted, position.xy, texelsPerTile);
+    v_physical = vec4(physical, float(entry.level), texelsPerTile);
+    v_levelOfDetail = vtLevelOfDetail(normal.xy, color.xy);
+    gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
+}
+)";
+
+} // namespace
+
+TEST_CASE("The shader's address translation and level of detail match a CPU reference", "[scene][virtual][gl]")
+{
+    using namespace orbis::renderer;
+    const std::uint32_t seed = 7031;
+    INFO("seed " << seed);
+    std::mt19937 random(seed);
+    Device& device = sharedDevice();
+    Context& context = device.context();
+
+    // A page table as the globe keeps it: the roots, then pages whose ancestors are all mapped.
+    const VirtualTextureLayout layout{128, 4, 5};
+    const int slotsX = 16;
+    const int slotsY = 12;
+    PageTable table(layout.finestLevel);
+    int nextSlot = 0;
+    auto mapPage = [&](const PageKey& page) {
+        table.map(page, static_cast<std::uint8_t>(nextSlot % slotsX), static_cast<std::uint8_t>(nextSlot / slotsX));
+        ++nextSlot;
+    };
+    mapPage({0, 0, 0});
+    mapPage({0, 1, 0});
+    while (nextSlot < slotsX * slotsY) {
+        const std::uint32_t level = std::uniform_int_distribution<std::uint32_t>(1, layout.finestLevel)(random);
+        const PageKey page{level, std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesX(level) - 1)(random),
+                           std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesY(level) - 1)(random)};
+        if (!table.isMapped(page) && table.isMapped(page.parent())) {
+            mapPage(page);
+        }
+    }
+    Texture2D pageTableTexture = device.createTexture2D(
+        {static_cast<int>(VirtualTextureLayout::pagesX(layout.finestLevel)),
+         static_cast<int>(VirtualTextureLayout::pagesY(layout.finestLevel)), TextureFormat::RGBA8, true});
+    for (std::uint32_t level = 0; level <= layout.finestLevel; ++level) {
+        pageTableTexture.copyFromSystemMemory(std::as_bytes(table.level(level)),
+                                              static_cast<int>(layout.finestLevel - level));
+    }
+    SamplerDescription point;
+    point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
+    point.magnificationFilter = TextureMagnificationFilter::Nearest;
+    const Sampler sampler = device.createSampler(point);
+    const int physicalWidth = slotsX * layout.slotSize();
+    const int physicalHeight = slotsY * layout.slotSize();
+    const float anisotropyLog2 = 2.0f; // up to 4 probes
+
+    ShaderProgramDescription description;
+    description.name = "virtual texture translation";
+    description.vertex = ShaderSource::fromText(
+        "virtual_texture.frag.glsl + translation main",
+        ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl").text + kTranslationMain);
+    description.fragment = ShaderSource::fromText("nothing.frag.glsl", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+    description.transformFeedbackVaryings = {"v_physical", "v_levelOfDetail"};
+    ShaderProgram program = device.createShaderProgram(description);
+    Framebuffer framebuffer = context.createFramebuffer(1, 1);
+
+    std::size_t checked = 0;
+    std::size_t fallbacks = 0;
+    for (int tileIndex = 0; tileIndex < 40; ++tileIndex) {
+        const std::uint32_t tileLevel = std::uniform_int_distribution<std::uint32_t>(0, 7)(random);
+        const TileKey tile{tileLevel,
+                           std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesX(tileLevel) - 1)(random),
+                           std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesY(tileLevel) - 1)(random)};
+        struct Point {
+            float s, t;
+            int level;
+            glm::vec2 dx, dy;
+        };
+        std::vector<Point> points;
+        std::vector<float> positions, dxs, dys;
+        std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+        for (int i = 0; i < 64; ++i) {
+            Point p{unit(random), unit(random), std::uniform_int_distribution<int>(0, static_cast<int>(layout.finestLevel))(random),
+                    glm::vec2(unit(random) - 0.5f, unit(random) - 0.5f) * std::exp2(-unit(random) * 16.0f),
+                    glm::vec2(unit(random) - 0.5f, unit(random) - 0.5f) * std::exp2(-unit(random) * 16.0f)};
+            points.push_back(p);
+            positions.insert(positions.end(), {p.s, p.t, static_cast<float>(p.level)});
+            dxs.insert(dxs.end(), {p.dx.x, p.dx.y, 0.0f});
+            dys.insert(dys.end(), {p.dy.x, p.dy.y, 0.0f, 0.0f});
+        }
+        const VertexBuffer positionBuffer = device.createVertexBuffer(std::as_bytes(std::span(positions)));
+        const VertexBuffer dxBuffer = device.createVertexBuffer(std::as_bytes(std::span(dxs)));
+        const VertexBuffer dyBuffer = device.createVertexBuffer(std::as_bytes(std::span(dys)));
+        VertexArray array = context.createVertexArray();
+        array.setAttribute("position", positionBuffer, {ComponentType::Float, 3});
+        array.setAttribute("normal", dxBuffer, {ComponentType::Float, 3});
+        array.setAttribute("color", dyBuffer, {ComponentType::Float, 4});
+        DrawCommand command;
+        command.vertexArray = &array;
+        command.shaderProgram = &program;
+        command.primitiveType = PrimitiveType::Points;
+        command.framebuffer = &framebuffer;
+        command.textures = {{0, &pageTableTexture, &sampler}};
+        command.uniforms.set("u_tileKey", glm::ivec3(static_cast<int>(tile.level), static_cast<int>(tile.x), static_cast<int>(tile.y)));
+        command.uniforms.set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border,
+                                                     layout.slotSize()));
+        command.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / physicalWidth, 1.0f / physicalHeight));
+        command.uniforms.set("u_lodBias", 0.25f);
+        command.uniforms.set("u_maximumAnisotropyLog2", anisotropyLog2);
+        const std::vector<float> captured = context.captureVertexOutputs(command, SceneState{});
+        REQUIRE(captured.size() == points.size() * 5);
+
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const Point& p = points[i];
+            // The reference, in doubles from the same floats.
+            const double u = (tile.x + static_cast<double>(p.s)) / VirtualTextureLayout::pagesX(tile.level);
+            const double v = (tile.y + static_cast<double>(p.t)) / VirtualTextureLayout::pagesY(tile.level);
+            const PageKey wanted = VirtualTextureLayout::pageAt(static_cast<std::uint32_t>(p.level), u, v);
+            const PageTableEntry& entry = table.entry(wanted);
+            const PageKey shown = wanted.ancestor(entry.level);
+            const glm::dvec2 inSlot = layout.contractToSlot(VirtualTextureLayout::positionInPage(shown, u, v));
+            const glm::dvec2 physical((entry.slotX + inSlot.x) * layout.slotSize() / physicalWidth,
+                                      (entry.slotY + inSlot.y) * layout.slotSize() / physicalHeight);
+            const double texelsPerTile = layout.pageSize * std::exp2(static_cast<double>(entry.level) - tile.level);
+            // The level of detail: the course's anisotropic formula at the finest level's texels.
+            const double finestTexelsPerTile = layout.pageSize * std::exp2(static_cast<double>(layout.finestLevel) - tile.level);
+            const double a = glm::dot(glm::dvec2(p.dx), glm::dvec2(p.dx)) * finestTexelsPerTile * finestTexelsPerTile;
+            const double b = glm::dot(glm::dvec2(p.dy), glm::dvec2(p.dy)) * finestTexelsPerTile * finestTexelsPerTile;
+            const double maxLod = 0.5 * std::log2(std::max(a, b));
+            const double minLod = 0.5 * std::log2(std::min(a, b));
+            const double lod = maxLod - std::min(maxLod - minLod, static_cast<double>(anisotropyLog2)) + 0.25;
+
+            const float* gpu = captured.data() + i * 5;
+            INFO("tile " << tile.level << "/" << tile.x << "/" << tile.y << ", s " << p.s << ", t " << p.t << ", level "
+                         << p.level);
+            REQUIRE(static_cast<int>(gpu[2]) == static_cast<int>(entry.level));
+            // A hundredth of a texel of the physical texture; the float of a level-7 tile's position
+            // carries 2^-24 of the tile, 2^-17 of a page two levels up.
+            REQUIRE(std::abs(gpu[0] - physical.x) * physicalWidth < 0.01);
+            REQUIRE(std::abs(gpu[1] - physical.y) * physicalHeight < 0.01);
+            REQUIRE(gpu[3] == Approx(texelsPerTile).epsilon(1e-6));
+            REQUIRE(gpu[4] == Approx(lod).margin(1e-4));
+            fallbacks += entry.level < static_cast<std::uint32_t>(p.level) ? 1 : 0;
+            ++checked;
+        }
+    }
+    CHECK(checked == 40 * 64);
+    // Both kinds were met: pages shown themselves, and coarser ones in their place.
+    CHECK(fallbacks > 100);
+    CHECK(fallbacks < checked - 100);
+}
+
+namespace {
+
+/// A procedural virtual texture: 64-texel tiles and pages, levels 0..5.
+VirtualTextureGlobeOptions procedural(int physicalPages, TexelPattern pattern = placePattern,
+                                      std::function<bool(const TileKey&)> failing = {})
+{
+    ProceduralTileSourceOptions tiles;
+    tiles.pattern = std::move(pattern);
+    tiles.maximumLevel = 5;
+    tiles.tileSize = 64;
+    tiles.failing = std::move(failing);
+    VirtualTextureGlobeOptions options;
+    options.source = std::make_shared<ProceduralTileSource>(tiles);
+    options.virtualTexture.pageSize = 64;
+    options.virtualTexture.border = 2;
+    options.virtualTexture.physicalPages = physicalPages;
+    options.lighting = false;
+    options.loader.workerThreads = 0;
+    options.loader.latencyFrames = 1;
+    return options;
+}
+
+/// The place pattern, with the level in blue: 50 a level.
+std::array<std::uint8_t, 4> levelPattern(std::uint32_t level, double u, double v)
+{
+    std::array<std::uint8_t, 4> texel = placePattern(level, u, v);
+    texel[2] = static_cast<std::uint8_t>(50 * level);
+    return texel;
+}
+
+/// The deepest level with a page in the physical texture.
+std::uint32_t deepestMapped(const PageTable& table)
+{
+    std::uint32_t deepest = 0;
+    for (std::uint32_t level = 0; level <= table.finestLevel(); ++level) {
+        for (std::uint32_t y = 0; y < VirtualTextureLayout::pagesY(level); ++y) {
+            for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(level); ++x) {
+                if (table.isMapped({level, x, y})) {
+                    deepest = level;
+                }
+            }
+        }
+    }
+    return deepest;
+}
+
+std::uint64_t hashOf(const Image& image)
+{
+    std::uint64_t hash = 1469598103934665603ull;
+    for (const std::uint8_t byte : image.pixels) {
+        hash = (hash ^ byte) * 1099511628211ull;
+    }
+    return hash;
+}
+
+} // namespace
+
+TEST_CASE("A tiny physical texture shows coarser texels, never another page's", "[scene][virtual][gl][golden]")
+{
+    const Geodetic3D position = Geodetic3D::fromDegrees(8.0, 44.0, 400000.0);
+    Scene reference(kEarth);
+    reference.add(std::make_shared<VirtualTextureGlobe>(kEarth, procedural(512, levelPattern)));
+    place(reference, position, 20.0, -60.0);
+    const RenderedFrame fine = renderConverged(reference, 256, 144);
+    REQUIRE(fine.statistics.virtualTexture->converged);
+    CHECK_FALSE(fine.statistics.virtualTexture->lodBiasRaised);
+
+    // Four slots: the two level-0 pages and two more. The view needs more, so the bias rises
+    // until what it asks for fits.
+    auto tinyGlobe = std::make_shared<VirtualTextureGlobe>(kEarth, procedural(4, levelPattern));
+    Scene tiny(kEarth);
+    tiny.add(tinyGlobe);
+    place(tiny, position, 20.0, -60.0);
+    const RenderedFrame coarse = renderConverged(tiny, 256, 144);
+    INFO(coarse.statistics.toText());
+    const VirtualTextureStatistics& stats = *coarse.statistics.virtualTexture;
+    REQUIRE(stats.converged);
+    CHECK(stats.lodBiasRaised);
+    CHECK(stats.lodBias > 0.0);
+    CHECK(stats.pagesResident <= 4);
+    CHECK(stats.fallbackFraction == 0.0);
+    const std::uint32_t deepest = deepestMapped(tinyGlobe->pageTable());
+    CHECK(deepest < 5);
+    world::writePng(coarse.image, "/tmp/vt-tiny.png");
+
+    long coarser = 0;
+    long placeMismatches = 0;
+    for (int y = 0; y < coarse.image.height; ++y) {
+        for (int x = 0; x < coarse.image.width; ++x) {
+            const std::uint8_t* a = coarse.image.pixel(x, y);
+            const std::uint8_t* b = fine.image.pixel(x, y);
+            // Blue is the level: never finer than the converged frame's, nor than what is resident.
+            REQUIRE(a[2] <= b[2] + 2);
+            REQUIRE(a[2] <= 50 * deepest + 2);
+            coarser += a[2] + 8 < b[2] ? 1 : 0;
+            // Red and green are the place, the same at every level but for the blur of coarser
+            // texels at the wave's peaks: a texel of another page would be off by far more.
+            placeMismatches += (std::abs(a[0] - b[0]) > 40 || std::abs(a[1] - b[1]) > 40) ? 1 : 0;
+        }
+    }
+    CHECK(coarser > coarse.image.width * coarse.image.height / 2);
+    CHECK(placeMismatches == 0);
+}
+
+TEST_CASE("Virtual texture frames are the same whatever the loader's thread count", "[scene][virtual][gl]")
+{
+    auto run = [](int threads) {
+        VirtualTextureGlobeOptions options = blueMarble();
+        options.loader.workerThreads = threads;
+        options.loader.maximumStartsPerFrame = 3;
+        options.virtualTexture.physicalPages = 24;
+        Scene scene(kEarth);
+        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+        std::vector<std::uint64_t> hashes;
+        for (int frame = 0; frame < 24; ++frame) {
+            place(scene, Geodetic3D::fromDegrees(-5.0 + frame * 1.5, 40.0 + frame * 0.3, 350000.0), 60.0, -40.0);
+            const RenderedFrame rendered = renderFrame(scene, 160, 96);
+            hashes.push_back(hashOf(rendered.image));
+            hashes.push_back(rendered.statistics.virtualTexture->pagesLoaded * 1000 +
+                             rendered.statistics.virtualTexture->pagesEvicted);
+        }
+        return hashes;
+    };
+    const std::vector<std::uint64_t> inline_ = run(0);
+    CHECK(run(2) == inline_);
+}
+
+TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][virtual][gl]")
+{
+    TiledGlobeOptions tiledOptions;
+    tiledOptions.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
+    tiledOptions.lighting = false;
+    Scene tiled(kEarth);
+    tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
+    place(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame without = renderConverged(tiled, 160, 90);
+    const std::vector<std::string> effects = without.statistics.effectsRun();
+    CHECK_FALSE(without.statistics.virtualTexture);
+    CHECK(std::find(effects.begin(), effects.end(), "virtual texture") == effects.end());
+    CHECK(std::find(effects.begin(), effects.end(), "feedback pass") == effects.end());
+    CHECK(without.statistics.renderer.drawCalls == without.statistics.commandsExecuted);
+    CHECK(without.statistics.toJson().find("virtualTexture") == std::string::npos);
+
+    Scene virtualScene(kEarth);
+    virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
+    place(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame with = renderConverged(virtualScene, 160, 90);
+    const std::vector<std::string> withEffects = with.statistics.effectsRun();
+    CHECK(std::find(withEffects.begin(), withEffects.end(), "virtual texture") != withEffects.end());
+    CHECK(std::find(withEffects.begin(), withEffects.end(), "feedback pass") != withEffects.end());
+    // Each tile twice: into the feedback buffer, then into the frame.
+    CHECK(with.statistics.renderer.drawCalls == 2 * with.statistics.commandsExecuted);
+    CHECK(with.statistics.toJson().find("\"virtualTexture\": {\"pagesWanted\"") != std::string::npos);
+    CHECK(with.statistics.toText().find("virtual texture:") != std::string::npos);
+}
+
+TEST_CASE("A flight with few slots evicts the least recently used pages and keeps its memory", "[scene][virtual][gl]")
+{
+    VirtualTextureGlobeOptions options = blueMarble();
+    options.virtualTexture.physicalPages = 16;
+    options.loader.maximumStartsPerFrame = 4;
+    auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
+    Scene scene(kEarth);
+    scene.add(globe);
+    std::size_t evicted = 0;
+    std::size_t loaded = 0;
+    std::optional<std::size_t> gpuBytes;
+    for (int frame = 0; frame < 60; ++frame) {
+        place(scene, Geodetic3D::fromDegrees(-10.0 + frame * 1.0, 45.0, 200000.0), 90.0, -50.0);
+        const RenderedFrame rendered = renderFrame(scene, 128, 72);
+        const VirtualTextureStatistics& stats = *rendered.statistics.virtualTexture;
+        INFO("frame " << frame << "\n" << rendered.statistics.toText());
+        REQUIRE(stats.pagesResident <= stats.physicalPages);
+        REQUIRE(stats.physicalPages == 16);
+        REQUIRE(stats.pagesRequested <= 4);
+        REQUIRE(stats.feedbackLatencyFrames == (frame == 0 ? 0u : 1u));
+        if (!gpuBytes) {
+            gpuBytes = stats.gpuBytes;
+        }
+        REQUIRE(stats.gpuBytes == *gpuBytes);
+        evicted += stats.pagesEvicted;
+        loaded += stats.pagesLoaded;
+        // Every mapped page's parent is mapped: pages go in coarse to fine and leave fine first.
+        const PageTable& table = globe->pageTable();
+        for (std::uint32_t level = 1; level <= table.finestLevel(); ++level) {
+            for (std::uint32_t y = 0; y < VirtualTextureLayout::pagesY(level); ++y) {
+                for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(level); ++x) {
+                    if (table.isMapped({level, x, y})) {
+                        REQUIRE(table.isMapped(PageKey{level, x, y}.parent()));
+                    }
+                }
+            }
+        }
+    }
+    CHECK(loaded > 16);
+    CHECK(evicted > 0);
+    CHECK(evicted + 16 >= loaded);
+}
+
+TEST_CASE("A failing page is named once, its ancestor stays, and the view converges", "[scene][virtual][gl]")
+{
+    VirtualTextureGlobeOptions options = procedural(256, placePattern, [](const TileKey& key) { return key.level == 3; });
+    std::vector<std::string> warnings;
+    options.onWarning = [&](const std::string& message) { warnings.push_back(message); };
+    Scene scene(kEarth);
+    scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 1500000.0), 0.0, -70.0);
+    const RenderedFrame frame = renderConverged(scene, 160, 90);
+    INFO(frame.statistics.toText());
+    const VirtualTextureStatistics& stats = *frame.statistics.virtualTexture;
+    CHECK(stats.converged);
+    CHECK(stats.pagesFailed > 0);
+    CHECK(warnings.size() == stats.pagesFailed);
+    REQUIRE_FALSE(warnings.empty());
+    CHECK_THAT(warnings.front(), Catch::Matchers::Contains("procedural/3/") && Catch::Matchers::Contains("failed"));
+    // What fails is final: no pixel counts as waiting for it.
+    CHECK(stats.fallbackFraction == 0.0);
+}
+
+TEST_CASE("With asynchronous timing the feedback and the pages arrive when ready, and the view converges",
+          "[scene][virtual][gl]")
+{
+    VirtualTextureGlobeOptions options = blueMarble();
+    options.loader.workerThreads = 2;
+    options.loader.latencyFrames = 0;
+    options.virtualTexture.feedbackLatencyFrames = 2;
+    Scene scene(kEarth);
+    scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+    place(scene, Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0);
+    const RenderedFrame frame = renderConverged(scene, 160, 90, 400);
+    INFO(frame.statistics.toText());
+    CHECK(frame.statistics.virtualTexture->converged);
+    CHECK(frame.statistics.virtualTexture->feedbackLatencyFrames >= 2);
+}
+
+TEST_CASE("A virtual texture refuses options it cannot honour", "[scene][virtual]")
+{
+    auto make = [](const std::function<void(VirtualTextureGlobeOptions&)>& change) {
+        VirtualTextureGlobeOptions options = procedural(64);
+        change(options);
+        return std::make_shared<VirtualTextureGlobe>(kEarth, options);
+    };
+    using Catch::Matchers::Contains;
+    CHECK_THROWS_WITH(make([](auto& o) { o.virtualTexture.physicalPages = 3; }), Contains("physicalPages"));
+    CHECK_THROWS_WITH(make([](auto& o) { o.virtualTexture.feedbackDivisor = 0; }), Contains("feedbackDivisor"));
+    CHECK_THROWS_WITH(make([](auto& o) { o.virtualTexture.maximumAnisotropy = 8.0f; }), Contains("twice the border"));
+    CHECK_THROWS_WITH(make([](auto& o) { o.virtualTexture.pageSize = 48; }), Contains("power of two"));
+    CHECK_THROWS_WITH(make([](auto& o) { o.style.rectangle = GeodeticExtent{}; }), Contains("rectangle"));
+    CHECK_THROWS_WITH(make([](auto& o) { o.source = nullptr; }), Contains("no imagery source"));
+    CHECK_NOTHROW(make([](auto&) {}));
+}
