@@ -29,7 +29,8 @@ if [ -z "$cxx" ]; then
 fi
 
 # The parser and what it uses from core; nothing that needs OpenGL or GeographicLib.
-sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
+sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp world/src/JsonText.cpp
+  world/src/Diagnostics.cpp world/src/CsvPoints.cpp world/src/FileAccess.cpp
   world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
   core/src/Transforms.cpp scene/src/Camera.cpp"
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
