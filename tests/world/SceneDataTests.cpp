@@ -83,3 +83,16 @@ TEST_CASE("validate reads the files only once the scene file itself has no fault
     REQUIRE(found.size() == 1);
     CHECK_THAT(found[0], Contains("/colour: unknown key"));
 }
+
+TEST_CASE("validate opens a globe's tile sources as rendering would", "[world][validate]")
+{
+    const test::TempDirectory folder;
+    fs::create_directories(folder.path() / "pyramid");
+    folder.write("pyramid/tilemapresource.xml", "<TileMap><TileSets profile=\"geodetic\">");
+    const fs::path scene = folder.write("scene.json", R"({"version": 1,
+  "globe": {"imagery": [{"source": "pyramid"}]}})");
+    const std::vector<std::string> found = texts(validateSceneFile(scene));
+    REQUIRE(found.size() == 1);
+    CHECK_THAT(found[0], StartsWith(scene.string() + ":2:36: /globe/imagery/0/source: "));
+    CHECK_THAT(found[0], Contains("tilemapresource.xml"));
+}

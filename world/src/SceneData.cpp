@@ -78,6 +78,21 @@ void readLayerSource(const LayerDescription& layer)
         layer);
 }
 
+TileSourceOptions tileSourceOptions(const ImageryLayerDescription& layer)
+{
+    TileSourceOptions options;
+    if (layer.scheme) {
+        options.scheme = *layer.scheme == TilingProjection::WebMercator ? TilingScheme::webMercator()
+                                                                        : TilingScheme::geographic();
+    }
+    options.minimumLevel = layer.minimumLevel.value_or(options.minimumLevel);
+    options.maximumLevel = layer.maximumLevel.value_or(options.maximumLevel);
+    if (layer.cacheFolder) {
+        options.cacheFolder = *layer.cacheFolder;
+    }
+    return options;
+}
+
 DiagnosticList validateSceneFile(const std::filesystem::path& path, SceneDescription* description)
 {
     DiagnosticList faults;
@@ -108,6 +123,11 @@ DiagnosticList validateSceneFile(const std::filesystem::path& path, SceneDescrip
     }
     if (scene.globe && scene.globe->nightTexture) {
         check("/globe/nightTexture", [&] { readGlobeImage(*scene.globe->nightTexture); });
+    }
+    for (std::size_t i = 0; scene.globe && i < scene.globe->imagery.size(); ++i) {
+        const ImageryLayerDescription& layer = scene.globe->imagery[i];
+        check("/globe/imagery/" + std::to_string(i) + "/source",
+              [&] { openTileSource(layer.source, tileSourceOptions(layer)); });
     }
     for (std::size_t i = 0; i < scene.layers.size(); ++i) {
         const std::string pointer = "/layers/" + std::to_string(i);

@@ -5,6 +5,7 @@
 
 #include "orbis/world/Diagnostics.h"
 #include "orbis/world/SceneDescription.h"
+#include "orbis/world/TileSource.h"
 
 #include <orbis/core/Geodetic.h>
 
@@ -31,9 +32,14 @@ PointsData readPointsData(const PointsLayer& layer);
 /// drawing the layer would fail on it.
 void readLayerSource(const LayerDescription& layer);
 
+/// The options a globe's imagery layer opens its tile source with (openTileSource): the layer's
+/// scheme, levels and cache folder.
+TileSourceOptions tileSourceOptions(const ImageryLayerDescription& layer);
+
 /// What `orbis validate` checks: every fault of a scene file (parseSceneFile, collecting), and when
 /// the file itself has none, every file it names read as building and drawing the scene would
-/// (readLayerSource, billboard images, a globe's textures through readGlobeImage), each such fault
+/// (readLayerSource, billboard images, a globe's textures through readGlobeImage, its imagery's tile
+/// sources opened with tileSourceOptions), each such fault
 /// stated at the key that names the file. Empty when rendering the scene would find nothing wrong
 /// with its input. `description`, when given, receives what the file describes.
 DiagnosticList validateSceneFile(const std::filesystem::path& path, SceneDescription* description = nullptr);
