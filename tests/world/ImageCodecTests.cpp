@@ -314,24 +314,3 @@ TEST_CASE("Images decode on many threads at once with the same results", "[world
     }
     REQUIRE(mismatches == 0);
 }
-
-TEST_CASE("Decoding into an image of the same size reuses its storage", "[world][codec]")
-{
-    const Image first = testPattern(64, 32, 3);
-    const Image second = testPattern(64, 32, 3);
-    std::vector<std::uint8_t> jpeg = encodeJpeg(first, 90);
-    Image reused;
-    decodeImageInto(jpeg, "first", reused, 4);
-    REQUIRE(reused.width == 64);
-    REQUIRE(reused.channels == 4);
-    const std::uint8_t* storage = reused.pixels.data();
-    decodeImageInto(encodePng(second, 1), "second", reused, 4);
-    REQUIRE(reused.pixels.data() == storage);
-    REQUIRE(reused.pixels == decodeImage(encodePng(second, 1), "second", 4).pixels);
-    // Another channel count, then a failure: the image is reshaped, then left without a crash.
-    decodeImageInto(jpeg, "grey", reused, 1);
-    REQUIRE(reused.channels == 1);
-    REQUIRE(reused.pixels.size() == 64u * 32u);
-    jpeg.resize(jpeg.size() / 2);
-    REQUIRE_THROWS_WITH(decodeImageInto(jpeg, "cut", reused, 3), Contains("cut: corrupt JPEG"));
-}

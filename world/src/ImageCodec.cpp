@@ -91,40 +91,6 @@ Image convertChannels(Image source, int channels)
     return result;
 }
 
-/// Gives `image` a size and channel count, keeping its storage: nothing is allocated or cleared
-/// when it already holds that many bytes (a reused tile).
-void reshape(Image& image, int width, int height, int channels)
-{
-    image.width = width;
-    image.height = height;
-    image.channels = channels;
-    image.pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels));
-}
-
-/// Where a decoder writes: the caller's image when the decoder gives the channels asked for,
-/// else a temporary that finish() converts into it.
-class DecodeTarget {
-public:
-    DecodeTarget(Image& out, int decodeChannels, int channels) : _out(out), _direct(decodeChannels == channels) {}
-    Image& image(int width, int height, int decodeChannels)
-    {
-        Image& target = _direct ? _out : _temporary;
-        reshape(target, width, height, decodeChannels);
-        return target;
-    }
-    void finish(int channels)
-    {
-        if (!_direct) {
-            _out = convertChannels(std::move(_temporary), channels);
-        }
-    }
-
-private:
-    Image& _out;
-    bool _direct;
-    Image _temporary;
-};
-
 void checkDesiredChannels(int desiredChannels, std::string_view name)
 {
     if (desiredChannels < 0 || desiredChannels > 4) {
@@ -187,8 +153,8 @@ TurboHandle& compressor()
     return handle;
 }
 
-void decodeJpeg(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
-                std::uint64_t maximumPixels, Image& out)
+Image decodeJpeg(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
+                 std::uint64_t maximumPixels)
 {
     TurboHandle& turbo = decompressor();
     tjhandle handle = turbo.get(name);
@@ -210,8 +176,7 @@ void decodeJpeg(std::span<const std::uint8_t> bytes, std::string_view name, int 
     // TurboJPEG writes grey, RGB or RGBA (alpha 255); grey + alpha is made from grey.
     const int decodeChannels = channels == 2 ? 1 : channels;
     const TJPF pixelFormat = decodeChannels == 1 ? TJPF_GRAY : decodeChannels == 3 ? TJPF_RGB : TJPF_RGBA;
-    DecodeTarget target(out, decodeChannels, channels);
-    Image& image = target.image(width, height, decodeChannels);
+    Image image(width, height, decodeChannels);
     // A warning (a premature end of data, bytes missing from a segment) still yields a picture,
     // half of it grey; for tiles that is a corrupt tile, so warnings stop the decoder. Limiting the
     // progressive scans keeps a hostile file from taking minutes.
@@ -219,7 +184,7 @@ void decodeJpeg(std::span<const std::uint8_t> bytes, std::string_view name, int 
                       height, pixelFormat, TJFLAG_STOPONWARNING | TJFLAG_LIMITSCANS) != 0) {
         throw Error(prefix(name) + "corrupt JPEG: " + turbo.fail());
     }
-    target.finish(channels);
+    return convertChannels(std::move(image), channels);
 }
 
 // ---- PNG (libspng) -------------------------------------------------------------------------------
@@ -251,8 +216,8 @@ spng_ihdr readPngHeader(SpngContext& png, std::span<const std::uint8_t> bytes, s
     return header;
 }
 
-void decodePng(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
-               std::uint64_t maximumPixels, Image& out)
+Image decodePng(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
+                std::uint64_t maximumPixels)
 {
     SpngContext png(0);
     const spng_ihdr header = readPngHeader(png, bytes, name, maximumPixels);
@@ -270,13 +235,12 @@ void decodePng(std::span<const std::uint8_t> bytes, std::string_view name, int d
     // tRNS applied); grey results are made from those.
     const int decodeChannels = channels == 3 ? 3 : 4;
     const int format = decodeChannels == 3 ? SPNG_FMT_RGB8 : SPNG_FMT_RGBA8;
-    DecodeTarget target(out, decodeChannels, channels);
-    Image& image = target.image(static_cast<int>(header.width), static_cast<int>(header.height), decodeChannels);
+    Image image(static_cast<int>(header.width), static_cast<int>(header.height), decodeChannels);
     if (const int error =
             spng_decode_image(png.context, image.pixels.data(), image.pixels.size(), format, SPNG_DECODE_TRNS)) {
         throw Error(prefix(name) + "corrupt PNG: " + spng_strerror(error));
     }
-    target.finish(channels);
+    return convertChannels(std::move(image), channels);
 }
 
 /// The PNG bytes libspng made in an encoder context, copied out.
@@ -326,8 +290,8 @@ std::vector<std::uint8_t> encodePngSamples(const void* samples, std::size_t size
 
 // ---- WebP (libwebp) ------------------------------------------------------------------------------
 
-void decodeWebp(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
-                std::uint64_t maximumPixels, Image& out)
+Image decodeWebp(std::span<const std::uint8_t> bytes, std::string_view name, int desiredChannels,
+                 std::uint64_t maximumPixels)
 {
     WebPBitstreamFeatures features{};
     if (const VP8StatusCode status = WebPGetFeatures(bytes.data(), bytes.size(), &features); status != VP8_STATUS_OK) {
@@ -342,8 +306,7 @@ void decodeWebp(std::span<const std::uint8_t> bytes, std::string_view name, int 
     }
     const int channels = desiredChannels == 0 ? (features.has_alpha ? 4 : 3) : desiredChannels;
     const int decodeChannels = channels == 3 ? 3 : 4;
-    DecodeTarget target(out, decodeChannels, channels);
-    Image& image = target.image(features.width, features.height, decodeChannels);
+    Image image(features.width, features.height, decodeChannels);
     const int stride = features.width * decodeChannels;
     const std::uint8_t* decoded =
         decodeChannels == 3
@@ -352,7 +315,7 @@ void decodeWebp(std::span<const std::uint8_t> bytes, std::string_view name, int 
     if (!decoded) {
         throw Error(prefix(name) + "corrupt or truncated WebP data");
     }
-    target.finish(channels);
+    return convertChannels(std::move(image), channels);
 }
 
 void checkEncodable(const Image& image)
@@ -418,25 +381,17 @@ ImageFormat imageFormatFromName(std::string_view name) noexcept
     return ImageFormat::Unknown;
 }
 
-void decodeImageInto(std::span<const std::uint8_t> bytes, std::string_view nameForMessages, Image& image,
-                     int desiredChannels, std::uint64_t maximumPixels)
-{
-    checkDesiredChannels(desiredChannels, nameForMessages);
-    switch (detectImageFormat(bytes)) {
-    case ImageFormat::Jpeg: return decodeJpeg(bytes, nameForMessages, desiredChannels, maximumPixels, image);
-    case ImageFormat::Png: return decodePng(bytes, nameForMessages, desiredChannels, maximumPixels, image);
-    case ImageFormat::Webp: return decodeWebp(bytes, nameForMessages, desiredChannels, maximumPixels, image);
-    case ImageFormat::Unknown: break;
-    }
-    throw Error(prefix(nameForMessages) + "not a JPEG, PNG or WebP image (" + leadingBytes(bytes) + ")");
-}
-
 Image decodeImage(std::span<const std::uint8_t> bytes, std::string_view nameForMessages, int desiredChannels,
                   std::uint64_t maximumPixels)
 {
-    Image image;
-    decodeImageInto(bytes, nameForMessages, image, desiredChannels, maximumPixels);
-    return image;
+    checkDesiredChannels(desiredChannels, nameForMessages);
+    switch (detectImageFormat(bytes)) {
+    case ImageFormat::Jpeg: return decodeJpeg(bytes, nameForMessages, desiredChannels, maximumPixels);
+    case ImageFormat::Png: return decodePng(bytes, nameForMessages, desiredChannels, maximumPixels);
+    case ImageFormat::Webp: return decodeWebp(bytes, nameForMessages, desiredChannels, maximumPixels);
+    case ImageFormat::Unknown: break;
+    }
+    throw Error(prefix(nameForMessages) + "not a JPEG, PNG or WebP image (" + leadingBytes(bytes) + ")");
 }
 
 GreyImage16 decodePng16(std::span<const std::uint8_t> bytes, std::string_view nameForMessages, std::uint64_t maximumPixels)

@@ -35,12 +35,6 @@ inline constexpr std::uint64_t kMaximumDecodedPixels = std::uint64_t{1} << 26;
 Image decodeImage(std::span<const std::uint8_t> bytes, std::string_view nameForMessages, int desiredChannels = 4,
                   std::uint64_t maximumPixels = kMaximumDecodedPixels);
 
-/// As decodeImage, into `image`, reusing its storage: decoding into an image that already holds as
-/// many bytes allocates and clears nothing (a pool of tiles, a benchmark). On error `image` holds
-/// no meaningful pixels.
-void decodeImageInto(std::span<const std::uint8_t> bytes, std::string_view nameForMessages, Image& image,
-                     int desiredChannels = 4, std::uint64_t maximumPixels = kMaximumDecodedPixels);
-
 /// One channel of 16-bit samples (heights), rows top to bottom.
 struct GreyImage16 {
     int width = 0;
