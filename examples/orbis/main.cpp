@@ -1,6 +1,7 @@
 // The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
 // from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
 // 2 the command line is wrong.
+#include "../common/SceneExample.h"
 #include "../common/Viewer.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -12,16 +13,19 @@
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneFile.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <unistd.h>
 
@@ -62,6 +66,25 @@ int runDemo(Arguments arguments)
     return kExitOk;
 }
 
+/// A scene or camera-path argument: the file itself when there is one or the argument has a folder
+/// in it; otherwise the example of that name in the data folder's `folder` ("capitals" or
+/// "capitals.json": data/scenes/capitals.json), so the installed command finds its installed data.
+std::string resolveDataFile(const std::string& argument, const char* folder)
+{
+    const std::filesystem::path given(argument);
+    std::error_code error;
+    if (std::filesystem::exists(given, error) || given.has_parent_path()) {
+        return argument;
+    }
+    const std::filesystem::path directory = orbis::examples::dataDirectory() / folder;
+    for (const std::filesystem::path& candidate : {directory / given, directory / (argument + ".json")}) {
+        if (std::filesystem::is_regular_file(candidate, error)) {
+            return candidate.string();
+        }
+    }
+    return argument;
+}
+
 /// orbis validate SCENE.json...: reads each file as `orbis render` would, renders nothing.
 int runValidate(Arguments arguments)
 {
@@ -69,10 +92,12 @@ int runValidate(Arguments arguments)
         return kExitUsage;
     }
     int exitCode = kExitOk;
-    for (const char* path : arguments) {
+    for (const char* argument : arguments) {
+        const std::string path = resolveDataFile(argument, "scenes");
         try {
             const orbis::world::SceneDescription scene = orbis::world::parseSceneFile(path);
-            std::printf("%s: ok (%zu %s)\n", path, scene.layers.size(), scene.layers.size() == 1 ? "layer" : "layers");
+            std::printf("%s: ok (%zu %s)\n", path.c_str(), scene.layers.size(),
+                        scene.layers.size() == 1 ? "layer" : "layers");
         } catch (const orbis::Error& error) {
             std::fprintf(stderr, "%s\n", error.what());
             exitCode = kExitFailed;
@@ -130,7 +155,7 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
             if (parsed.scenePath) {
                 return false;
             }
-            parsed.scenePath = std::string(argument);
+            parsed.scenePath = resolveDataFile(std::string(argument), "scenes");
             continue;
         }
         if (i + 1 == arguments.size()) {
@@ -146,7 +171,7 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
         } else if (argument == "--stats") {
             parsed.statisticsPath = value;
         } else if (argument == "--path") {
-            parsed.cameraPath = value;
+            parsed.cameraPath = resolveDataFile(value, "paths");
         } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
                      (argument == "--height" && count(parsed.height, 16384)) ||
                      (argument == "--frames" && count(parsed.frames, 100000)))) {
@@ -448,7 +473,23 @@ int usage(std::FILE* stream, int exitCode)
                      subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
                      subcommand.summary.data());
     }
-    std::fprintf(stream, "exit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
+    const std::filesystem::path data = orbis::examples::dataDirectory();
+    std::fprintf(stream, "SCENE.json and PATH.json may name an example in %s (scenes/, paths/):",
+                 data.string().c_str());
+    std::error_code error;
+    std::vector<std::string> examples;
+    for (const char* folder : {"scenes", "paths"}) {
+        for (const auto& entry : std::filesystem::directory_iterator(data / folder, error)) {
+            if (entry.path().extension() == ".json") {
+                examples.push_back(entry.path().stem().string());
+            }
+        }
+    }
+    std::sort(examples.begin(), examples.end());
+    for (const std::string& example : examples) {
+        std::fprintf(stream, " %s", example.c_str());
+    }
+    std::fprintf(stream, "\nexit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
     return exitCode;
 }
 

@@ -1,13 +1,13 @@
 #pragma once
 
 // The precision measurements of docs/precision.md, as functions: the bench's tables, the tests'
-// claims and the chapter 5 and 6 examples call the same code.
-
-#include "orbis/scene/DepthStrategy.h"
-#include "orbis/scene/FrameStatistics.h"
-#include "orbis/scene/VertexTransform.h"
+// claims and the chapter 5 and 6 examples call the same code. Not part of the installed library:
+// the static library orbis_precision_measurement (bench/measurement/CMakeLists.txt).
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/scene/DepthStrategy.h>
+#include <orbis/scene/FrameStatistics.h>
+#include <orbis/scene/VertexTransform.h>
 
 #include <cstdint>
 
@@ -15,7 +15,7 @@ namespace orbis::renderer {
 class Context;
 } // namespace orbis::renderer
 
-namespace orbis::scene {
+namespace orbis::bench {
 
 // ---- Vertex transform jitter (book chapter 5) ------------------------------------------------
 
@@ -42,7 +42,7 @@ struct JitterResult {
 /// read back with transform feedback, projected to the window in double, against the window
 /// position P V p computed in double from the double positions. Automatic is resolved as a
 /// MeshPrimitive would resolve it for the frame.
-JitterResult measureVertexJitter(renderer::Context& context, VertexTransform transform, const glm::dvec3& target,
+JitterResult measureVertexJitter(renderer::Context& context, scene::VertexTransform transform, const glm::dvec3& target,
                                  double eyeDistance, const JitterOptions& options = {});
 
 /// A point on the WGS84 surface, 700 km above it and at geostationary height (35,786 km), above
@@ -63,7 +63,7 @@ struct ZFightingOptions {
 struct ZFightingResult {
     double wrongFraction = 0.0; ///< of the pixels where the near square is in front
     int pixels = 0;
-    FrameStatistics statistics; ///< of the first of the four frames
+    scene::FrameStatistics statistics; ///< of the first of the four frames
 };
 
 /// Two parallel squares nearly facing the eye, the near one `distance` away at its middle and the
@@ -79,14 +79,14 @@ struct ZFightingResult {
 /// eye are rounded to float as the vertex stage sees them (DSFUN90 relative to eye, exact to that
 /// rounding), so that only depth is measured; separations below the float spacing at `distance`
 /// (1 m at 10,000 km) are raised to it.
-ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strategy, double distance, double separation,
+ZFightingResult measureZFighting(renderer::Context& context, scene::DepthStrategy strategy, double distance, double separation,
                                  const ZFightingOptions& options = {});
 
 /// The smallest separation at which measureZFighting finds no pixel wrongly ordered, nor at any
 /// larger one tried: separations from `distance` down by factors of 10^(1/stepsPerDecade) to the
 /// float spacing at `distance` (returned when even that is resolved); infinity when `distance`
 /// itself is not. Wrong pixels come and go as the depth steps fall, hence the scan from above.
-double measureMinimumSeparation(renderer::Context& context, DepthStrategy strategy, double distance,
+double measureMinimumSeparation(renderer::Context& context, scene::DepthStrategy strategy, double distance,
                                 const ZFightingOptions& options = {}, int stepsPerDecade = 4);
 
 // ---- The two-sum on the GPU ---------------------------------------------------------------------
@@ -107,4 +107,4 @@ struct TwoSumSurvival {
 TwoSumSurvival measureTwoSumSurvival(renderer::Context& context, TwoSumProtection protection, std::size_t samples = 4096,
                                      std::uint64_t seed = 5);
 
-} // namespace orbis::scene
+} // namespace orbis::bench

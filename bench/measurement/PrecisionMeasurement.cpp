@@ -1,13 +1,12 @@
-#include "orbis/scene/PrecisionMeasurement.h"
-
-#include "orbis/scene/MeshPrimitive.h"
-#include "orbis/scene/Scene.h"
+#include "PrecisionMeasurement.h"
 
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EmulatedDouble.h>
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/scene/MeshPrimitive.h>
+#include <orbis/scene/Scene.h>
 
 #include <glm/geometric.hpp>
 
@@ -16,7 +15,9 @@
 #include <limits>
 #include <random>
 
-namespace orbis::scene {
+using namespace orbis::scene;
+
+namespace orbis::bench {
 
 namespace {
 
@@ -312,4 +313,4 @@ void main()
     return result;
 }
 
-} // namespace orbis::scene
+} // namespace orbis::bench

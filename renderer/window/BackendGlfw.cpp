@@ -1,5 +1,6 @@
-// A window from GLFW (only compiled when GLFW is installed: see renderer/CMakeLists.txt). Its
-// framebuffer 0 is the window; shared contexts are hidden windows sharing objects with it.
+// A window from GLFW: the window library (orbis_window, only built with GLFW installed; see
+// renderer/CMakeLists.txt). Its framebuffer 0 is the window; shared contexts are hidden windows
+// sharing objects with it.
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -180,6 +181,12 @@ std::unique_ptr<Backend> createGlfwBackend(const BackendRequest& request)
 }
 
 } // namespace orbis::renderer::detail
+
+// The window backend, registered before main; named for the linker's -u (renderer/CMakeLists.txt),
+// which keeps this file in the links of programs that link the static library.
+extern "C" const bool orbis_window_backend;
+extern "C" const bool orbis_window_backend = orbis::renderer::detail::registerWindowBackend(
+    &orbis::renderer::detail::createGlfwBackend);
 
 namespace orbis::renderer {
 

@@ -1,39 +1,29 @@
-#include "orbis/renderer/RawGlBaseline.h"
+#include "RawGlBaseline.h"
 
+// The renderer's private headers (bench/CMakeLists.txt adds renderer/src for this file's sake).
 #include "ContextState.h"
 #include "GlEnums.h"
 #include "ShaderProgramAccess.h"
 
-#include "orbis/core/Error.h"
-#include "orbis/renderer/Device.h"
+#include <orbis/core/Error.h>
+#include <orbis/renderer/Device.h>
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <cmath>
 #include <vector>
 
-namespace orbis::renderer {
+// The friend Context and VertexArray name for this file: it reads their GL names and state.
+namespace orbis::renderer::detail {
 
-RenderState baselineRenderState(const BaselineDraw& draw) noexcept
-{
-    RenderState state;
-    if (draw.blending) {
-        state.blending = Blending::alphaBlending();
-    }
-    state.depthTest.function = draw.depthLessOrEqual ? CompareFunction::LessOrEqual : CompareFunction::Less;
-    state.facetCulling.enabled = draw.culling;
-    return state;
-}
-
-namespace detail {
 struct RawGlBaselineAccess {
     static std::uint64_t run(Context& context, Framebuffer& framebuffer, std::span<ShaderProgram* const> programs,
-                             std::span<const VertexArray* const> arrays, std::span<const BaselineDraw> draws);
+                             std::span<const VertexArray* const> arrays, std::span<const bench::BaselineDraw> draws);
 };
 
 std::uint64_t RawGlBaselineAccess::run(Context& context, Framebuffer& framebuffer,
                                        std::span<ShaderProgram* const> programs,
-                                       std::span<const VertexArray* const> arrays, std::span<const BaselineDraw> draws)
+                                       std::span<const VertexArray* const> arrays, std::span<const bench::BaselineDraw> draws)
 {
     // Bind the framebuffer the way a draw would (attachments checked), then leave Orbis aside.
     ClearState clear;
@@ -102,7 +92,7 @@ std::uint64_t RawGlBaselineAccess::run(Context& context, Framebuffer& framebuffe
     int blending = -1;
     int lessOrEqual = -1;
     int culling = -1;
-    for (const BaselineDraw& draw : draws) {
+    for (const bench::BaselineDraw& draw : draws) {
         if (draw.program != program) {
             program = draw.program;
             useProgram(programInfo[program].handle);
@@ -153,10 +143,26 @@ std::uint64_t RawGlBaselineAccess::run(Context& context, Framebuffer& framebuffe
     }
     return calls;
 }
-} // namespace detail
 
-std::uint64_t drawWithRawGl(Context& context, Framebuffer& framebuffer, std::span<ShaderProgram* const> programs,
-                            std::span<const VertexArray* const> arrays, std::span<const BaselineDraw> draws)
+} // namespace orbis::renderer::detail
+
+namespace orbis::bench {
+
+renderer::RenderState baselineRenderState(const BaselineDraw& draw) noexcept
+{
+    renderer::RenderState state;
+    if (draw.blending) {
+        state.blending = renderer::Blending::alphaBlending();
+    }
+    state.depthTest.function =
+        draw.depthLessOrEqual ? renderer::CompareFunction::LessOrEqual : renderer::CompareFunction::Less;
+    state.facetCulling.enabled = draw.culling;
+    return state;
+}
+
+std::uint64_t drawWithRawGl(renderer::Context& context, renderer::Framebuffer& framebuffer,
+                            std::span<renderer::ShaderProgram* const> programs,
+                            std::span<const renderer::VertexArray* const> arrays, std::span<const BaselineDraw> draws)
 {
     if (!context.isCurrent()) {
         throw Error("drawWithRawGl: the context is not current on this thread");
@@ -167,7 +173,7 @@ std::uint64_t drawWithRawGl(Context& context, Framebuffer& framebuffer, std::spa
             throw Error("drawWithRawGl: a draw names a program or an indexed vertex array that is not given");
         }
     }
-    return detail::RawGlBaselineAccess::run(context, framebuffer, programs, arrays, draws);
+    return renderer::detail::RawGlBaselineAccess::run(context, framebuffer, programs, arrays, draws);
 }
 
-} // namespace orbis::renderer
+} // namespace orbis::bench
