@@ -4,6 +4,7 @@
 // analytic minimum triangle separation, beside its cost per frame. docs/precision.md explains them;
 // the full run also writes docs/precision.svg.
 
+#include "PrecisionMeasurement.h"
 #include "Report.h"
 
 #include "PrecisionScenes.h"
@@ -12,7 +13,6 @@
 #include <orbis/core/SunPosition.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/MeshPrimitive.h>
-#include <orbis/scene/PrecisionMeasurement.h>
 
 #include <glm/geometric.hpp>
 

@@ -3,10 +3,10 @@
 // the environment gives (Mesa llvmpipe here); and the time from process start to the first
 // triangle PNG (examples/ch03_triangle).
 
+#include "RawGlBaseline.h"
 #include "Report.h"
 
 #include <orbis/renderer/Device.h>
-#include <orbis/renderer/RawGlBaseline.h>
 
 #include <algorithm>
 #include <chrono>

@@ -6,6 +6,7 @@
 #include <orbis/renderer/GlyphAtlas.h>
 #include <orbis/renderer/TextureAtlas.h>
 #include <orbis/renderer/Utf8.h>
+#include <orbis/scene/FontLookup.h>
 #include <orbis/world/CsvPoints.h>
 #include <orbis/world/GeoJson.h>
 
@@ -20,7 +21,7 @@ namespace orbis::bench {
 namespace {
 
 const std::filesystem::path kData = std::filesystem::path(ORBIS_SOURCE_DIR) / "data";
-const std::filesystem::path kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+const std::filesystem::path kFont = scene::defaultFontPath();
 
 double milliseconds(const std::function<void()>& run, int repeats)
 {

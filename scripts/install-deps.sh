@@ -9,7 +9,7 @@ packages="
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev
   libstb-dev libtinygltf-dev nlohmann-json3-dev
   libglfw3-dev xvfb xauth
-  xplanet-images fonts-dejavu-core
+  xplanet-images fonts-dejavu-core libfontconfig-dev
   clang-14 libclang-rt-14-dev
   libturbojpeg0-dev libspng-dev libwebp-dev libsqlite3-dev libcurl4-openssl-dev libgdal-dev zlib1g-dev
 "

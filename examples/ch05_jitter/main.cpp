@@ -5,8 +5,9 @@
 #include "../common/PrecisionScenes.h"
 #include "../common/SceneExample.h"
 
+#include "PrecisionMeasurement.h"
+
 #include <orbis/renderer/Context.h>
-#include <orbis/scene/PrecisionMeasurement.h>
 
 #include <cstdio>
 #include <iterator>
@@ -17,6 +18,7 @@ int main(int argc, char** argv)
     using namespace orbis;
     using namespace orbis::renderer;
     using namespace orbis::scene;
+    using namespace orbis::bench;
     const VertexTransform transforms[] = {VertexTransform::RelativeToWorld,  VertexTransform::RelativeToCenter,
                                           VertexTransform::RelativeToEyeGpu, VertexTransform::RelativeToEyeDsfun90,
                                           VertexTransform::RelativeToEyeCpu, VertexTransform::Automatic};

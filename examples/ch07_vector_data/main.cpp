@@ -23,7 +23,7 @@ int main(int argc, char** argv)
         style.fill = false;
         style.border = {glm::vec4(1.0f, 0.85f, 0.2f, 1.0f), 1.5f, glm::vec4(0.1f, 0.1f, 0.1f, 1.0f), 0.75f, true};
         style.granularityRadians = toRadians(0.5);
-        const FeatureCollection countries = loadGeoJson(ORBIS_DATA_DIR "/natural-earth/countries-110m.geojson");
+        const FeatureCollection countries = loadGeoJson(examples::dataDirectory() / "natural-earth" / "countries-110m.geojson");
         buildFeaturePrimitives(scene.ellipsoid(), countries, style).addTo(scene);
 
         PolylineCollectionOptions options;

@@ -31,7 +31,7 @@ int main(int argc, char** argv)
         style.fillColorOf = [](const Feature& feature) { return kPalette[feature.index % kPalette.size()]; };
         style.border.color = {1.0f, 1.0f, 1.0f, 1.0f};
         style.border.widthPixels = 1.0f;
-        const FeatureCollection countries = loadGeoJson(ORBIS_DATA_DIR "/natural-earth/countries-110m.geojson");
+        const FeatureCollection countries = loadGeoJson(examples::dataDirectory() / "natural-earth" / "countries-110m.geojson");
         buildFeaturePrimitives(scene.ellipsoid(), countries, style).addTo(scene);
 
         // Daylight where the camera looks.

@@ -3,7 +3,7 @@
 // over the textured globe. Cities and names behind the Earth are hidden by the horizon test, and
 // names that would overlap a larger country's are left out (LabelCollectionOptions::declutter).
 // Usage: ch09_billboards [--out file.png] [--width W] [--height H]
-// Data: data/ of the source tree, or the folder ORBIS_DATA_DIR names.
+// Data: examples::dataDirectory() (the folder ORBIS_DATA_DIR names, or data/).
 #include "../common/SceneExample.h"
 
 #include <orbis/scene/BillboardCollection.h>
@@ -24,12 +24,6 @@ namespace {
 using namespace orbis;
 using namespace orbis::world;
 using namespace orbis::scene;
-
-std::filesystem::path dataDirectory()
-{
-    const char* fromEnvironment = std::getenv("ORBIS_DATA_DIR");
-    return fromEnvironment ? std::filesystem::path(fromEnvironment) : std::filesystem::path(ORBIS_DATA_DIR);
-}
 
 /// A soft round dot, 3 x 3 pixels, white: the colour comes from each billboard.
 Image cityDot()
@@ -103,11 +97,11 @@ int main(int argc, char** argv)
         globe.dayTexture = examples::xplanetDayImage();
         scene.add(std::make_shared<Globe>(ellipsoid, globe));
 
-        const CsvPoints cities = loadCsvPoints(dataDirectory() / "geonames" / "cities.csv");
+        const CsvPoints cities = loadCsvPoints(examples::dataDirectory() / "geonames" / "cities.csv");
         const auto billboards = examples::cityBillboards(ellipsoid, cities, cityDot());
         scene.add(billboards);
 
-        const FeatureCollection countries = loadGeoJson(dataDirectory() / "natural-earth" / "countries-110m.geojson");
+        const FeatureCollection countries = loadGeoJson(examples::dataDirectory() / "natural-earth" / "countries-110m.geojson");
         // Larger countries first: where names overlap, decluttering keeps the earlier one.
         std::vector<std::pair<double, Label>> named;
         for (const Feature& country : countries.features) {

@@ -4,6 +4,7 @@
 
 #include <orbis/core/Transforms.h>
 #include <orbis/renderer/Font.h>
+#include <orbis/scene/FontLookup.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/MeshPrimitive.h>
 
@@ -121,11 +122,11 @@ Mesh terrainMesh(const Ellipsoid& ellipsoid, const Geodetic3D& origin, double ea
 const Font* captionFont()
 {
     static const std::optional<Font> font = []() -> std::optional<Font> {
-        const std::filesystem::path path = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-        if (!std::filesystem::exists(path)) {
+        const std::optional<std::filesystem::path> path = scene::findFont(scene::kDefaultFontFamily);
+        if (!path) {
             return std::nullopt;
         }
-        return Font(path);
+        return Font(*path);
     }();
     return font ? &*font : nullptr;
 }

@@ -154,9 +154,26 @@ int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std:
     return runWithFramebuffer(argc, argv, defaults, render);
 }
 
+std::filesystem::path dataDirectory()
+{
+    if (const char* fromEnvironment = std::getenv("ORBIS_DATA_DIR"); fromEnvironment && *fromEnvironment) {
+        return fromEnvironment;
+    }
+    // An installed program finds the data installed with it; one in the build tree, the source's.
+    std::error_code error;
+    const std::filesystem::path program = std::filesystem::read_symlink("/proc/self/exe", error);
+    if (!error) {
+        const std::filesystem::path installed = program.parent_path() / ORBIS_INSTALLED_DATA_FROM_BINDIR;
+        if (std::filesystem::is_directory(installed, error)) {
+            return installed.lexically_normal();
+        }
+    }
+    return ORBIS_DATA_DIR;
+}
+
 std::string naturalEarthPyramid()
 {
-    return std::string(ORBIS_DATA_DIR) + "/imagery/NaturalEarthII";
+    return (dataDirectory() / "imagery" / "NaturalEarthII").string();
 }
 
 std::string xplanetDayImage()

@@ -7,6 +7,7 @@
 #include <orbis/world/ImageFile.h>
 
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
@@ -45,6 +46,11 @@ struct ExampleTile {
 /// Returns the process exit code as runSceneExample does.
 int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
                     const std::function<ExampleTile(renderer::Context&, std::size_t tile, const ExampleSettings&)>& renderTile);
+
+/// The project's data/: the folder ORBIS_DATA_DIR names in the environment; else, for an installed
+/// program (<prefix>/bin), the data installed with it (<prefix>/share/orbis/data); else the source
+/// tree's data/.
+std::filesystem::path dataDirectory();
 
 /// The Natural Earth II TMS pyramid in data/imagery.
 std::string naturalEarthPyramid();

@@ -1,24 +1,31 @@
 // The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
 // from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
 // 2 the command line is wrong.
+#include "../common/SceneExample.h"
 #include "../common/Viewer.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
+#include <orbis/core/TileKey.h>
 #include <orbis/world/ImageFile.h>
+#include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneFile.h>
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <unistd.h>
 
@@ -59,6 +66,25 @@ int runDemo(Arguments arguments)
     return kExitOk;
 }
 
+/// A scene or camera-path argument: the file itself when there is one or the argument has a folder
+/// in it; otherwise the example of that name in the data folder's `folder` ("capitals" or
+/// "capitals.json": data/scenes/capitals.json), so the installed command finds its installed data.
+std::string resolveDataFile(const std::string& argument, const char* folder)
+{
+    const std::filesystem::path given(argument);
+    std::error_code error;
+    if (std::filesystem::exists(given, error) || given.has_parent_path()) {
+        return argument;
+    }
+    const std::filesystem::path directory = orbis::examples::dataDirectory() / folder;
+    for (const std::filesystem::path& candidate : {directory / given, directory / (argument + ".json")}) {
+        if (std::filesystem::is_regular_file(candidate, error)) {
+            return candidate.string();
+        }
+    }
+    return argument;
+}
+
 /// orbis validate SCENE.json...: reads each file as `orbis render` would, renders nothing.
 int runValidate(Arguments arguments)
 {
@@ -66,10 +92,12 @@ int runValidate(Arguments arguments)
         return kExitUsage;
     }
     int exitCode = kExitOk;
-    for (const char* path : arguments) {
+    for (const char* argument : arguments) {
+        const std::string path = resolveDataFile(argument, "scenes");
         try {
             const orbis::world::SceneDescription scene = orbis::world::parseSceneFile(path);
-            std::printf("%s: ok (%zu %s)\n", path, scene.layers.size(), scene.layers.size() == 1 ? "layer" : "layers");
+            std::printf("%s: ok (%zu %s)\n", path.c_str(), scene.layers.size(),
+                        scene.layers.size() == 1 ? "layer" : "layers");
         } catch (const orbis::Error& error) {
             std::fprintf(stderr, "%s\n", error.what());
             exitCode = kExitFailed;
@@ -127,7 +155,7 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
             if (parsed.scenePath) {
                 return false;
             }
-            parsed.scenePath = std::string(argument);
+            parsed.scenePath = resolveDataFile(std::string(argument), "scenes");
             continue;
         }
         if (i + 1 == arguments.size()) {
@@ -143,7 +171,7 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
         } else if (argument == "--stats") {
             parsed.statisticsPath = value;
         } else if (argument == "--path") {
-            parsed.cameraPath = value;
+            parsed.cameraPath = resolveDataFile(value, "paths");
         } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
                      (argument == "--height" && count(parsed.height, 16384)) ||
                      (argument == "--frames" && count(parsed.frames, 100000)))) {
@@ -284,6 +312,132 @@ int runInfo(Arguments arguments)
     return kExitOk;
 }
 
+/// `text` as a whole number from minimum to maximum; empty when it is anything else ("64abc", "1e3").
+std::optional<std::uint32_t> parseCount(std::string_view text, std::uint32_t minimum, std::uint32_t maximum)
+{
+    std::uint32_t value = 0;
+    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || value < minimum || value > maximum) {
+        return std::nullopt;
+    }
+    return value;
+}
+
+/// Progress of a tiling run on stderr: one line rewritten on a terminal, else a line every five
+/// seconds (a batch job's log), and the last tile always.
+class TilingProgressLine {
+public:
+    void operator()(const orbis::world::TilerProgress& progress)
+    {
+        const bool last = progress.done == progress.total;
+        const double sinceLine = progress.seconds - _lastLine;
+        if (!last && sinceLine < (_terminal ? 0.1 : 5.0)) {
+            return;
+        }
+        _lastLine = progress.seconds;
+        const auto done = static_cast<double>(progress.done);
+        const auto total = static_cast<double>(progress.total);
+        const double rate = progress.seconds > 0.0 ? done / progress.seconds : 0.0;
+        const double left = rate > 0.0 ? (total - done) / rate : 0.0;
+        std::fprintf(stderr, "%slevel %u: %zu/%zu tiles, all levels %zu/%zu (%.0f%%), %.1f tiles/s, %.0f s left%s",
+                     _terminal ? "\r" : "", progress.level, progress.levelDone, progress.levelTotal, progress.done,
+                     progress.total, total > 0.0 ? 100.0 * done / total : 100.0, rate, left,
+                     _terminal ? (last ? "\n" : "   ") : "\n");
+    }
+
+private:
+    bool _terminal = isatty(fileno(stderr)) != 0;
+    double _lastLine = -1e9;
+};
+
+/// orbis tile imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q]
+/// [--level L [--range X0:X1]] [--threads N] [--title TEXT] [--attribution TEXT]: a TMS pyramid
+/// (geographic, tilemapresource.xml) cut from an image GDAL reads, on every core.
+int runTile(Arguments arguments)
+{
+    if (arguments.empty() || std::string_view(arguments[0]) != "imagery" || arguments.size() < 2) {
+        return kExitUsage;
+    }
+    orbis::world::ImageryTilerOptions options;
+    for (std::size_t i = 1; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        if (!argument.starts_with("--")) {
+            if (!options.input.empty()) {
+                return kExitUsage;
+            }
+            options.input = std::string(argument);
+            continue;
+        }
+        if (i + 1 == arguments.size()) {
+            return kExitUsage;
+        }
+        const std::string_view value = arguments[++i];
+        if (argument == "--out") {
+            options.output = std::string(value);
+        } else if (argument == "--levels") {
+            const auto levels = parseCount(value, 1, orbis::kMaximumTileLevel + 1);
+            if (!levels) {
+                return kExitUsage;
+            }
+            options.levels = *levels;
+        } else if (argument == "--level") {
+            const auto level = parseCount(value, 0, orbis::kMaximumTileLevel);
+            if (!level) {
+                return kExitUsage;
+            }
+            options.onlyLevel = *level;
+        } else if (argument == "--range") {
+            const std::size_t colon = value.find(':');
+            const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
+            const auto last = colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
+            if (!first || !last) {
+                return kExitUsage;
+            }
+            options.columns = std::pair(*first, *last);
+        } else if (argument == "--format") {
+            options.format = orbis::world::imageFormatFromName(value);
+            if (options.format == orbis::world::ImageFormat::Unknown || value.find('/') != std::string_view::npos) {
+                return kExitUsage;
+            }
+        } else if (argument == "--quality") {
+            const auto quality = parseCount(value, 0, 100);
+            if (!quality) {
+                return kExitUsage;
+            }
+            options.quality = static_cast<int>(*quality);
+        } else if (argument == "--threads") {
+            const auto threads = parseCount(value, 1, 256);
+            if (!threads) {
+                return kExitUsage;
+            }
+            options.threads = static_cast<int>(*threads);
+        } else if (argument == "--title") {
+            options.title = std::string(value);
+        } else if (argument == "--attribution") {
+            options.attribution = std::string(value);
+        } else {
+            return kExitUsage;
+        }
+    }
+    if (options.input.empty() || options.output.empty() || (options.columns && !options.onlyLevel)) {
+        return kExitUsage;
+    }
+    try {
+        options.progress = TilingProgressLine();
+        orbis::world::ImageryTiler tiler(options);
+        const orbis::world::TilerSummary summary = tiler.run();
+        std::printf("%s: %zu tiles written, %zu empty skipped, levels 0-%u, %.1f s (%.1f tiles/s)\n",
+                    options.output.c_str(), summary.tilesWritten, summary.tilesEmpty, summary.levelCount - 1,
+                    summary.seconds,
+                    summary.seconds > 0.0 ? static_cast<double>(summary.tilesWritten + summary.tilesEmpty) / summary.seconds
+                                          : 0.0);
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis tile: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
 struct Subcommand {
     std::string_view name;
     std::string_view arguments; ///< for the usage line
@@ -302,6 +456,11 @@ constexpr Subcommand kSubcommands[] = {
      "D, E Q), Escape to close",
      runView},
     {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+    {"tile", "imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q] [--level L [--range X0:X1]] "
+             "[--threads N] [--title TEXT] [--attribution TEXT]",
+     "cut an image GDAL reads (GeoTIFF in any CRS, or a plain whole-globe JPEG/PNG) into a geographic TMS "
+     "pyramid; --level/--range cut one level's columns X0 to X1, for splitting a job across machines",
+     runTile},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };
 
@@ -314,7 +473,23 @@ int usage(std::FILE* stream, int exitCode)
                      subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
                      subcommand.summary.data());
     }
-    std::fprintf(stream, "exit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
+    const std::filesystem::path data = orbis::examples::dataDirectory();
+    std::fprintf(stream, "SCENE.json and PATH.json may name an example in %s (scenes/, paths/):",
+                 data.string().c_str());
+    std::error_code error;
+    std::vector<std::string> examples;
+    for (const char* folder : {"scenes", "paths"}) {
+        for (const auto& entry : std::filesystem::directory_iterator(data / folder, error)) {
+            if (entry.path().extension() == ".json") {
+                examples.push_back(entry.path().stem().string());
+            }
+        }
+    }
+    std::sort(examples.begin(), examples.end());
+    for (const std::string& example : examples) {
+        std::fprintf(stream, " %s", example.c_str());
+    }
+    std::fprintf(stream, "\nexit codes: 0 success, 1 failure (e.g. an invalid scene file), 2 usage\n");
     return exitCode;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
-// Where GL contexts come from: EGL (surfaceless), OSMesa, or a GLFW window. Private.
+// Where GL contexts come from: EGL (surfaceless), OSMesa, or a GLFW window (the window library).
+// Private.
 
 #include "GlProc.h"
 
@@ -52,7 +53,12 @@ public:
 /// Throws orbis::Error listing what each display tried answered.
 std::unique_ptr<Backend> createEglBackend(const BackendRequest& request);
 std::unique_ptr<Backend> createOsMesaBackend(const BackendRequest& request);
-/// Only in builds with GLFW (ORBIS_HAVE_GLFW); throws otherwise or without a display.
-std::unique_ptr<Backend> createGlfwBackend(const BackendRequest& request);
+/// How GlBackend::Window makes its backend: set before main by the window library (orbis_window,
+/// renderer/window), which a program links to have windows; null without it.
+using WindowBackendFactory = std::unique_ptr<Backend> (*)(const BackendRequest&);
+bool registerWindowBackend(WindowBackendFactory factory) noexcept;
+/// The registered factory's backend; throws orbis::Error when no window library is linked, or as the
+/// factory does (no GLFW in this build, no display).
+std::unique_ptr<Backend> createWindowBackend(const BackendRequest& request);
 
 } // namespace orbis::renderer::detail

@@ -73,38 +73,27 @@ GLint glInteger(const detail::GlApi& gl, GLenum name)
 
 } // namespace
 
-#ifndef ORBIS_HAVE_GLFW
 namespace detail {
-std::unique_ptr<Backend> createGlfwBackend(const BackendRequest&)
-{
-    throw Error("window backend: this build of Orbis has no GLFW (install GLFW 3.3 and reconfigure)");
-}
-} // namespace detail
+namespace {
+// Zero-initialised before any constructor runs, so a registration before main always sticks.
+WindowBackendFactory windowBackendFactory = nullptr;
+} // namespace
 
-// Without GLFW no Window exists; these are never reached.
-bool Window::shouldClose() const
+bool registerWindowBackend(WindowBackendFactory factory) noexcept
 {
+    windowBackendFactory = factory;
     return true;
 }
-void Window::pollEvents() {}
-WindowInput Window::takeInput()
+
+std::unique_ptr<Backend> createWindowBackend(const BackendRequest& request)
 {
-    return {};
+    if (!windowBackendFactory) {
+        throw Error("window backend: this program is not linked with the window library (link orbis::window, "
+                    "find_package(orbis COMPONENTS window))");
+    }
+    return windowBackendFactory(request);
 }
-bool Window::isKeyDown(char) const
-{
-    return false;
-}
-void Window::swapBuffers() {}
-int Window::framebufferWidth() const
-{
-    return 0;
-}
-int Window::framebufferHeight() const
-{
-    return 0;
-}
-#endif
+} // namespace detail
 
 const char* glBackendName(GlBackend backend) noexcept
 {
@@ -134,7 +123,7 @@ Device::Device(const DeviceOptions& options)
     auto attempt = [&](GlBackend kind) {
         std::unique_ptr<detail::Backend> backend = kind == GlBackend::Egl      ? detail::createEglBackend(request)
                                                    : kind == GlBackend::OsMesa ? detail::createOsMesaBackend(request)
-                                                                               : detail::createGlfwBackend(request);
+                                                                               : detail::createWindowBackend(request);
         std::unique_ptr<detail::BackendContext> backendContext = backend->createContext(nullptr);
         backendContext->makeCurrent();
         auto gl = std::make_unique<detail::GlApi>(backend->getProcAddress(), backend->description(), checks);

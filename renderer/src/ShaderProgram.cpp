@@ -10,7 +10,9 @@
 #include "orbis/renderer/VertexArray.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <regex>
 #include <sstream>
 
@@ -157,12 +159,12 @@ GLuint compile(const detail::GlApi& gl, GLenum stage, const ShaderSource& source
     texts.push_back(std::move(preamble));
     if (description.builtinLibrary) {
         for (const char* path : kBuiltinLibrary) {
-            const std::optional<std::string_view> text = embeddedShader(path);
-            if (!text) {
+            const EmbeddedShaderFile* file = findEmbeddedShader(path);
+            if (!file) {
                 throw Error(std::string("shaders/") + path + ": the built-in GLSL library was not embedded");
             }
-            names.push_back(std::string("shaders/") + path);
-            texts.push_back(lineDirective(names.size() - 1) + std::string(*text) + "\n");
+            names.push_back(file->source);
+            texts.push_back(lineDirective(names.size() - 1) + file->text + "\n");
         }
     }
     names.push_back(source.name);
@@ -269,12 +271,32 @@ std::string activeUniformList(const std::vector<ShaderUniform>& uniforms)
 
 ShaderSource ShaderSource::embedded(std::string_view path)
 {
-    const std::optional<std::string_view> text = embeddedShader(path);
-    if (!text) {
+    const EmbeddedShaderFile* file = findEmbeddedShader(path);
+    if (!file) {
         throw Error("shaders/" + std::string(path) +
-                    ": no such embedded shader (files under shaders/ are embedded at build time)");
+                    ": no such embedded shader (a library or program embeds its shader folder at build time "
+                    "with orbis_embed_shaders; read other files with ShaderSource::fromFile)");
     }
-    return {"shaders/" + std::string(path), std::string(*text)};
+    return {file->source, file->text};
+}
+
+ShaderSource ShaderSource::fromFile(const std::filesystem::path& path)
+{
+    std::error_code ignored;
+    if (std::filesystem::is_directory(path, ignored)) {
+        throw Error(path.string() + ": cannot read a folder as a shader file");
+    }
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        const int error = errno;
+        throw Error(path.string() + ": cannot open the shader file (" + std::strerror(error) + ")");
+    }
+    std::ostringstream text;
+    text << file.rdbuf();
+    if (file.bad()) {
+        throw Error(path.string() + ": cannot read the shader file");
+    }
+    return {path.string(), text.str()};
 }
 
 ShaderSource ShaderSource::fromText(std::string name, std::string text)

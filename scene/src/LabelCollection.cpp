@@ -1,6 +1,7 @@
 #include "orbis/scene/LabelCollection.h"
 
 #include "orbis/scene/Effect.h"
+#include "orbis/scene/FontLookup.h"
 
 #include "BillboardBatch.h"
 
@@ -86,7 +87,7 @@ private:
 
 LabelCollection::LabelCollection(const LabelCollectionOptions& options)
     : _options(options)
-    , _font(std::make_shared<renderer::Font>(options.fontPath))
+    , _font(std::make_shared<renderer::Font>(options.fontPath.empty() ? defaultFontPath() : options.fontPath))
     , _bounds(std::make_unique<detail::BillboardBounds>())
     , _programs(detail::billboardPrograms(true))
 {

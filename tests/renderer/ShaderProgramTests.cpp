@@ -1,4 +1,5 @@
 #include "RendererTestSupport.h"
+#include "TempFiles.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Device.h>
@@ -33,7 +34,7 @@ std::string errorOf(Device& device, const ShaderProgramDescription& description)
 
 } // namespace
 
-TEST_CASE("Every file under shaders/ is embedded and found by its path", "[renderer][shader]")
+TEST_CASE("Every embedded shader folder is found by its paths", "[renderer][shader]")
 {
     const auto paths = embeddedShaderPaths();
     CHECK(std::is_sorted(paths.begin(), paths.end()));
@@ -44,14 +45,37 @@ TEST_CASE("Every file under shaders/ is embedded and found by its path", "[rende
     REQUIRE_THROWS_WITH(ShaderSource::embedded("no/such/file.glsl"), Contains("shaders/no/such/file.glsl"));
 }
 
+TEST_CASE("ShaderSource::fromFile reads a shader at run time, and its errors name the file", "[renderer][shader]")
+{
+    const test::TempDirectory folder;
+    const std::filesystem::path path = folder.write("green.frag.glsl", "#version 330 core\nout vec4 fragmentColor;\n"
+                                                                       "void main() { fragmentColor = vec4(0, 1, 0, 1); }\n");
+    const ShaderSource source = ShaderSource::fromFile(path);
+    CHECK(source.name == path.string());
+    CHECK_THAT(source.text, Contains("vec4(0, 1, 0, 1)"));
+    ShaderProgramDescription description = test::solidColorDescription();
+    description.fragment = source;
+    CHECK_NOTHROW(test::sharedDevice().createShaderProgram(description));
+
+    // A compile error in a file read at run time names that file and the line.
+    description.fragment = ShaderSource::fromFile(folder.write("broken.frag.glsl", "out vec4 c;\nvoid main() { c = nope; }\n"));
+    CHECK_THAT(errorOf(test::sharedDevice(), description), Contains((folder.path() / "broken.frag.glsl").string() + ":2:"));
+
+    const std::string missing = test::errorMessage([&] { ShaderSource::fromFile(folder.path() / "missing.glsl"); });
+    CHECK_THAT(missing, Contains((folder.path() / "missing.glsl").string() + ": cannot open the shader file"));
+    CHECK_THAT(missing, Contains("No such file"));
+    const std::string directory = test::errorMessage([&] { ShaderSource::fromFile(folder.path()); });
+    CHECK_THAT(directory, Contains(folder.path().string() + ": cannot"));
+}
+
 TEST_CASE("A compile error names the embedded file and the line", "[renderer][shader][errors]")
 {
     Device& device = test::sharedDevice();
     ShaderProgramDescription description = test::solidColorDescription();
-    description.fragment = ShaderSource::embedded("renderer/test/compile-error.frag.glsl");
+    description.fragment = ShaderSource::embedded("tests/compile-error.frag.glsl");
     const std::string message = errorOf(device, description);
     INFO(message);
-    CHECK_THAT(message, Contains("shaders/renderer/test/compile-error.frag.glsl:6:"));
+    CHECK_THAT(message, Contains("shaders/tests/compile-error.frag.glsl:6:"));
     CHECK_THAT(message, Contains("undeclaredColor"));
     CHECK_THAT(message, Contains("fragment shader"));
 }

@@ -1,6 +1,7 @@
 // Scene depth strategies: which one runs, what each resolves, and the multi-frustum artefacts of
 // the SIGGRAPH 2013 course (tears where frustums meet, blended objects drawn twice in the overlap).
 
+#include "PrecisionMeasurement.h"
 #include "SceneTestSupport.h"
 
 #include "RendererTestSupport.h"
@@ -15,7 +16,6 @@
 #include <orbis/scene/ModelPrimitive.h>
 #include <orbis/scene/PolygonCollection.h>
 #include <orbis/scene/PolylineCollection.h>
-#include <orbis/scene/PrecisionMeasurement.h>
 
 #include <catch2/catch.hpp>
 
@@ -25,6 +25,7 @@
 using namespace orbis;
 using namespace orbis::renderer;
 using namespace orbis::scene;
+using namespace orbis::bench;
 using namespace orbis::test;
 
 namespace {

@@ -4,7 +4,6 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/scene/Globe.h>
-#include <orbis/world/TileMapService.h>
 
 #include <catch2/catch.hpp>
 
@@ -85,36 +84,3 @@ TEST_CASE("The globe's texture shows no seam at the antimeridian and stays sharp
     std::filesystem::remove(texture);
 }
 
-TEST_CASE("The Natural Earth TMS pyramid joins into a north-up equirectangular image", "[scene][tms]")
-{
-    const std::filesystem::path folder = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/imagery/NaturalEarthII";
-    const TileMapDescription description = readTileMapDescription(folder);
-    REQUIRE(description.levelCount == 3);
-    REQUIRE(description.tileWidth == 256);
-
-    const Image mosaic = readTileMapMosaic(folder);
-    REQUIRE(mosaic.width == 2048);
-    REQUIRE(mosaic.height == 1024);
-    auto at = [&](double longitudeDegrees, double latitudeDegrees) {
-        const int x = static_cast<int>((longitudeDegrees + 180.0) / 360.0 * mosaic.width);
-        const int y = static_cast<int>((90.0 - latitudeDegrees) / 180.0 * mosaic.height);
-        return glm::ivec3(mosaic.pixel(x, y)[0], mosaic.pixel(x, y)[1], mosaic.pixel(x, y)[2]);
-    };
-    const glm::ivec3 sahara = at(10, 23);
-    const glm::ivec3 pacific = at(-150, 0);
-    const glm::ivec3 antarctica = at(40, -80);
-    INFO("sahara " << sahara.x << "," << sahara.y << "," << sahara.z << " pacific " << pacific.x << "," << pacific.y
-                   << "," << pacific.z);
-    REQUIRE(sahara.x > sahara.z + 20);   // pale sand: red over blue
-    REQUIRE(pacific.z > pacific.x + 40); // ocean: blue over red
-    REQUIRE(antarctica.x > 180);         // ice, at the bottom: the rows are not upside down
-    REQUIRE(readTileMapMosaic(folder, 0).width == 512);
-}
-
-TEST_CASE("A bad TMS folder is reported with the file and the problem", "[scene][tms]")
-{
-    REQUIRE_THROWS_WITH(readTileMapMosaic("/nonexistent/pyramid"), Contains("/nonexistent/pyramid/tilemapresource.xml") &&
-                                                                       Contains("cannot open"));
-    const std::filesystem::path folder = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/imagery/NaturalEarthII";
-    REQUIRE_THROWS_WITH(readTileMapMosaic(folder, 7), Contains("level 7 is not in the pyramid (0..2)"));
-}

@@ -3,6 +3,7 @@
 
 #include <orbis/renderer/GlyphAtlas.h>
 #include <orbis/renderer/Utf8.h>
+#include <orbis/scene/FontLookup.h>
 
 #include <orbis/core/Error.h>
 
@@ -14,14 +15,15 @@
 
 using namespace orbis;
 using namespace orbis::renderer;
+using namespace orbis::scene;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
 using Catch::Matchers::WithinAbs;
 
 namespace {
 
-// Debian's fonts-dejavu-core, installed by scripts/install-deps.sh.
-const std::filesystem::path kDejaVuSans = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+// Debian's fonts-dejavu-core (scripts/install-deps.sh), found through fontconfig.
+const std::filesystem::path kDejaVuSans = findFont("DejaVu Sans").value_or("DejaVu Sans: no such font");
 
 std::shared_ptr<const Font> dejaVuSans()
 {

@@ -1,13 +1,13 @@
 // Book chapter 5's vertex transforms, measured on the GPU: transform feedback reads back the
 // clip positions MeshPrimitive's own vertex shader computes, against double precision.
 
+#include "PrecisionMeasurement.h"
 #include "SceneTestSupport.h"
 
 #include "RendererTestSupport.h"
 
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/MeshPrimitive.h>
-#include <orbis/scene/PrecisionMeasurement.h>
 
 #include <glm/geometric.hpp>
 
@@ -18,6 +18,7 @@
 using namespace orbis;
 using namespace orbis::renderer;
 using namespace orbis::scene;
+using namespace orbis::bench;
 using namespace orbis::test;
 
 namespace {

@@ -1,103 +1,64 @@
 #include "orbis/world/TileMapService.h"
 
+#include "orbis/world/FileAccess.h"
+#include "orbis/world/ImageCodec.h"
 #include "orbis/world/ImageFile.h"
+#include "orbis/world/TileSource.h"
 
 #include <orbis/core/Error.h>
 
 #include <algorithm>
-#include <fstream>
-#include <regex>
-#include <sstream>
 
 namespace orbis::world {
 
-namespace {
-
-std::string readText(const std::filesystem::path& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw Error(path.string() + ": cannot open");
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-/// The value of attribute `name` in the first element `element` of a small XML text.
-std::optional<std::string> attribute(const std::string& xml, const std::string& element, const std::string& name)
-{
-    const std::regex pattern("<" + element + "\\b[^>]*\\b" + name + "=\"([^\"]*)\"");
-    std::smatch match;
-    if (std::regex_search(xml, match, pattern)) {
-        return match[1].str();
-    }
-    return std::nullopt;
-}
-
-} // namespace
-
-TileMapDescription readTileMapDescription(const std::filesystem::path& folder)
-{
-    const std::filesystem::path file = folder / "tilemapresource.xml";
-    const std::string xml = readText(file);
-    auto fail = [&](const std::string& what) { return Error(file.string() + ": " + what); };
-
-    if (xml.find("<SRS>EPSG:4326</SRS>") == std::string::npos) {
-        throw fail("only the geodetic EPSG:4326 profile is supported (SRS)");
-    }
-    const auto originX = attribute(xml, "Origin", "x");
-    const auto originY = attribute(xml, "Origin", "y");
-    if (!originX || !originY || std::stod(*originX) != -180.0 || std::stod(*originY) != -90.0) {
-        throw fail("expected the origin at the lower left (-180, -90)");
-    }
-    TileMapDescription description;
-    const auto width = attribute(xml, "TileFormat", "width");
-    const auto height = attribute(xml, "TileFormat", "height");
-    const auto extension = attribute(xml, "TileFormat", "extension");
-    if (!width || !height || !extension) {
-        throw fail("TileFormat needs width, height and extension");
-    }
-    description.tileWidth = std::stoi(*width);
-    description.tileHeight = std::stoi(*height);
-    description.extension = *extension;
-    std::size_t position = 0;
-    while ((position = xml.find("<TileSet ", position)) != std::string::npos) {
-        ++description.levelCount;
-        ++position;
-    }
-    if (description.levelCount == 0 || description.tileWidth <= 0 || description.tileHeight <= 0) {
-        throw fail("no TileSet, or an empty tile size");
-    }
-    return description;
-}
-
 Image readTileMapMosaic(const std::filesystem::path& folder, std::optional<int> level)
 {
-    const TileMapDescription description = readTileMapDescription(folder);
-    const int z = level.value_or(description.levelCount - 1);
-    if (z < 0 || z >= description.levelCount) {
-        throw Error(folder.string() + ": level " + std::to_string(z) + " is not in the pyramid (0.." +
-                    std::to_string(description.levelCount - 1) + ")");
+    const std::string where = cutForMessage(folder.string());
+    const std::unique_ptr<TileSource> source = openTileSource(folder.string());
+    const TileSourceInfo& info = source->info();
+    if (info.scheme != TilingScheme::geographic()) {
+        throw Error(where + ": a mercator pyramid does not join into a whole-globe image (only geodetic ones do)");
     }
-    // The geodetic profile has 2 x 1 tiles at level 0, doubling both ways at each level.
-    const int columns = 2 << z;
-    const int rows = 1 << z;
-    Image mosaic(columns * description.tileWidth, rows * description.tileHeight, 3);
+    const int first = static_cast<int>(info.minimumLevel);
+    const int last = static_cast<int>(info.maximumLevel);
+    const int z = level.value_or(last);
+    if (z < first || z > last) {
+        throw Error(where + ": level " + std::to_string(z) + " is not in the pyramid (" + std::to_string(first) + ".." +
+                    std::to_string(last) + ")");
+    }
+    const TilingScheme scheme = info.scheme;
+    const auto columns = static_cast<int>(scheme.tilesX(static_cast<std::uint32_t>(z)));
+    const auto rows = static_cast<int>(scheme.tilesY(static_cast<std::uint32_t>(z)));
+    // In 64 bits: a level and tile size a description allows can overflow an int here.
+    const std::int64_t width = std::int64_t{columns} * info.tileWidth;
+    const std::int64_t height = std::int64_t{rows} * info.tileHeight;
+    if (width > kMaximumMosaicSide || height > kMaximumMosaicSide) {
+        throw Error(where + ": level " + std::to_string(z) + " joins into " + std::to_string(width) + "x" +
+                    std::to_string(height) + " pixels, more than the " + std::to_string(kMaximumMosaicSide) +
+                    " a side allowed (ask for a shallower level)");
+    }
+    Image mosaic(static_cast<int>(width), static_cast<int>(height), 3);
     for (int x = 0; x < columns; ++x) {
         for (int y = 0; y < rows; ++y) {
-            const std::filesystem::path tilePath = folder / std::to_string(z) / std::to_string(x) /
-                                                   (std::to_string(y) + "." + description.extension);
-            const Image tile = readImage(tilePath, 3);
-            if (tile.width != description.tileWidth || tile.height != description.tileHeight) {
-                throw Error(tilePath.string() + ": expected a " + std::to_string(description.tileWidth) + "x" +
-                            std::to_string(description.tileHeight) + " tile");
+            const TileKey key{static_cast<std::uint32_t>(z), static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
+            const TileFetch fetched = source->fetch(key);
+            if (fetched.status == TileFetch::Status::Missing) {
+                throw Error(source->locate(key) + ": no such tile (the mosaic needs every tile of level " +
+                            std::to_string(z) + ")");
+            }
+            if (fetched.status == TileFetch::Status::Failed) {
+                throw Error(fetched.message);
+            }
+            const Image tile = decodeImage(fetched.bytes, source->locate(key), 3);
+            if (tile.width != info.tileWidth || tile.height != info.tileHeight) {
+                throw Error(source->locate(key) + ": a " + std::to_string(tile.width) + "x" + std::to_string(tile.height) +
+                            " tile, expected " + std::to_string(info.tileWidth) + "x" + std::to_string(info.tileHeight));
             }
             // TMS counts rows from the bottom; images from the top.
-            const int top = (rows - 1 - y) * description.tileHeight;
+            const int top = (rows - 1 - y) * info.tileHeight;
             for (int row = 0; row < tile.height; ++row) {
                 std::copy_n(tile.pixel(0, row), static_cast<std::size_t>(tile.width) * 3,
-                            mosaic.pixel(x * description.tileWidth, top + row));
+                            mosaic.pixel(x * info.tileWidth, top + row));
             }
         }
     }
@@ -106,7 +67,8 @@ Image readTileMapMosaic(const std::filesystem::path& folder, std::optional<int> 
 
 Image readGlobeImage(const std::filesystem::path& path)
 {
-    if (std::filesystem::is_directory(path)) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error)) {
         return readTileMapMosaic(path);
     }
     return readImage(path, 3);

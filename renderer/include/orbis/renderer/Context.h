@@ -131,7 +131,7 @@ public:
 
 private:
     friend class Device;
-    friend struct detail::RawGlBaselineAccess;
+    friend struct detail::RawGlBaselineAccess; // the benchmark's raw-GL baseline, bench/RawGlBaseline.cpp
     Context(Device& device, std::unique_ptr<detail::ContextState> state);
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);

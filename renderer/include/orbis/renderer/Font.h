@@ -35,7 +35,7 @@ struct GlyphBitmap {
 /// A TrueType font file in memory, read with stb_truetype. Sizes are em sizes in pixels (as CSS
 /// font-size). Fonts are trusted input: stb_truetype does not check every table of a font file.
 ///
-///     const Font font("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
+///     const Font font("DejaVuSans.ttf"); // a path; scene::findFont (fontconfig) finds installed fonts
 ///     const GlyphBitmap a = font.rasterize(font.glyphIndex(U'a'), 16.0f);
 class Font {
 public:

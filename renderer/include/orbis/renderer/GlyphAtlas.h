@@ -62,7 +62,7 @@ struct TextLayout {
 /// distance field because labels are drawn at 1:1: the mask keeps the rasterizer's exact coverage
 /// (crisp, no threshold rounding of corners at 12-16 px) and needs no smoothing in the shader.
 ///
-///     GlyphAtlas glyphs(std::make_shared<Font>("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"));
+///     GlyphAtlas glyphs(std::make_shared<Font>("DejaVuSans.ttf")); // scene::findFont finds one
 ///     const TextLayout label = glyphs.layout("Zürich");
 ///     // upload glyphs.atlas().image() when its version() changed, then draw label.quads
 class GlyphAtlas {

@@ -3,6 +3,7 @@
 #include "orbis/renderer/UniformValue.h"
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
@@ -20,12 +21,16 @@ struct ShaderProgramAccess;
 
 /// The text of one shader stage and the name its errors are reported under.
 struct ShaderSource {
-    std::string name; ///< "shaders/renderer/builtin/functions.glsl" for embedded files
-    std::string text; ///< GLSL without #version: the renderer adds "#version 330 core"
+    std::string name; ///< for messages: the file ("shaders/scene/globe/globe.vert.glsl") or a name given
+    std::string text; ///< GLSL; a #version line is ignored: the renderer puts "#version 330 core" first
 
-    /// A file embedded from shaders/ at build time, by its path under shaders/
-    /// ("examples/triangle/triangle.vert.glsl"). Throws orbis::Error when there is none.
+    /// A file a library or program embedded at build time (orbis_embed_shaders, EmbeddedShaders.h),
+    /// by its embedded path ("examples/triangle/triangle.vert.glsl"). Throws orbis::Error naming the
+    /// path when no library or program of the process embedded one.
     static ShaderSource embedded(std::string_view path);
+    /// A file read now, named by its path in messages. Throws orbis::Error naming the file when it
+    /// cannot be opened or read.
+    static ShaderSource fromFile(const std::filesystem::path& path);
     static ShaderSource fromText(std::string name, std::string text);
 };
 

@@ -105,7 +105,7 @@ public:
 private:
     friend class Context;
     friend struct detail::VertexArrayAccess;
-    friend struct detail::RawGlBaselineAccess;
+    friend struct detail::RawGlBaselineAccess; // the benchmark's raw-GL baseline, bench/RawGlBaseline.cpp
     VertexArray(detail::ContextState& owner, unsigned name) noexcept;
     detail::ContextState& bindForChange(const char* what);
 

@@ -16,11 +16,10 @@ class Font;
 
 namespace orbis::scene {
 
-/// Debian's DejaVu Sans (package fonts-dejavu-core).
-inline const std::filesystem::path kDejaVuSansPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-
 struct LabelCollectionOptions {
-    std::filesystem::path fontPath = kDejaVuSansPath;
+    /// A TrueType file; empty: defaultFontPath() (ORBIS_FONT, else fontconfig's DejaVu Sans or the
+    /// closest sans-serif; FontLookup.h).
+    std::filesystem::path fontPath;
     int haloPixels = 2; ///< width of the halo around the glyphs; 0 for none
     /// Each frame, hide the labels whose box overlaps that of an earlier label shown (earlier
     /// labels win, so add the most important first). Labels behind the horizon take no room.
@@ -50,7 +49,7 @@ class DepthPrograms;
 } // namespace detail
 
 /// Labels of book chapter 9 on the billboard machinery: each label is a run of glyph quads from
-/// a GlyphAtlas of DejaVu Sans, laid out at whole pixels with kerning and drawn through the
+/// a GlyphAtlas of the font (DejaVu Sans by default), laid out at whole pixels with kerning and drawn through the
 /// billboard geometry shader, which snaps them to whole pixels, so text is crisp at 1:1. The fill
 /// is drawn over a halo (the glyphs' coverage dilated by haloPixels) for readability over any
 /// background. One draw call per font size, in the translucent pass; hidden below the horizon

@@ -7,21 +7,15 @@
 
 namespace orbis::world {
 
-/// A TMS tile pyramid on disk (tilemapresource.xml beside level folders z/x/y.ext), geodetic
-/// profile (EPSG:4326, two root tiles, origin at the lower left), as ../data/imagery holds.
-struct TileMapDescription {
-    int tileWidth = 256;
-    int tileHeight = 256;
-    std::string extension = "jpg";
-    int levelCount = 0;
-};
+/// The most pixels a side of a whole-globe mosaic may have: 16384, what GPUs take as one texture.
+inline constexpr int kMaximumMosaicSide = 16384;
 
-/// Reads tilemapresource.xml. Throws orbis::Error naming the file for anything but a geodetic
-/// EPSG:4326 pyramid with a lower-left origin.
-TileMapDescription readTileMapDescription(const std::filesystem::path& folder);
-
-/// The tiles of one level (the finest when level is empty) joined into one equirectangular image,
-/// north up, longitude -180 at the left. Throws orbis::Error naming a missing or unreadable tile.
+/// The tiles of one level (the finest when level is empty) of a geodetic TMS folder (as
+/// ../data/imagery holds; read as openTileSource reads it) joined into one equirectangular RGB
+/// image, north up, longitude -180 at the left. Throws orbis::Error naming the folder for a
+/// description that is not geodetic, a level not in the pyramid, or a mosaic wider than
+/// kMaximumMosaicSide (checked before anything is allocated), and naming the tile for a missing,
+/// unreadable or wrongly sized one.
 Image readTileMapMosaic(const std::filesystem::path& folder, std::optional<int> level = std::nullopt);
 
 /// An image file as is, or a TMS folder's finest mosaic.

@@ -1,0 +1,3 @@
+out vec4 fragmentColor;
+uniform vec4 u_color;
+void main() { fragmentColor = u_color; }
