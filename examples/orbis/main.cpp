@@ -144,6 +144,8 @@ struct SceneArguments {
     std::optional<int> width;
     std::optional<int> height;
     std::optional<int> frames;
+    std::optional<int> maxFrames;
+    bool noWait = false;
 };
 
 /// Reads the arguments into `parsed`; false when they are malformed.
@@ -156,6 +158,10 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
                 return false;
             }
             parsed.scenePath = resolveDataFile(std::string(argument), "scenes");
+            continue;
+        }
+        if (argument == "--no-wait") {
+            parsed.noWait = true;
             continue;
         }
         if (i + 1 == arguments.size()) {
@@ -174,26 +180,66 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
             parsed.cameraPath = resolveDataFile(value, "paths");
         } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
                      (argument == "--height" && count(parsed.height, 16384)) ||
-                     (argument == "--frames" && count(parsed.frames, 100000)))) {
+                     (argument == "--frames" && count(parsed.frames, 100000)) ||
+                     (argument == "--max-frames" && count(parsed.maxFrames, 100000)))) {
             return false;
         }
     }
     return true;
 }
 
-/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path
-/// PATH.json]: one frame of a scene file (the built-in default Earth without one), or a flight
-/// along a camera path as numbered PNGs, headless. Each PNG appears whole or not at all.
+/// A line now and then while render waits for tiles: on a terminal as it goes, elsewhere every
+/// few seconds.
+class ConvergenceProgress {
+public:
+    void show(int frames, const orbis::scene::FrameStatistics& statistics)
+    {
+        if (!statistics.tiles) {
+            return;
+        }
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - _start).count();
+        const bool terminal = isatty(fileno(stderr)) != 0;
+        if (!terminal && elapsed < _nextLine) {
+            return;
+        }
+        _nextLine = elapsed + 5.0;
+        std::fprintf(stderr, terminal ? "\rwaiting for tiles: %d frames, %zu drawn, %zu pending " :
+                                        "waiting for tiles: %d frames, %zu drawn, %zu pending\n",
+                     frames, statistics.tiles->drawn, statistics.tiles->pending);
+        _shown = terminal;
+    }
+    ~ConvergenceProgress()
+    {
+        if (_shown) {
+            std::fputc('\n', stderr);
+        }
+    }
+
+private:
+    std::chrono::steady_clock::time_point _start = std::chrono::steady_clock::now();
+    double _nextLine = 5.0;
+    bool _shown = false;
+};
+
+/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N |
+/// --no-wait] [--frames N --path PATH.json]: one picture of a scene file (the built-in default
+/// Earth without one), rendered until its streamed tiles have converged (at most --max-frames
+/// frames, 600 by default; --no-wait writes the first), or a flight along a camera path as
+/// numbered PNGs, one frame each, headless. Each PNG appears whole or not at all.
 int runRender(Arguments arguments)
 {
     SceneArguments parsed;
     if (!parseSceneArguments(arguments, parsed)) {
         return kExitUsage;
     }
-    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames] = parsed;
+    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait] = parsed;
     const std::string output = outputOption.value_or("orbis.png");
     if (frames.value_or(1) > 1 && !cameraPath) {
         std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
+        return kExitUsage;
+    }
+    if (noWait && maxFrames) {
+        std::fprintf(stderr, "orbis render: --no-wait writes the first frame, --max-frames waits: give one\n");
         return kExitUsage;
     }
 
@@ -220,16 +266,42 @@ int runRender(Arguments arguments)
         std::string statisticsJson = frameCount > 1 ? "[\n" : "";
         const auto start = std::chrono::steady_clock::now();
         for (int frame = 0; frame < frameCount; ++frame) {
+            orbis::scene::FrameStatistics statistics;
             if (flight) {
                 const double t = frameCount > 1 ? static_cast<double>(frame) / (frameCount - 1) : 0.0;
                 flight->apply(flight->keyframes().front().seconds + t * flight->duration(), scene.camera());
+                statistics = scene.render(context);
+            } else {
+                // A still picture waits for its tiles: frames until nothing changes any more.
+                ConvergenceProgress progress;
+                const int limit = noWait ? 1 : maxFrames.value_or(600);
+                for (int rendered = 1;; ++rendered) {
+                    statistics = scene.render(context);
+                    const bool converged = !statistics.tiles || statistics.tiles->converged;
+                    if (converged) {
+                        statistics.framesToConverge = static_cast<std::uint64_t>(rendered);
+                    }
+                    if (converged || rendered >= limit) {
+                        break;
+                    }
+                    progress.show(rendered, statistics);
+                }
             }
-            const orbis::scene::FrameStatistics statistics = scene.render(context);
             const std::string path = framePath(output, frame, frameCount);
             orbis::world::writePng(context.readPixels(), path);
             if (frame == 0 || frameCount == 1) {
                 std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
                             device.info().renderer.c_str(), statistics.toText().c_str());
+            }
+            if (!flight && statistics.tiles) {
+                if (statistics.framesToConverge) {
+                    std::printf("converged after %llu frames\n",
+                                static_cast<unsigned long long>(*statistics.framesToConverge));
+                } else {
+                    std::printf("not converged after %llu frames (%s)\n",
+                                static_cast<unsigned long long>(statistics.frameNumber),
+                                noWait ? "--no-wait" : "--max-frames");
+                }
             }
             statisticsJson += statistics.toJson();
             if (frameCount > 1) {
@@ -281,7 +353,10 @@ int runView(Arguments arguments)
         options.output = parsed.output;
         orbis::renderer::Device device = orbis::examples::createViewerDevice(options);
         orbis::scene::Scene scene;
-        orbis::scene::populateScene(description, scene);
+        // The viewer keeps drawing while tiles arrive: they enter whenever they are ready.
+        orbis::scene::SceneBuildOptions build;
+        build.loader.latencyFrames = 0;
+        orbis::scene::populateScene(description, scene, build);
         orbis::examples::runViewer(device, scene, options);
         return kExitOk;
     } catch (const orbis::Error& error) {
@@ -447,8 +522,11 @@ struct Subcommand {
 
 constexpr Subcommand kSubcommands[] = {
     {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
-    {"render", "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--frames N --path PATH.json]",
-     "render a scene file (the default Earth without one) to a PNG, or a flight along a camera path to "
+    {"render",
+     "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N | --no-wait] "
+     "[--frames N --path PATH.json]",
+     "render a scene file (the default Earth without one) to a PNG once its tiles have converged (at most "
+     "--max-frames frames, 600 by default; --no-wait: the first frame), or a flight along a camera path to "
      "numbered PNGs, headless",
      runRender},
     {"view", "[SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]",

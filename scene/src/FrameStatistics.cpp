@@ -2,6 +2,7 @@
 
 #include "orbis/scene/Effect.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -17,6 +18,31 @@ std::string number(double value)
 }
 
 } // namespace
+
+void TileStatistics::add(const TileStatistics& other) noexcept
+{
+    visited += other.visited;
+    culledByFrustum += other.culledByFrustum;
+    culledByHorizon += other.culledByHorizon;
+    selected += other.selected;
+    drawn += other.drawn;
+    standIns += other.standIns;
+    fallbackImagery += other.fallbackImagery;
+    requested += other.requested;
+    loadedThisFrame += other.loadedThisFrame;
+    pending += other.pending;
+    failed += other.failed;
+    missing += other.missing;
+    evicted += other.evicted;
+    residentBytesCpu += other.residentBytesCpu;
+    residentBytesGpu += other.residentBytesGpu;
+    uploadedBytes += other.uploadedBytes;
+    deepestLevelDrawn = std::max(deepestLevelDrawn, other.deepestLevelDrawn);
+    largestScreenSpaceErrorDrawn = std::max(largestScreenSpaceErrorDrawn, other.largestScreenSpaceErrorDrawn);
+    maximumScreenSpaceError = std::max(maximumScreenSpaceError, other.maximumScreenSpaceError);
+    memoryLimited = memoryLimited || other.memoryLimited;
+    converged = converged && other.converged;
+}
 
 std::vector<std::string> FrameStatistics::effectsRun() const
 {
@@ -67,6 +93,21 @@ std::string FrameStatistics::toText() const
         << renderer.stateChangesMade << " state changes made, " << renderer.stateChangesAvoided << " avoided\n"
         << "time: update " << number(updateMilliseconds) << " ms, cull and bin " << number(cullMilliseconds)
         << " ms, draw " << number(drawMilliseconds) << " ms\n";
+    if (tiles) {
+        const TileStatistics& t = *tiles;
+        out << "tiles: " << t.visited << " visited, " << t.culledByFrustum << " culled by the frustum, "
+            << t.culledByHorizon << " by the horizon, " << t.selected << " selected, " << t.drawn << " drawn ("
+            << t.standIns << " standing in for finer ones, " << t.fallbackImagery << " with an ancestor's imagery)\n"
+            << "  loads: " << t.requested << " started, " << t.loadedThisFrame << " arrived, " << t.pending
+            << " pending, " << t.failed << " failed, " << t.missing << " missing, " << t.evicted << " evicted\n"
+            << "  deepest level drawn " << t.deepestLevelDrawn << ", largest screen-space error "
+            << number(t.largestScreenSpaceErrorDrawn) << " px (limit " << number(t.maximumScreenSpaceError) << " px"
+            << (t.memoryLimited ? ", raised: the cache is full" : "") << ")\n"
+            << "  resident: " << number(static_cast<double>(t.residentBytesCpu) / 1048576.0) << " MiB CPU, "
+            << number(static_cast<double>(t.residentBytesGpu) / 1048576.0) << " MiB GPU; uploaded "
+            << number(static_cast<double>(t.uploadedBytes) / 1048576.0) << " MiB; "
+            << (t.converged ? "converged" : "not converged") << "\n";
+    }
     return out.str();
 }
 
@@ -105,8 +146,28 @@ std::string FrameStatistics::toJson() const
         << "  \"renderer\": {\"drawCalls\": " << renderer.drawCalls << ", \"primitives\": " << renderer.primitives
         << ", \"stateChangesMade\": " << renderer.stateChangesMade
         << ", \"stateChangesAvoided\": " << renderer.stateChangesAvoided << ", \"programBinds\": " << renderer.programBinds
-        << ", \"textureBinds\": " << renderer.textureBinds << "}\n"
-        << "}\n";
+        << ", \"textureBinds\": " << renderer.textureBinds << "}";
+    if (tiles) {
+        const TileStatistics& t = *tiles;
+        out << ",\n  \"tiles\": {\"visited\": " << t.visited << ", \"culledByFrustum\": " << t.culledByFrustum
+            << ", \"culledByHorizon\": " << t.culledByHorizon << ", \"selected\": " << t.selected
+            << ", \"drawn\": " << t.drawn << ", \"standIns\": " << t.standIns
+            << ", \"fallbackImagery\": " << t.fallbackImagery << ", \"requested\": " << t.requested
+            << ", \"loadedThisFrame\": " << t.loadedThisFrame << ", \"pending\": " << t.pending
+            << ", \"failed\": " << t.failed << ", \"missing\": " << t.missing << ", \"evicted\": " << t.evicted
+            << ", \"residentBytesCpu\": " << t.residentBytesCpu << ", \"residentBytesGpu\": " << t.residentBytesGpu
+            << ", \"uploadedBytes\": " << t.uploadedBytes << ", \"deepestLevelDrawn\": " << t.deepestLevelDrawn
+            << ", \"largestScreenSpaceErrorDrawn\": " << number(t.largestScreenSpaceErrorDrawn)
+            << ", \"maximumScreenSpaceError\": " << number(t.maximumScreenSpaceError)
+            << ", \"memoryLimited\": " << (t.memoryLimited ? "true" : "false")
+            << ", \"converged\": " << (t.converged ? "true" : "false") << "}";
+    }
+    if (framesToConverge) {
+        out << ",\n  \"framesToConverge\": " << *framesToConverge;
+    } else if (tiles) {
+        out << ",\n  \"framesToConverge\": null";
+    }
+    out << "\n}\n";
     return out.str();
 }
 

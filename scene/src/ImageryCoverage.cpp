@@ -118,18 +118,22 @@ std::optional<ImageryPlacement> placeImagery(const GeodeticExtent& imageryExtent
     return placement;
 }
 
-std::vector<double> mercatorRowEdges(const GeodeticExtent& extent, int rows)
+std::vector<glm::dvec2> mercatorReprojectionRows(const GeodeticExtent& extent, int rows)
 {
     const double south = TilingScheme::mercatorY(extent.south);
     const double north = TilingScheme::mercatorY(extent.north);
-    std::vector<double> edges(static_cast<std::size_t>(rows) + 1);
-    for (int k = 0; k <= rows; ++k) {
-        const double latitude = k == rows ? extent.north : extent.south + (extent.north - extent.south) * k / rows;
-        edges[static_cast<std::size_t>(k)] = (TilingScheme::mercatorY(latitude) - south) / (north - south);
+    auto sample = [&](double y) {
+        const double latitude = extent.south + (extent.north - extent.south) * y;
+        return glm::dvec2(y, (TilingScheme::mercatorY(latitude) - south) / (north - south));
+    };
+    std::vector<glm::dvec2> samples;
+    samples.reserve(static_cast<std::size_t>(rows) + 2);
+    samples.emplace_back(0.0, 0.0);
+    for (int k = 0; k < rows; ++k) {
+        samples.push_back(sample((k + 0.5) / rows));
     }
-    edges.front() = 0.0;
-    edges.back() = 1.0;
-    return edges;
+    samples.emplace_back(1.0, 1.0);
+    return samples;
 }
 
 } // namespace orbis::scene

@@ -235,6 +235,15 @@ FrameStatistics Scene::render(renderer::Context& context)
         _lastAutomaticDepth = plan.strategy;
     }
     statistics.primitivesUpdated = _survivors.size();
+    for (const Primitive* primitive : _survivors) {
+        if (const TileStatistics* tiles = primitive->tileStatistics()) {
+            if (!statistics.tiles) {
+                statistics.tiles = TileStatistics{};
+                statistics.tiles->converged = true;
+            }
+            statistics.tiles->add(*tiles);
+        }
+    }
     statistics.depthStrategy = plan.strategy;
     statistics.depthStrategyAutomatic = automatic;
     statistics.commandsSubmitted = binning.commandsSubmitted;

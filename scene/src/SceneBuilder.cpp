@@ -5,11 +5,13 @@
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
 #include "orbis/scene/ModelPrimitive.h"
+#include "orbis/scene/TiledGlobe.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/world/CsvPoints.h>
 #include <orbis/world/GeoJson.h>
 #include <orbis/world/ImageFile.h>
+#include <orbis/world/TileSource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -201,16 +203,56 @@ void addModelLayer(const world::ModelLayer& layer, bool lighting, Scene& scene)
                                        ModelPlacement{layer.position, layer.orientation, layer.scale}, options));
 }
 
+/// The tiled globe a description asks for, its tile sources opened.
+TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const world::SunDescription& sun,
+                                    const SceneBuildOptions& build)
+{
+    TiledGlobeOptions options;
+    options.maximumScreenSpaceError = globe.maximumScreenSpaceError;
+    options.cacheBytes = static_cast<std::size_t>(globe.cacheMegabytes * 1048576.0);
+    options.loader = build.loader;
+    options.lighting = sun.source != world::SunSource::Camera;
+    for (std::size_t i = 0; i < globe.imagery.size(); ++i) {
+        const world::ImageryLayerDescription& layer = globe.imagery[i];
+        world::TileSourceOptions sourceOptions;
+        if (layer.scheme) {
+            sourceOptions.scheme = *layer.scheme == TilingProjection::WebMercator ? TilingScheme::webMercator()
+                                                                                  : TilingScheme::geographic();
+        }
+        sourceOptions.minimumLevel = layer.minimumLevel.value_or(sourceOptions.minimumLevel);
+        sourceOptions.maximumLevel = layer.maximumLevel.value_or(sourceOptions.maximumLevel);
+        if (layer.cacheFolder) {
+            sourceOptions.cacheFolder = *layer.cacheFolder;
+        }
+        ImageryLayer imagery;
+        try {
+            imagery.source = world::openTileSource(layer.source, sourceOptions);
+        } catch (const Error& error) {
+            throw Error("/globe/imagery/" + std::to_string(i) + ": " + error.what());
+        }
+        imagery.style.alpha = layer.alpha;
+        imagery.style.brightness = layer.brightness;
+        imagery.style.contrast = layer.contrast;
+        imagery.style.gamma = layer.gamma;
+        imagery.style.rectangle = layer.rectangle;
+        options.imagery.push_back(std::move(imagery));
+    }
+    return options;
+}
+
 } // namespace
 
-void populateScene(const world::SceneDescription& description, Scene& scene)
+void populateScene(const world::SceneDescription& description, Scene& scene, const SceneBuildOptions& build)
 {
     scene.options().depthStrategy = description.depth;
     scene.camera() = makeCamera(description.camera, scene.ellipsoid());
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
 
-    if (description.globe) {
+    if (description.globe && !description.globe->imagery.empty()) {
+        scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), tiledGlobeOptions(*description.globe, description.sun,
+                                                                                    build)));
+    } else if (description.globe) {
         GlobeOptions options;
         options.method = description.globe->method;
         if (description.globe->texture) {

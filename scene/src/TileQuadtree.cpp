@@ -70,7 +70,7 @@ double TileQuadtree::loadPriority(const QuadtreeTile& tile, const TileView& view
 }
 
 void TileQuadtree::select(const TileView& view, const TileSelectionOptions& options, std::uint64_t frameNumber,
-                          TileSelection& selection)
+                          TileSelection& selection, const TileVisited& refresh)
 {
     selection = TileSelection{};
     _occluder.setCameraPosition(view.eye);
@@ -82,15 +82,19 @@ void TileQuadtree::select(const TileView& view, const TileSelectionOptions& opti
         return a->region.distanceTo(view.eye) < b->region.distanceTo(view.eye);
     });
     for (QuadtreeTile* root : order) {
-        visit(*root, view, options, frameNumber, selection);
+        visit(*root, view, options, frameNumber, selection, refresh);
     }
 }
 
 TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& view, const TileSelectionOptions& options,
-                                           std::uint64_t frameNumber, TileSelection& selection)
+                                           std::uint64_t frameNumber, TileSelection& selection,
+                                           const TileVisited& refresh)
 {
     ++selection.visited;
     tile.lastVisitedFrame = frameNumber;
+    if (refresh) {
+        refresh(tile);
+    }
     if (view.frustum.intersect(tile.region.orientedBox()) == Intersect::Outside) {
         ++selection.culledByFrustum;
         return Coverage::Culled;
@@ -140,7 +144,7 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
     const std::size_t loadsBefore = selection.loads.size();
     bool covered = true;
     for (const int i : order) {
-        covered = visit(*children[i], view, options, frameNumber, selection) != Coverage::Uncovered && covered;
+        covered = visit(*children[i], view, options, frameNumber, selection, refresh) != Coverage::Uncovered && covered;
     }
     if (covered) {
         return Coverage::Covered;

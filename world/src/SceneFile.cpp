@@ -273,7 +273,13 @@ constexpr std::array<std::string_view, 3> kPositionKeys = {"lon", "lat", "height
 constexpr std::array<std::string_view, 2> kCameraPathKeys = {"version", "keyframes"};
 constexpr std::array<std::string_view, 3> kKeyframeKeys = {"time", "position", "target"};
 constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
-constexpr std::array<std::string_view, 4> kGlobeKeys = {"method", "texture", "nightTexture", "grid"};
+constexpr std::array<std::string_view, 7> kGlobeKeys = {"method",  "texture", "nightTexture",
+                                                        "grid",    "imagery", "maximumScreenSpaceError",
+                                                        "cacheMegabytes"};
+constexpr std::array<std::string_view, 10> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
+                                                          "contrast", "gamma",     "rectangle",    "minimumLevel",
+                                                          "maximumLevel", "cacheFolder"};
+constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
 constexpr std::array<std::string_view, 6> kGeoJsonKeys = {"type", "source", "stroke", "fill", "granularity", "curve"};
 constexpr std::array<std::string_view, 4> kPointsKeys = {"type", "source", "billboard", "label"};
@@ -303,6 +309,10 @@ constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
 constexpr std::array<Named<GlobeMethod>, 2> kGlobeMethods = {{
     {"raycast", GlobeMethod::RayCast},
     {"tessellated", GlobeMethod::Tessellated},
+}};
+constexpr std::array<Named<TilingProjection>, 2> kTilingSchemes = {{
+    {"geographic", TilingProjection::Geographic},
+    {"webmercator", TilingProjection::WebMercator},
 }};
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
@@ -350,6 +360,13 @@ constexpr Range kNonNegativePixels{0.0, kMaxPixels};
 /// would lose all precision, or overflow when squared).
 constexpr Range kHeightRange{-1.0e6, 1.0e12};
 constexpr Range kPixelOffsetRange{-16384.0, 16384.0};
+constexpr Range kUnitRange{0.0, 1.0};
+constexpr Range kNonNegativeRange{0.0, std::numeric_limits<double>::infinity()};
+constexpr Range kPositiveRange{0.0, std::numeric_limits<double>::infinity(), true, false};
+/// Screen-space error in pixels: below 0.1 a view asks for millions of tiles.
+constexpr Range kScreenSpaceErrorRange{0.1, 1000.0};
+/// The tile cache in MiB: from a few tiles to 64 GiB.
+constexpr Range kCacheMegabytesRange{1.0, 65536.0};
 /// Degrees. Finer than 0.1 would cut the world's borders into millions of vertices and its
 /// countries into tens of millions of triangles; coarser than 10 lifts lines 24 km off the ground.
 constexpr Range kGranularityRange{0.1, 10.0};
@@ -782,7 +799,98 @@ private:
         if (const Json* grid = member(value, "grid")) {
             globe.grid = readBoolean(*grid, pointer + "/grid");
         }
+        if (const Json* imagery = member(value, "imagery")) {
+            const std::string imageryPointer = pointer + "/imagery";
+            if (!imagery->is_array() || imagery->empty()) {
+                fail(imageryPointer, "expected an array of imagery layers, got " + describe(*imagery));
+            }
+            if (globe.texture || globe.nightTexture) {
+                fail(imageryPointer, "a globe of tiled imagery has no \"texture\" or \"nightTexture\": give one or the "
+                                     "other");
+            }
+            for (std::size_t i = 0; i < imagery->size(); ++i) {
+                globe.imagery.push_back(readImageryLayer((*imagery)[i], imageryPointer + "/" + std::to_string(i)));
+            }
+        }
+        if (const Json* error = member(value, "maximumScreenSpaceError")) {
+            globe.maximumScreenSpaceError =
+                readNumber(*error, pointer + "/maximumScreenSpaceError", kScreenSpaceErrorRange);
+        }
+        if (const Json* cache = member(value, "cacheMegabytes")) {
+            globe.cacheMegabytes = readNumber(*cache, pointer + "/cacheMegabytes", kCacheMegabytesRange);
+        }
         return globe;
+    }
+
+    ImageryLayerDescription readImageryLayer(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kImageryKeys);
+        ImageryLayerDescription layer;
+        const Json& source = required(value, pointer, "source");
+        const std::string& text = readString(source, pointer + "/source", "a path or an http(s) URL");
+        if (text.starts_with("http://") || text.starts_with("https://")) {
+            layer.source = text;
+        } else {
+            const fs::path path = readPath(source, pointer + "/source");
+            layer.source = path.string();
+            // A template names its tiles, not one file; a folder or an .mbtiles file must be there.
+            if (_options.checkFiles && text.find('{') == std::string::npos) {
+                std::error_code error;
+                if (!fs::exists(path, error)) {
+                    fail(pointer + "/source", notFound(source, path, "tile source"));
+                }
+            }
+        }
+        if (const Json* scheme = member(value, "scheme")) {
+            layer.scheme = readEnum(*scheme, pointer + "/scheme", kTilingSchemes);
+        }
+        if (const Json* alpha = member(value, "alpha")) {
+            layer.alpha = readNumber(*alpha, pointer + "/alpha", kUnitRange);
+        }
+        if (const Json* brightness = member(value, "brightness")) {
+            layer.brightness = readNumber(*brightness, pointer + "/brightness", kNonNegativeRange);
+        }
+        if (const Json* contrast = member(value, "contrast")) {
+            layer.contrast = readNumber(*contrast, pointer + "/contrast", kNonNegativeRange);
+        }
+        if (const Json* gamma = member(value, "gamma")) {
+            layer.gamma = readNumber(*gamma, pointer + "/gamma", kPositiveRange);
+        }
+        if (const Json* rectangle = member(value, "rectangle")) {
+            const std::string rectanglePointer = pointer + "/rectangle";
+            expectObject(*rectangle, rectanglePointer);
+            checkKeys(*rectangle, rectanglePointer, kRectangleKeys);
+            GeodeticExtent extent;
+            extent.west = readDegrees(required(*rectangle, rectanglePointer, "west"), rectanglePointer + "/west",
+                                      kLongitudeRange);
+            extent.south = readDegrees(required(*rectangle, rectanglePointer, "south"), rectanglePointer + "/south",
+                                       kLatitudeRange);
+            extent.east = readDegrees(required(*rectangle, rectanglePointer, "east"), rectanglePointer + "/east",
+                                      kLongitudeRange);
+            extent.north = readDegrees(required(*rectangle, rectanglePointer, "north"), rectanglePointer + "/north",
+                                       kLatitudeRange);
+            if (extent.north <= extent.south) {
+                fail(rectanglePointer, "north must be above south");
+            }
+            layer.rectangle = extent; // east below west crosses the antimeridian
+        }
+        auto readLevel = [&](const char* key) -> std::optional<std::uint32_t> {
+            if (const Json* level = member(value, key)) {
+                return static_cast<std::uint32_t>(
+                    readInteger(*level, pointer + "/" + key, 0, static_cast<int>(kMaximumTileLevel), "a level 0 to 30"));
+            }
+            return std::nullopt;
+        };
+        layer.minimumLevel = readLevel("minimumLevel");
+        layer.maximumLevel = readLevel("maximumLevel");
+        if (layer.minimumLevel && layer.maximumLevel && *layer.minimumLevel > *layer.maximumLevel) {
+            fail(pointer + "/minimumLevel", "the minimum level is above the maximum level");
+        }
+        if (const Json* cache = member(value, "cacheFolder")) {
+            layer.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
+        }
+        return layer;
     }
 
     GlobeTexture readGlobeTexture(const Json& value, const std::string& pointer) const

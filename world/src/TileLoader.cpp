@@ -126,6 +126,7 @@ void TileLoader::endFrame()
     });
     const std::size_t room = _options.maximumInFlight > inFlight() ? _options.maximumInFlight - inFlight() : 0;
     const std::size_t starts = std::min({_candidates.size(), _options.maximumStartsPerFrame, room});
+    _started.clear();
     for (std::size_t i = 0; i < starts; ++i) {
         auto job = std::make_shared<Job>();
         job->ticket = _candidates[i].ticket;
@@ -134,6 +135,7 @@ void TileLoader::endFrame()
         job->work = std::move(_candidates[i].work);
         _inFlight.emplace(job->sequence, job);
         _liveTickets.emplace(job->ticket, job->sequence);
+        _started.push_back(job->ticket);
         if (!_workers.empty()) {
             // The least busy worker; which one runs a load never changes what is delivered.
             MessageQueue* worker = _workers.front().get();
@@ -145,7 +147,6 @@ void TileLoader::endFrame()
             worker->post([this, job] { finish(*job, run(*job)); });
         }
     }
-    _startedLastFrame = starts;
     _deferred = _candidates.size() - starts;
     _candidates.clear();
 }

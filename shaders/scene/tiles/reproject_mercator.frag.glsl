@@ -3,9 +3,9 @@
 in vec2 v_source;
 out vec4 fragmentColor;
 
-uniform sampler2D u_source;
+uniform sampler2D og_texture0; // the Mercator tile
 
 void main()
 {
-    fragmentColor = texture(u_source, v_source);
+    fragmentColor = texture(og_texture0, v_source);
 }

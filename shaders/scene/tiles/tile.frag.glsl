@@ -1,23 +1,20 @@
-// A tile's colour: a base colour, then each imagery texture in layer order (course 3.5), each
-// applying only inside its rectangle of the tile, adjusted (brightness, contrast, gamma) and blended
-// by its alpha; then sunlight (LIGHTING). TEXTURE_COUNT (0 to 15) textures, unrolled: GLSL 3.30
-// indexes sampler arrays only with constants.
+// A tile's colour: a base colour, then each imagery texture in layer order (course 3.5), each only
+// inside its rectangle of the tile, adjusted (brightness, contrast, gamma) and blended by its alpha;
+// then sunlight (LIGHTING). The TiledGlobe writes one block of uniforms and one call per texture
+// in place of the two OG_IMAGERY lines below (og_textureN, u_textureTransformN, ...): GLSL 3.30
+// indexes sampler arrays only with constants, and per-draw uniforms are not arrays.
 
 in vec2 v_tileCoordinates;
 in vec3 v_normal;
 out vec4 fragmentColor;
 
 uniform vec4 u_baseColor;
-#if TEXTURE_COUNT > 0
-uniform sampler2D u_textures[TEXTURE_COUNT];
-uniform vec4 u_textureTransforms[TEXTURE_COUNT];  // translation (xy), scale (zw): tile uv to texture uv
-uniform vec4 u_textureRectangles[TEXTURE_COUNT];  // minimum u, v and maximum u, v within the tile
-uniform vec4 u_textureAdjustments[TEXTURE_COUNT]; // alpha, brightness, contrast, 1 / gamma
-#endif
 #ifdef LIGHTING
 uniform vec3 og_sunDirection;
 #endif
 
+// transform: translation (xy) and scale (zw) from tile to texture coordinates; rectangle: minimum
+// u, v and maximum u, v within the tile; adjustment: alpha, brightness, contrast, 1 / gamma.
 vec3 blendImagery(vec3 color, sampler2D imagery, vec4 transform, vec4 rectangle, vec4 adjustment)
 {
     vec2 uv = v_tileCoordinates;
@@ -31,57 +28,13 @@ vec3 blendImagery(vec3 color, sampler2D imagery, vec4 transform, vec4 rectangle,
     return mix(color, adjusted, texel.a * adjustment.x);
 }
 
-#define OG_BLEND(i) color = blendImagery(color, u_textures[i], u_textureTransforms[i], u_textureRectangles[i], u_textureAdjustments[i])
+// OG_IMAGERY_UNIFORMS
 
 void main()
 {
     og_depthFragment();
     vec3 color = u_baseColor.rgb;
-#if TEXTURE_COUNT > 0
-    OG_BLEND(0);
-#endif
-#if TEXTURE_COUNT > 1
-    OG_BLEND(1);
-#endif
-#if TEXTURE_COUNT > 2
-    OG_BLEND(2);
-#endif
-#if TEXTURE_COUNT > 3
-    OG_BLEND(3);
-#endif
-#if TEXTURE_COUNT > 4
-    OG_BLEND(4);
-#endif
-#if TEXTURE_COUNT > 5
-    OG_BLEND(5);
-#endif
-#if TEXTURE_COUNT > 6
-    OG_BLEND(6);
-#endif
-#if TEXTURE_COUNT > 7
-    OG_BLEND(7);
-#endif
-#if TEXTURE_COUNT > 8
-    OG_BLEND(8);
-#endif
-#if TEXTURE_COUNT > 9
-    OG_BLEND(9);
-#endif
-#if TEXTURE_COUNT > 10
-    OG_BLEND(10);
-#endif
-#if TEXTURE_COUNT > 11
-    OG_BLEND(11);
-#endif
-#if TEXTURE_COUNT > 12
-    OG_BLEND(12);
-#endif
-#if TEXTURE_COUNT > 13
-    OG_BLEND(13);
-#endif
-#if TEXTURE_COUNT > 14
-    OG_BLEND(14);
-#endif
+    // OG_IMAGERY_BLENDS
 #ifdef LIGHTING
     color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
 #endif

@@ -1,20 +1,25 @@
-// A tile of the globe's surface (course 3.5): positions relative to the tile's centre, drawn with
-// the model-view-projection matrix the Context makes in doubles from the centre (book 5.2), so
-// nothing jitters however close the eye comes.
+// A tile of the globe's surface (course 3.5), relative to the eye on the GPU (book 5.4): each
+// position comes as two floats, and a vertex two tiles share has the same two floats in both, so
+// both transform it to the same clip position and the tiles meet without a gap.
 
-in vec3 position;                 // metres from u_tileCentre
-in vec3 textureCoordinatesHeight; // u and v within the tile (0..1 west to east, south to north), height
+in vec3 positionHigh;
+in vec3 positionLow;
+in vec3 textureCoordinate; // u and v within the tile (0..1 west to east, south to north), height (metres)
 
 out vec2 v_tileCoordinates;
 out vec3 v_normal; // geodetic surface normal, Earth-fixed
 
-uniform mat4 og_modelViewProjectionMatrix;
-uniform vec3 u_tileCentre;          // Earth-fixed, metres (float: its half-metre steps tilt a normal by 1e-7)
+uniform vec3 og_cameraEye;
+uniform vec3 og_cameraEyeHigh;
+uniform vec3 og_cameraEyeLow;
+uniform mat4 og_modelViewProjectionMatrixRelativeToEye;
 uniform vec3 u_oneOverRadiiSquared;
 
 void main()
 {
-    v_tileCoordinates = textureCoordinatesHeight.xy;
-    v_normal = normalize((u_tileCentre + position) * u_oneOverRadiiSquared);
-    gl_Position = og_depthVertex(og_modelViewProjectionMatrix * vec4(position, 1.0));
+    vec3 position = og_emulatedDoubleSubtract(positionHigh, positionLow, og_cameraEyeHigh, og_cameraEyeLow);
+    v_tileCoordinates = textureCoordinate.xy;
+    // The eye in one float is half a metre off at most: a normal tilted by 1e-7.
+    v_normal = normalize((og_cameraEye + position) * u_oneOverRadiiSquared);
+    gl_Position = og_depthVertex(og_modelViewProjectionMatrixRelativeToEye * vec4(position, 1.0));
 }

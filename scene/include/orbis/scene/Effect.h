@@ -20,6 +20,7 @@ enum class Effect : std::uint32_t {
     Polylines = 1u << 7,
     Polygons = 1u << 8,
     Models = 1u << 9,
+    TiledImagery = 1u << 10, ///< the globe's surface streamed as tiles with imagery layers
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

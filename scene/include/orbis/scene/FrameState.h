@@ -18,6 +18,8 @@ class Device;
 
 namespace orbis::scene {
 
+struct TileStatistics;
+
 /// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
 struct FrameState {
     renderer::Context& context;
@@ -59,6 +61,10 @@ public:
     /// the Context carry it), logarithmic depth does: the scene will not pick it automatically for a
     /// frame with a primitive that answers false, and throws when it is asked for.
     virtual bool supportsLogarithmicDepth() const { return false; }
+
+    /// The streamed tiles' figures of the last update, for primitives that stream tiles (a
+    /// TiledGlobe); null for the others. Scene::render adds them up into FrameStatistics::tiles.
+    virtual const TileStatistics* tileStatistics() const { return nullptr; }
 };
 
 } // namespace orbis::scene

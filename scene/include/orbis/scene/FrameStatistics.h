@@ -2,10 +2,12 @@
 
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/MultiFrustum.h"
+#include "orbis/scene/TileStatistics.h"
 
 #include <orbis/renderer/RenderStatistics.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,12 @@ struct FrameStatistics {
     double cullMilliseconds = 0.0;             ///< culling and binning
     double drawMilliseconds = 0.0;             ///< executing commands, GPU finished
     renderer::RenderStatistics renderer;                 ///< the context's own counts for the frame
+    /// The streamed surface's figures; empty in a scene without a TiledGlobe, which does none of
+    /// that work.
+    std::optional<TileStatistics> tiles;
+    /// Set by a caller that renders a still picture until its tiles converge (`orbis render`): how
+    /// many frames that took; empty when it did not.
+    std::optional<std::uint64_t> framesToConverge;
 
     /// The effects drawn, by name, and "translucent pass", "overlay pass", "multi-frustum",
     /// "logarithmic depth", "logarithmic depth (per vertex)" and "complementary depth" when those

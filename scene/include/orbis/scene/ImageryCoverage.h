@@ -54,8 +54,11 @@ std::optional<ImageryPlacement> placeImagery(const GeodeticExtent& imageryExtent
                                              const std::optional<GeodeticExtent>& clip = std::nullopt) noexcept;
 
 /// For reprojecting a Web Mercator tile over `extent` into a texture of `rows` rows linear in
-/// latitude (course 3.7): where each of the rows + 1 row edges (south to north) samples the
-/// Mercator tile, as its vertical texture coordinate (0 south, 1 north), computed in doubles.
-std::vector<double> mercatorRowEdges(const GeodeticExtent& extent, int rows);
+/// latitude (course 3.7): pairs (y, v) from south to north, y where a strip's vertex goes in the
+/// output (0..1) and v the Mercator tile's vertical texture coordinate it samples there (0 south,
+/// 1 north), computed in doubles. The vertices sit at the output's row centres, where the
+/// rasteriser evaluates fragments, so each fragment gets its exact v rather than one
+/// interpolated across its row; and at the two edges, so that the strip covers the texture.
+std::vector<glm::dvec2> mercatorReprojectionRows(const GeodeticExtent& extent, int rows);
 
 } // namespace orbis::scene

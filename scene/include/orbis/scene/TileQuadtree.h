@@ -109,9 +109,13 @@ public:
     const TilingScheme& scheme() const noexcept { return _scheme; }
     std::vector<std::unique_ptr<QuadtreeTile>>& roots() noexcept { return _roots; }
 
+    /// Called for each tile as the traversal reaches it, before its flags are read: the owner
+    /// brings them up to date with its data.
+    using TileVisited = std::function<void(QuadtreeTile&)>;
+
     /// Selects the tiles to draw for the view; frameNumber marks the visited tiles.
     void select(const TileView& view, const TileSelectionOptions& options, std::uint64_t frameNumber,
-                TileSelection& selection);
+                TileSelection& selection, const TileVisited& refresh = {});
 
     /// A new tile's region, between heights the owner expects (its parent's, until it loads).
     BoundingRegion regionOf(const TileKey& key, double minimumHeight, double maximumHeight) const noexcept;
@@ -123,7 +127,7 @@ public:
 private:
     enum class Coverage { Culled, Covered, Uncovered };
     Coverage visit(QuadtreeTile& tile, const TileView& view, const TileSelectionOptions& options,
-                   std::uint64_t frameNumber, TileSelection& selection);
+                   std::uint64_t frameNumber, TileSelection& selection, const TileVisited& refresh);
     void createChildren(QuadtreeTile& tile);
     double loadPriority(const QuadtreeTile& tile, const TileView& view, double distance) const noexcept;
 

@@ -5,6 +5,8 @@
 
 #include <orbis/core/CurveType.h>
 #include <orbis/core/Geodetic.h>
+#include <orbis/core/GeodeticExtent.h>
+#include <orbis/core/TilingScheme.h>
 #include <orbis/core/HeadingPitchRoll.h>
 #include <orbis/core/Math.h>
 
@@ -62,11 +64,36 @@ struct GlobeTexture {
     friend bool operator==(const GlobeTexture&, const GlobeTexture&) = default;
 };
 
+/// One imagery layer of a tiled globe: a tile source and how it is drawn over the layers before it.
+struct ImageryLayerDescription {
+    /// An absolute path (a TMS folder, an .mbtiles file, a {z}/{x}/{y} template) or an http(s) URL.
+    std::string source;
+    /// The tiling of a template source; TMS folders and MBTiles say their own (and must agree).
+    std::optional<TilingProjection> scheme;
+    double alpha = 1.0;      ///< 0..1
+    double brightness = 1.0; ///< >= 0
+    double contrast = 1.0;   ///< >= 0
+    double gamma = 1.0;      ///< > 0
+    std::optional<GeodeticExtent> rectangle; ///< where the layer shows; empty: wherever it has tiles
+    /// Levels of a template source (TMS folders and MBTiles say their own).
+    std::optional<std::uint32_t> minimumLevel;
+    std::optional<std::uint32_t> maximumLevel;
+    /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
+    std::optional<std::filesystem::path> cacheFolder;
+
+    friend bool operator==(const ImageryLayerDescription&, const ImageryLayerDescription&) = default;
+};
+
 struct GlobeDescription {
     GlobeMethod method = GlobeMethod::RayCast;
     std::optional<GlobeTexture> texture;                 ///< empty: an untextured globe
     std::optional<std::filesystem::path> nightTexture;   ///< empty: no night lights
     bool grid = false;                                   ///< latitude-longitude grid lines
+    /// Imagery streamed as tiles, drawn in order; non-empty: the globe's surface is a tile
+    /// quadtree (method, texture, nightTexture and grid do not apply).
+    std::vector<ImageryLayerDescription> imagery;
+    double maximumScreenSpaceError = 2.0; ///< pixels, > 0: refine while a tile's error is larger
+    double cacheMegabytes = 256.0;        ///< the tiles' hard cap, CPU and GPU together (MiB)
 
     friend bool operator==(const GlobeDescription&, const GlobeDescription&) = default;
 };

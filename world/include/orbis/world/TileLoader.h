@@ -102,7 +102,9 @@ public:
     /// Candidates of the last endFrame that were not started (the limits held them back).
     std::size_t deferred() const noexcept { return _deferred; }
     /// Loads started by the last endFrame.
-    std::size_t startedLastFrame() const noexcept { return _startedLastFrame; }
+    std::size_t startedLastFrame() const noexcept { return _started.size(); }
+    /// Their tickets, in the order they started.
+    const std::vector<std::uint64_t>& startedTickets() const noexcept { return _started; }
 
 private:
     struct Candidate {
@@ -141,7 +143,7 @@ private:
     std::unordered_map<std::uint64_t, std::shared_ptr<Job>> _inFlight;
     std::unordered_map<std::uint64_t, std::uint64_t> _liveTickets; ///< ticket -> sequence
     std::size_t _deferred = 0;
-    std::size_t _startedLastFrame = 0;
+    std::vector<std::uint64_t> _started;
     std::vector<Finished> _undelivered; ///< render thread: arrived, not yet due
 
     MessageQueue _results; ///< workers post here; beginFrame drains it on the render thread

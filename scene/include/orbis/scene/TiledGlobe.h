@@ -1,0 +1,109 @@
+#pragma once
+
+#include "orbis/scene/FrameState.h"
+#include "orbis/scene/TileQuadtree.h"
+#include "orbis/scene/TileStatistics.h"
+
+#include <orbis/core/Ellipsoid.h>
+#include <orbis/core/GeodeticExtent.h>
+#include <orbis/world/TileLoader.h>
+
+#include <glm/vec4.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <optional>
+#include <vector>
+
+namespace orbis::world {
+class TileSource;
+} // namespace orbis::world
+
+namespace orbis::scene {
+
+/// How one imagery layer is drawn over the layers below it (course 3.5).
+struct ImageryLayerStyle {
+    double alpha = 1.0;      ///< 0 transparent .. 1 opaque
+    double brightness = 1.0; ///< the colour's scale: 0 black, 1 unchanged
+    double contrast = 1.0;   ///< about mid-grey: 0 grey, 1 unchanged
+    double gamma = 1.0;      ///< > 0; colours raised to 1 / gamma
+    /// Where the layer shows; empty: wherever its source has tiles. May cross the antimeridian.
+    std::optional<GeodeticExtent> rectangle;
+};
+
+/// An imagery layer: a tile source (TMS folder, URL template, MBTiles, HTTP) and its style.
+struct ImageryLayer {
+    std::shared_ptr<world::TileSource> source;
+    ImageryLayerStyle style;
+};
+
+struct TiledGlobeOptions {
+    /// Drawn in order, each over the ones before; none: the base colour alone.
+    std::vector<ImageryLayer> imagery;
+    /// Refine while a tile's screen-space error exceeds this many pixels.
+    double maximumScreenSpaceError = 2.0;
+    /// The hard cap on what the tiles hold, CPU and GPU together; the selection coarsens rather
+    /// than exceed it.
+    std::size_t cacheBytes = std::size_t{256} << 20;
+    /// GPU uploads per frame stop once this many bytes went up (at least one tile goes each frame).
+    std::size_t uploadBytesPerFrame = std::size_t{16} << 20;
+    world::TileLoaderOptions loader;
+    /// See TileSelectionOptions::loadingDescendantLimit.
+    std::size_t loadingDescendantLimit = 20;
+    /// Tile meshes have 2^samplesLog2 + 1 vertices a side (17 by default: the ellipsoid is smooth).
+    int samplesLog2 = 4;
+    /// Skirts under the tiles' edges; off by default: tiles stitch to their coarser neighbours.
+    bool skirts = false;
+    bool lighting = true;
+    glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
+    /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
+    /// the standard error stream.
+    std::function<void(const std::string&)> onWarning;
+};
+
+/// The globe's surface streamed as tiles (book chapter 12, course chapter 3): each frame selects
+/// tiles by screen-space error from a quadtree over the ellipsoid, loads what is missing on worker
+/// threads (TileLoader), uploads it under a byte budget, keeps a byte-capped cache, and draws one
+/// command per tile with the imagery layers blended in order. Web Mercator layers are reprojected
+/// on the GPU to rows linear in latitude when they arrive (course 3.7); beyond their latitude
+/// limit the first layer's edge row stretches to the pole, and later layers leave what is below.
+///
+/// Results enter at frame boundaries in a fixed order, so with deterministic loader timing a
+/// camera path gives the same frames whatever the thread count. The roots and their imagery are
+/// loaded when the first frame begins, so that no frame has a hole.
+class TiledGlobe final : public Primitive {
+public:
+    TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options);
+    ~TiledGlobe() override;
+
+    const TiledGlobeOptions& options() const noexcept { return _options; }
+
+    std::optional<BoundingSphere> boundingSphere() const override;
+    void update(FrameState& frameState, CommandList& commands) override;
+    bool supportsLogarithmicDepth() const override { return true; }
+    const TileStatistics* tileStatistics() const override { return &_statistics; }
+
+    /// Every drawn tile at the level its error asks for with its own imagery, nothing pending.
+    bool converged() const noexcept { return _statistics.converged; }
+
+    /// A load this globe started: a surface tile's mesh (layer -1) or an imagery layer's tile.
+    struct Load {
+        int layer;
+        TileKey key;
+        friend bool operator==(const Load&, const Load&) = default;
+    };
+    /// The loads started in the last frame, in the order they started.
+    const std::vector<Load>& loadsStarted() const noexcept { return _loadsStarted; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> _impl;
+    TiledGlobeOptions _options;
+    TileStatistics _statistics;
+    std::vector<Load> _loadsStarted;
+};
+
+} // namespace orbis::scene
