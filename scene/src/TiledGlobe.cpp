@@ -31,6 +31,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 namespace orbis::scene {
@@ -125,8 +126,11 @@ struct TiledGlobe::Impl {
 
     void created(QuadtreeTile& tile);
     void refresh(QuadtreeTile& tile);
-    /// The texture to draw for an imagery key: its own or its nearest loaded ancestor; and whether
-    /// the key can still bring one (false once it and its ancestors are missing or failed).
+    /// The tile to load for a wanted imagery key: the key itself or, where it is missing or failed,
+    /// its nearest ancestor not known to be (the parent's imagery stays); empty when none is left.
+    std::optional<TileKey> sourceKey(const Layer& layer, const TileKey& key) const;
+    /// The texture to draw for an imagery key: its source key's (sourceKey) or the nearest loaded
+    /// ancestor's, in `used`; `waiting` when the source key's own is still to come.
     ImageryTile* bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting);
     std::uint64_t ticketFor(int layer, const TileKey& key);
     void request(const LoadTarget& target, double priority);
@@ -219,22 +223,35 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
     tile.refinable = tile.key.level < kMaximumTileLevel - static_cast<std::uint32_t>(options->samplesLog2);
 }
 
-ImageryTile* TiledGlobe::Impl::bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting)
+std::optional<TileKey> TiledGlobe::Impl::sourceKey(const Layer& layer, const TileKey& key) const
 {
-    waiting = false;
-    const auto own = layer.tiles.find(key);
-    const bool ownSettled = own != layer.tiles.end() &&
-                            (own->second.state == LoadState::Missing || own->second.state == LoadState::Failed);
     for (std::uint32_t level = key.level + 1; level-- > layer.tiling.minimumLevel;) {
         const TileKey candidate = key.ancestor(level);
         const auto found = layer.tiles.find(candidate);
+        if (found == layer.tiles.end() ||
+            (found->second.state != LoadState::Missing && found->second.state != LoadState::Failed)) {
+            return candidate;
+        }
+    }
+    return std::nullopt;
+}
+
+ImageryTile* TiledGlobe::Impl::bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting)
+{
+    const std::optional<TileKey> source = sourceKey(layer, key);
+    waiting = source.has_value();
+    if (!source) {
+        return nullptr; // nothing of this layer covers the key: none will come
+    }
+    for (std::uint32_t level = source->level + 1; level-- > layer.tiling.minimumLevel;) {
+        const TileKey candidate = source->ancestor(level);
+        const auto found = layer.tiles.find(candidate);
         if (found != layer.tiles.end() && found->second.state == LoadState::Ready) {
             used = candidate;
-            waiting = candidate != key && !ownSettled;
+            waiting = candidate != *source;
             return &found->second;
         }
     }
-    waiting = !ownSettled;
     return nullptr;
 }
 
@@ -245,9 +262,10 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
     bool wants = surface.mesh == LoadState::Unloaded;
     for (std::size_t l = 0; l < layers.size(); ++l) {
         for (const TileKey& key : surface.imagery[l]) {
-            const auto found = layers[l].tiles.find(key);
-            const LoadState state = found == layers[l].tiles.end() ? LoadState::Unloaded : found->second.state;
-            wants = wants || state == LoadState::Unloaded;
+            if (const std::optional<TileKey> source = sourceKey(layers[l], key)) {
+                const auto found = layers[l].tiles.find(*source);
+                wants = wants || found == layers[l].tiles.end() || found->second.state == LoadState::Unloaded;
+            }
             TileKey used;
             bool waiting = false;
             const ImageryTile* texture = bestImagery(layers[l], key, used, waiting);
@@ -686,10 +704,14 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
             }
             for (std::size_t l = 0; l < impl.layers.size(); ++l) {
                 for (const TileKey& key : surface.imagery[l]) {
-                    ImageryTile& imagery = impl.layers[l].tiles[key];
+                    const std::optional<TileKey> source = impl.sourceKey(impl.layers[l], key);
+                    if (!source) {
+                        continue;
+                    }
+                    ImageryTile& imagery = impl.layers[l].tiles[*source];
                     if (imagery.state == LoadState::Unloaded) {
                         imagery.state = LoadState::Loading;
-                        impl.request({static_cast<int>(l), key, nullptr}, candidate.priority);
+                        impl.request({static_cast<int>(l), *source, nullptr}, candidate.priority);
                     }
                 }
             }
@@ -719,9 +741,13 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
 
         // The textures each drawn tile uses, and what the frame leaves undone.
         impl.drawnTextures.clear();
+        std::unordered_set<const ImageryTile*> imageryRead;
         for (std::size_t i = 0; i < impl.selection.drawn.size(); ++i) {
             QuadtreeTile& tile = *impl.selection.drawn[i];
             impl.drawnTextures.push_back(impl.texturesFor(tile, frame));
+            for (const TextureUse& use : impl.drawnTextures.back()) {
+                imageryRead.insert(use.imagery);
+            }
             bool fallback = false;
             for (std::size_t l = 0; l < impl.layers.size(); ++l) {
                 for (const TileKey& key : surfaceOf(tile).imagery[l]) {
@@ -737,6 +763,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
                 std::max(statistics.largestScreenSpaceErrorDrawn, impl.selection.drawnScreenSpaceErrors[i]);
         }
         const TileSelection& selection = impl.selection;
+        statistics.imageryDrawn = imageryRead.size();
         statistics.visited = selection.visited;
         statistics.culledByFrustum = selection.culledByFrustum;
         statistics.culledByHorizon = selection.culledByHorizon;
