@@ -6,6 +6,7 @@
 #include "orbis/scene/MercatorReprojection.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/TileMesh.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
@@ -52,10 +53,20 @@ struct MeshContent final : world::TileContent {
     TileMesh mesh;
 };
 
+/// A decoded imagery tile, with its mipmap levels made on the worker (empty for Web Mercator tiles,
+/// whose levels are made after their reprojection).
 struct ImageContent final : world::TileContent {
-    explicit ImageContent(Image image_) : image(std::move(image_)) {}
-    std::size_t byteSize() const noexcept override { return image.pixels.size(); }
+    ImageContent(Image image_, std::vector<Image> mipmaps_) : image(std::move(image_)), mipmaps(std::move(mipmaps_)) {}
+    std::size_t byteSize() const noexcept override
+    {
+        std::size_t bytes = image.pixels.size();
+        for (const Image& level : mipmaps) {
+            bytes += level.pixels.size();
+        }
+        return bytes;
+    }
     Image image;
+    std::vector<Image> mipmaps;
 };
 
 /// One imagery tile of one layer, shared by every surface tile it covers.
@@ -299,9 +310,11 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
                 TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, {}, skirtDepth));
         };
     }
-    std::shared_ptr<world::TileSource> source = layers[static_cast<std::size_t>(target.layer)].layer.source;
+    const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
+    std::shared_ptr<world::TileSource> source = layer.layer.source;
+    const bool mipmapsHere = layer.tiling.scheme.projection() == TilingProjection::Geographic;
     const TileKey key = target.key;
-    return [source, key]() -> std::unique_ptr<world::TileContent> {
+    return [source, key, mipmapsHere]() -> std::unique_ptr<world::TileContent> {
         world::TileFetch fetched = source->fetch(key);
         if (fetched.status == world::TileFetch::Status::Missing) {
             return nullptr;
@@ -309,7 +322,9 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         if (fetched.status == world::TileFetch::Status::Failed) {
             throw Error(fetched.message);
         }
-        return std::make_unique<ImageContent>(world::decodeImage(fetched.bytes, source->locate(key), 4));
+        Image image = world::decodeImage(fetched.bytes, source->locate(key), 4);
+        std::vector<Image> mipmaps = mipmapsHere ? mipmapChain(image) : std::vector<Image>{};
+        return std::make_unique<ImageContent>(std::move(image), std::move(mipmaps));
     };
 }
 
@@ -471,7 +486,8 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         return;
     }
     Layer& layer = layers[static_cast<std::size_t>(target.layer)];
-    const Image& image = static_cast<ImageContent&>(*pending.content).image;
+    const ImageContent& content = static_cast<ImageContent&>(*pending.content);
+    const Image& image = content.image;
     // RGBA with its mipmap chain: a third more.
     const std::size_t bytes = image.pixels.size() * 4 / 3;
     ImageryTile& imagery = layer.tiles[target.key];
@@ -480,9 +496,11 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         statistics.memoryLimited = true;
         return;
     }
-    imagery.texture = layer.tiling.scheme.projection() == TilingProjection::WebMercator
-                          ? reproject(frameState, layer, target.key, image)
-                          : std::make_shared<renderer::Texture2D>(device.createTexture2D(image, true));
+    if (layer.tiling.scheme.projection() == TilingProjection::WebMercator) {
+        imagery.texture = reproject(frameState, layer, target.key, image);
+    } else {
+        imagery.texture = std::make_shared<renderer::Texture2D>(device.createTexture2D(image, content.mipmaps));
+    }
     imagery.state = LoadState::Ready;
     imagery.bytes = bytes;
     imagery.lastUsedFrame = frameState.frameNumber;
