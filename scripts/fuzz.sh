@@ -1,21 +1,60 @@
 #!/bin/sh
-# Fuzzes the scene-file parser: builds tests/fuzz/SceneParserFuzz.cpp with clang (libFuzzer,
-# AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time, seeded with
-# data/scenes/*.json. Exit status: 0 no crash, 1 a crash (input saved in the build folder),
-# 77 no usable clang here (CTest reports the test as skipped).
-# Usage: scripts/fuzz.sh [--build-dir DIR] [--seconds N] [more libFuzzer options]
+# Fuzzes one of Orbis's readers: builds its libFuzzer target from tests/fuzz/ with clang (libFuzzer,
+# AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time from a seed corpus.
+# Targets: scene (the scene-file parser, seeded with data/scenes/*.json), tms (tilemapresource.xml,
+# seeded with data/imagery/*/tilemapresource.xml), tiles (the JPEG, PNG and WebP tile decoders,
+# seeded with tests/fuzz/seeds/tiles). Exit status: 0 no crash, 1 a crash (input saved in the build
+# folder), 77 no usable clang here (CTest reports the test as skipped).
+# Usage: scripts/fuzz.sh [--target scene|tms|tiles] [--build-dir DIR] [--seconds N] [more libFuzzer options]
 # Environment: ORBIS_FUZZ_CXX (default clang++-14, else clang++).
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build/fuzz"
 seconds=30
+target=scene
 while [ $# -gt 0 ]; do
   case "$1" in
+    --target) target="$2"; shift 2 ;;
     --build-dir) build="$2"; shift 2 ;;
     --seconds) seconds="$2"; shift 2 ;;
     *) break ;;
   esac
 done
+
+# Each target: its sources (the reader and what it uses from core; nothing that needs OpenGL or
+# GeographicLib), the libraries it links, its seeds and its dictionary.
+libraries=""
+dictionary=""
+workdir=""
+case "$target" in
+  scene)
+    sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
+      world/src/JsonText.cpp world/src/Diagnostics.cpp world/src/CsvPoints.cpp world/src/FileAccess.cpp
+      world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
+      core/src/Transforms.cpp scene/src/Camera.cpp"
+    seeds="$root/data/scenes/*.json"
+    dictionary="-dict=$root/tests/fuzz/scene.dict"
+    workdir="$root/data/scenes" # where the seeds' relative paths lead
+    ;;
+  tms)
+    sources="tests/fuzz/TileMapResourceFuzz.cpp world/src/TileMapResource.cpp world/src/XmlScanner.cpp
+      world/src/FileAccess.cpp world/src/Diagnostics.cpp core/src/TilingScheme.cpp core/src/GeodeticExtent.cpp core/src/Ellipsoid.cpp
+      core/src/Math.cpp"
+    seeds="$root/data/imagery/*/tilemapresource.xml"
+    dictionary="-dict=$root/tests/fuzz/tms.dict"
+    ;;
+  tiles)
+    sources="tests/fuzz/TileDecoderFuzz.cpp world/src/ImageCodec.cpp world/src/FileAccess.cpp world/src/Diagnostics.cpp"
+    libraries="-lturbojpeg -lspng -lwebp"
+    seeds="$root/tests/fuzz/seeds/tiles/*.*"
+    ;;
+  *)
+    echo "fuzz: unknown target $target (scene, tms or tiles)"
+    exit 2
+    ;;
+esac
+build="$build/$target"
+[ -n "$workdir" ] || workdir="$build"
 
 cxx="${ORBIS_FUZZ_CXX:-}"
 if [ -z "$cxx" ]; then
@@ -28,17 +67,13 @@ if [ -z "$cxx" ]; then
   exit 77
 fi
 
-# The parser and what it uses from core; nothing that needs OpenGL or GeographicLib.
-sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
-  world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
-  core/src/Transforms.cpp scene/src/Camera.cpp"
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
   -I$root/core/include -I$root/world/include -I$root/scene/include"
 launcher=""
 command -v ccache >/dev/null 2>&1 && launcher=ccache
 
 mkdir -p "$build/objects" "$build/corpus"
-binary="$build/scene_parser_fuzz"
+binary="$build/${target}_fuzz"
 objects=""
 for source in $sources; do
   object="$build/objects/$(echo "$source" | tr / _).o"
@@ -54,14 +89,19 @@ for source in $sources; do
   fi
 done
 # shellcheck disable=SC2086
-if ! "$cxx" $flags $objects -o "$binary"; then
+if ! "$cxx" $flags $objects $libraries -o "$binary"; then
   echo "fuzz: linking failed (is libclang-rt-14-dev installed?)"
   exit 1
 fi
 
-cp "$root"/data/scenes/*.json "$build/corpus/"
-cd "$root/data/scenes"
+# Seeds numbered, as several share a name (every tilemapresource.xml).
+count=0
+for seed in $seeds; do
+  count=$((count + 1))
+  cp "$seed" "$build/corpus/seed-$count-$(basename "$seed")"
+done
+cd "$workdir"
 echo "fuzz: running $binary for $seconds s"
 # shellcheck disable=SC2086
 exec "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-  -dict="$root/tests/fuzz/scene.dict" -artifact_prefix="$build/" "$@" "$build/corpus"
+  $dictionary -artifact_prefix="$build/" "$@" "$build/corpus"

@@ -1,3 +1,4 @@
+#include "TempFiles.h"
 #include "WorldTestSupport.h"
 
 #include <orbis/core/Error.h>
@@ -13,32 +14,32 @@
 
 using namespace orbis;
 using namespace orbis::world;
-using orbis::test::ScratchFolder;
+using orbis::test::TempDirectory;
 using Catch::Matchers::Contains;
 
 TEST_CASE("Files are read whole, and a missing one is told apart from a broken one", "[world][files]")
 {
-    const ScratchFolder folder("files");
-    writeFileAtomically(folder / "a/b/tile.bin", std::string_view("hello"));
-    const std::vector<std::uint8_t> bytes = readFileBytes(folder / "a/b/tile.bin", "tile");
+    const TempDirectory folder;
+    writeFileAtomically(folder.path() / "a/b/tile.bin", std::string_view("hello"));
+    const std::vector<std::uint8_t> bytes = readFileBytes(folder.path() / "a/b/tile.bin", "tile");
     REQUIRE(std::string(bytes.begin(), bytes.end()) == "hello");
-    REQUIRE_FALSE(readFileBytesIfExists(folder / "a/b/none.bin", "tile"));
-    REQUIRE_FALSE(readFileBytesIfExists(folder / "a/b/tile.bin/below", "tile")); // a file on the path
-    REQUIRE_THROWS_WITH(readFileBytes(folder / "none.bin", "tile"), Contains("none.bin: tile: no such file"));
-    REQUIRE_THROWS_WITH(readFileBytes(folder / "a/b/tile.bin", "tile", 4),
+    REQUIRE_FALSE(readFileBytesIfExists(folder.path() / "a/b/none.bin", "tile"));
+    REQUIRE_FALSE(readFileBytesIfExists(folder.path() / "a/b/tile.bin/below", "tile")); // a file on the path
+    REQUIRE_THROWS_WITH(readFileBytes(folder.path() / "none.bin", "tile"), Contains("none.bin: tile: no such file"));
+    REQUIRE_THROWS_WITH(readFileBytes(folder.path() / "a/b/tile.bin", "tile", 4),
                         Contains("tile.bin: tile is 5 bytes, more than the 4 allowed"));
-    REQUIRE(readFileBytes(folder / "a/b/tile.bin", "tile", 5).size() == 5);
+    REQUIRE(readFileBytes(folder.path() / "a/b/tile.bin", "tile", 5).size() == 5);
 }
 
 TEST_CASE("A folder, a named pipe and a symlink loop are refused without blocking", "[world][files][hostile]")
 {
-    const ScratchFolder folder("files");
+    const TempDirectory folder;
     REQUIRE_THROWS_WITH(readFileBytes(folder.path(), "tile"), Contains("is a folder, not a regular file"));
-    REQUIRE(::mkfifo((folder / "pipe").c_str(), 0600) == 0);
+    REQUIRE(::mkfifo((folder.path() / "pipe").c_str(), 0600) == 0);
     // Run where a hang would show as a timeout instead of blocking the suite.
     auto reading = std::async(std::launch::async, [&] {
         try {
-            readFileBytesIfExists(folder / "pipe", "tile");
+            readFileBytesIfExists(folder.path() / "pipe", "tile");
         } catch (const Error& error) {
             return std::string(error.what());
         }
@@ -46,34 +47,34 @@ TEST_CASE("A folder, a named pipe and a symlink loop are refused without blockin
     });
     REQUIRE(reading.wait_for(std::chrono::seconds(10)) == std::future_status::ready);
     REQUIRE_THAT(reading.get(), Contains("pipe: tile is a named pipe, not a regular file"));
-    std::filesystem::create_symlink(folder / "loop", folder / "loop");
-    REQUIRE_THROWS_WITH(readFileBytes(folder / "loop", "tile"), Contains("loop: tile: cannot open: Too many levels of symbolic links"));
+    std::filesystem::create_symlink(folder.path() / "loop", folder.path() / "loop");
+    REQUIRE_THROWS_WITH(readFileBytes(folder.path() / "loop", "tile"), Contains("loop: tile: cannot open: Too many levels of symbolic links"));
 }
 
 TEST_CASE("Files are written whole or not at all, and nothing temporary stays", "[world][files]")
 {
-    const ScratchFolder folder("files");
+    const TempDirectory folder;
     const std::vector<std::uint8_t> large(1 << 20, 7);
     std::vector<std::thread> writers;
     for (int t = 0; t < 4; ++t) {
         writers.emplace_back([&] {
             for (int i = 0; i < 10; ++i) {
-                writeFileAtomically(folder / "same.bin", large);
+                writeFileAtomically(folder.path() / "same.bin", large);
             }
         });
     }
     for (std::thread& writer : writers) {
         writer.join();
     }
-    REQUIRE(readFileBytes(folder / "same.bin", "tile") == large);
+    REQUIRE(readFileBytes(folder.path() / "same.bin", "tile") == large);
     int entries = 0;
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder.path())) {
         ++entries;
     }
     REQUIRE(entries == 1);
     // A folder where the file should go: an error naming the path, no temporary file left.
-    std::filesystem::create_directories(folder / "taken");
-    REQUIRE_THROWS_WITH(writeFileAtomically(folder / "taken", std::string_view("x")), Contains("taken: cannot write"));
+    std::filesystem::create_directories(folder.path() / "taken");
+    REQUIRE_THROWS_WITH(writeFileAtomically(folder.path() / "taken", std::string_view("x")), Contains("taken: cannot write"));
     entries = 0;
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder.path())) {
         ++entries;

@@ -3,6 +3,7 @@
 // where a hang would show as a failed wait.
 
 #include "TestHttpServer.h"
+#include "TempFiles.h"
 #include "WorldTestSupport.h"
 
 #include <orbis/core/Error.h>
@@ -19,7 +20,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
-using orbis::test::ScratchFolder;
+using orbis::test::TempDirectory;
 using orbis::test::ScriptedResponse;
 using orbis::test::TestHttpServer;
 using Catch::Matchers::Contains;
@@ -273,7 +274,7 @@ TEST_CASE("HTTP: keys outside the source are Missing without a request", "[world
 
 TEST_CASE("HTTP: the disk cache serves a second run without the server", "[world][http][cache]")
 {
-    const ScratchFolder cache("http-cache");
+    const TempDirectory cache;
     auto server = std::make_unique<TestHttpServer>();
     server->set("/1/0/0.png", ScriptedResponse::ok(tileBytes(6)));
     server->set("/1/1/0.png", ScriptedResponse::ok(tileBytes(7)));
@@ -319,7 +320,7 @@ TEST_CASE("HTTP: the disk cache serves a second run without the server", "[world
 
 TEST_CASE("HTTP: a TMS pyramid reads its description from the server, also from the cache later", "[world][http][tms]")
 {
-    const ScratchFolder cache("tms-cache");
+    const TempDirectory cache;
     auto server = std::make_unique<TestHttpServer>();
     TileMapResource resource;
     resource.extension = "png";

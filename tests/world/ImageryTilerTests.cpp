@@ -1,6 +1,7 @@
 // The imagery tiler on inputs the tests write themselves: a GeoTIFF in UTM (written with GDAL) and a
 // plain whole-globe JPEG. Positions are checked against GeographicLib's UTM, not GDAL's own PROJ.
 
+#include "TempFiles.h"
 #include "WorldTestSupport.h"
 
 #include <orbis/core/Error.h>
@@ -25,7 +26,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
-using orbis::test::ScratchFolder;
+using orbis::test::TempDirectory;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -201,11 +202,11 @@ std::string tilerError(const ImageryTilerOptions& options)
 
 TEST_CASE("A UTM GeoTIFF lands where its georeferencing says, within half a tile pixel", "[world][tiler]")
 {
-    const ScratchFolder folder("tiler");
-    writeUtmGeoTiff(folder / "utm.tif");
+    const TempDirectory folder;
+    writeUtmGeoTiff(folder.path() / "utm.tif");
     ImageryTilerOptions options;
-    options.input = folder / "utm.tif";
-    options.output = folder / "out";
+    options.input = folder.path() / "utm.tif";
+    options.output = folder.path() / "out";
     options.format = ImageFormat::Png;
     options.threads = 2;
     std::size_t lastDone = 0;
@@ -224,7 +225,7 @@ TEST_CASE("A UTM GeoTIFF lands where its georeferencing says, within half a tile
     REQUIRE(lastDone == total);
     REQUIRE(total == summary.tilesWritten + summary.tilesEmpty);
 
-    const auto source = openTileSource((folder / "out").string());
+    const auto source = openTileSource((folder.path() / "out").string());
     REQUIRE(source->info().maximumLevel == 8);
     REQUIRE(source->info().format == "png");
     // The deepest level's tiles around the input, joined.
@@ -232,7 +233,7 @@ TEST_CASE("A UTM GeoTIFF lands where its georeferencing says, within half a tile
     const TilingScheme scheme = TilingScheme::geographic();
     const TileKey southWest = *scheme.tileAt({footprint.west, footprint.south}, 8);
     const TileKey northEast = *scheme.tileAt({footprint.east, footprint.north}, 8);
-    const Mosaic mosaic = readMosaic(folder / "out", 8, southWest.x, northEast.x, southWest.y, northEast.y);
+    const Mosaic mosaic = readMosaic(folder.path() / "out", 8, southWest.x, northEast.x, southWest.y, northEast.y);
     for (const Marker& marker : kMarkers) {
         INFO("marker at column " << marker.column << ", row " << marker.row);
         // The block's centre: the middle of its centre pixel.
@@ -252,8 +253,8 @@ TEST_CASE("A UTM GeoTIFF lands where its georeferencing says, within half a tile
 
     // Each level above is made from the four tiles below it: a 2 x 2 average.
     const TileKey parent = *scheme.tileAt(footprint.centre(), 7);
-    const Mosaic children = readMosaic(folder / "out", 8, parent.x * 2, parent.x * 2 + 1, parent.y * 2, parent.y * 2 + 1);
-    const Mosaic made = readMosaic(folder / "out", 7, parent.x, parent.x, parent.y, parent.y);
+    const Mosaic children = readMosaic(folder.path() / "out", 8, parent.x * 2, parent.x * 2 + 1, parent.y * 2, parent.y * 2 + 1);
+    const Mosaic made = readMosaic(folder.path() / "out", 7, parent.x, parent.x, parent.y, parent.y);
     int largest = 0;
     for (int y = 0; y < 256; ++y) {
         for (int x = 0; x < 256; ++x) {
@@ -279,7 +280,7 @@ TEST_CASE("A UTM GeoTIFF lands where its georeferencing says, within half a tile
 
 TEST_CASE("A plain JPEG is the whole globe, and split jobs write what one job writes", "[world][tiler]")
 {
-    const ScratchFolder folder("tiler");
+    const TempDirectory folder;
     // 16 x 16 blocks on JPEG's 16-pixel grid, so that 4:2:0 chroma does not smear them.
     struct Block {
         int left, top;
@@ -295,11 +296,11 @@ TEST_CASE("A plain JPEG is the whole globe, and split jobs write what one job wr
             }
         }
     }
-    orbis::test::writeBytes(folder / "world.jpg", encodeJpeg(image, 95));
+    orbis::test::writeBytes(folder.path() / "world.jpg", encodeJpeg(image, 95));
 
     ImageryTilerOptions options;
-    options.input = folder / "world.jpg";
-    options.output = folder / "whole";
+    options.input = folder.path() / "world.jpg";
+    options.output = folder.path() / "whole";
     options.levels = 2;
     options.threads = 2;
     options.attribution = "made by the test";
@@ -308,13 +309,13 @@ TEST_CASE("A plain JPEG is the whole globe, and split jobs write what one job wr
     const TilerSummary summary = tiler.run();
     REQUIRE(summary.tilesWritten == 8 + 2);
     REQUIRE(summary.tilesEmpty == 0);
-    const TileMapResource resource = readTileMapResource(folder / "whole");
+    const TileMapResource resource = readTileMapResource(folder.path() / "whole");
     REQUIRE(resource.attribution == "made by the test");
     REQUIRE(resource.title == "world.jpg");
     REQUIRE(resource.maximumLevel() == 1);
 
     // Level 1 is the image at twice its size: the blocks' centres move with it.
-    const Mosaic mosaic = readMosaic(folder / "whole", 1, 0, 3, 0, 1);
+    const Mosaic mosaic = readMosaic(folder.path() / "whole", 1, 0, 3, 0, 1);
     for (const Block& block : blocks) {
         INFO("block at column " << block.left);
         const double longitude = -180.0 + (block.left + 8) * 360.0 / 512.0;
@@ -327,7 +328,7 @@ TEST_CASE("A plain JPEG is the whole globe, and split jobs write what one job wr
 
     // The same pyramid in three jobs (level 1 in two halves, then level 0), with one thread.
     ImageryTilerOptions split = options;
-    split.output = folder / "split";
+    split.output = folder.path() / "split";
     split.threads = 1;
     split.onlyLevel = 1;
     split.columns = std::pair(0u, 1u);
@@ -337,30 +338,30 @@ TEST_CASE("A plain JPEG is the whole globe, and split jobs write what one job wr
     split.columns.reset();
     split.onlyLevel = 0;
     REQUIRE(ImageryTiler(split).run().tilesWritten == 2);
-    REQUIRE(filesUnder(folder / "whole").size() == 11);
-    const std::vector<std::string> differing = differingFiles(folder / "whole", folder / "split");
+    REQUIRE(filesUnder(folder.path() / "whole").size() == 11);
+    const std::vector<std::string> differing = differingFiles(folder.path() / "whole", folder.path() / "split");
     INFO("differing: " << ::Catch::Detail::stringify(differing));
     REQUIRE(differing.empty());
 }
 
 TEST_CASE("The tiler refuses bad inputs and options by name, and leaves no partial file", "[world][tiler][hostile]")
 {
-    const ScratchFolder folder("tiler");
+    const TempDirectory folder;
     ImageryTilerOptions options;
-    options.output = folder / "out";
-    options.input = folder / "none.tif";
+    options.output = folder.path() / "out";
+    options.input = folder.path() / "none.tif";
     REQUIRE_THAT(tilerError(options), Contains("none.tif: cannot open the input image: No such file or directory"));
-    REQUIRE(::mkfifo((folder / "pipe.tif").c_str(), 0600) == 0);
-    options.input = folder / "pipe.tif";
+    REQUIRE(::mkfifo((folder.path() / "pipe.tif").c_str(), 0600) == 0);
+    options.input = folder.path() / "pipe.tif";
     auto piped = std::async(std::launch::async, [&] { return tilerError(options); });
     REQUIRE(piped.wait_for(std::chrono::seconds(20)) == std::future_status::ready);
     REQUIRE_THAT(piped.get(), Contains("pipe.tif: the input image is not a regular file"));
-    writeFileAtomically(folder / "text.tif", std::string_view("not an image at all"));
-    options.input = folder / "text.tif";
+    writeFileAtomically(folder.path() / "text.tif", std::string_view("not an image at all"));
+    options.input = folder.path() / "text.tif";
     REQUIRE_THAT(tilerError(options), Contains("text.tif: GDAL cannot read the input image"));
 
-    orbis::test::writeBytes(folder / "small.png", encodePng(orbis::test::testPattern(64, 32, 3), 6));
-    options.input = folder / "small.png";
+    orbis::test::writeBytes(folder.path() / "small.png", encodePng(orbis::test::testPattern(64, 32, 3), 6));
+    options.input = folder.path() / "small.png";
     options.levels = 2;
     options.onlyLevel = 2;
     REQUIRE_THAT(tilerError(options), Contains("level 2 is not in the pyramid (0 to 1)"));
@@ -376,17 +377,17 @@ TEST_CASE("The tiler refuses bad inputs and options by name, and leaves no parti
 
     // A truncated JPEG: GDAL reads its header, then fails inside a tile: an error naming the tile.
     const std::vector<std::uint8_t> jpeg = encodeJpeg(orbis::test::testPattern(1024, 512, 3), 90);
-    orbis::test::writeBytes(folder / "cut.jpg", {jpeg.begin(), jpeg.begin() + std::ptrdiff_t(jpeg.size() / 3)});
-    options.input = folder / "cut.jpg";
+    orbis::test::writeBytes(folder.path() / "cut.jpg", {jpeg.begin(), jpeg.begin() + std::ptrdiff_t(jpeg.size() / 3)});
+    options.input = folder.path() / "cut.jpg";
     options.levels = 3;
     const std::string message = tilerError(options);
     REQUIRE_THAT(message, Contains("cut.jpg"));
-    if (std::filesystem::exists(folder / "out")) {
-        for (const auto& entry : std::filesystem::recursive_directory_iterator(folder / "out")) {
+    if (std::filesystem::exists(folder.path() / "out")) {
+        for (const auto& entry : std::filesystem::recursive_directory_iterator(folder.path() / "out")) {
             REQUIRE(entry.path().string().find(".tmp-") == std::string::npos);
         }
     }
-    REQUIRE_FALSE(std::filesystem::exists(folder / "out/tilemapresource.xml"));
+    REQUIRE_FALSE(std::filesystem::exists(folder.path() / "out/tilemapresource.xml"));
 }
 
 TEST_CASE("The level for a resolution is the first as fine", "[world][tiler]")

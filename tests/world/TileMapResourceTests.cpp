@@ -1,3 +1,4 @@
+#include "TempFiles.h"
 #include "WorldTestSupport.h"
 
 #include <orbis/core/Error.h>
@@ -15,7 +16,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
-using orbis::test::ScratchFolder;
+using orbis::test::TempDirectory;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -232,12 +233,12 @@ TEST_CASE("A mercator description reads its bounding box in metres", "[world][tm
 
 TEST_CASE("A description that is a named pipe or a folder is refused without blocking", "[world][tms][hostile]")
 {
-    const ScratchFolder folder("tms");
-    std::filesystem::create_directories(folder / "pipe");
-    REQUIRE(::mkfifo((folder / "pipe/tilemapresource.xml").c_str(), 0600) == 0);
+    const TempDirectory folder;
+    std::filesystem::create_directories(folder.path() / "pipe");
+    REQUIRE(::mkfifo((folder.path() / "pipe/tilemapresource.xml").c_str(), 0600) == 0);
     auto reading = std::async(std::launch::async, [&] {
         try {
-            readTileMapResource(folder / "pipe");
+            readTileMapResource(folder.path() / "pipe");
         } catch (const Error& error) {
             return std::string(error.what());
         }
@@ -245,7 +246,7 @@ TEST_CASE("A description that is a named pipe or a folder is refused without blo
     });
     REQUIRE(reading.wait_for(std::chrono::seconds(10)) == std::future_status::ready);
     REQUIRE_THAT(reading.get(), Contains("tilemapresource.xml: tilemapresource.xml is a named pipe"));
-    std::filesystem::create_directories(folder / "nested/tilemapresource.xml");
-    REQUIRE_THROWS_WITH(readTileMapResource(folder / "nested"), Contains("is a folder, not a regular file"));
-    REQUIRE_THROWS_WITH(readTileMapResource(folder / "none"), Contains("none: tilemapresource.xml: no such file"));
+    std::filesystem::create_directories(folder.path() / "nested/tilemapresource.xml");
+    REQUIRE_THROWS_WITH(readTileMapResource(folder.path() / "nested"), Contains("is a folder, not a regular file"));
+    REQUIRE_THROWS_WITH(readTileMapResource(folder.path() / "none"), Contains("none: tilemapresource.xml: no such file"));
 }

@@ -1,3 +1,4 @@
+#include "TempFiles.h"
 #include "WorldTestSupport.h"
 
 #include <orbis/core/Error.h>
@@ -19,7 +20,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
-using orbis::test::ScratchFolder;
+using orbis::test::TempDirectory;
 using Catch::Matchers::Contains;
 using Status = TileFetch::Status;
 
@@ -97,22 +98,22 @@ TEST_CASE("A TMS folder gives its tiles, and keys outside its levels are missing
 
 TEST_CASE("A tile that is missing, a pipe or a folder is Missing or Failed, quickly", "[world][source][hostile]")
 {
-    const ScratchFolder folder("source");
+    const TempDirectory folder;
     TileMapResource resource;
     resource.extension = "png";
     resource.tileSets = {{"0", 0, tileMapUnitsPerPixel(TilingScheme::geographic(), 0, 256)}};
-    writeFileAtomically(folder / "tilemapresource.xml", formatTileMapResource(resource));
-    writeFileAtomically(folder / "0/0/0.png", tileBytes(0));
-    std::filesystem::create_directories(folder / "0/1");
-    REQUIRE(::mkfifo((folder / "0/1/0.png").c_str(), 0600) == 0);
+    writeFileAtomically(folder.path() / "tilemapresource.xml", formatTileMapResource(resource));
+    writeFileAtomically(folder.path() / "0/0/0.png", tileBytes(0));
+    std::filesystem::create_directories(folder.path() / "0/1");
+    REQUIRE(::mkfifo((folder.path() / "0/1/0.png").c_str(), 0600) == 0);
     const auto source = openTileSource(folder.path().string());
     REQUIRE(source->fetch({0, 0, 0}).status == Status::Ok);
     const TileFetch pipe = withinSeconds(10, [&] { return source->fetch({0, 1, 0}); });
     REQUIRE(pipe.status == Status::Failed);
-    REQUIRE_THAT(pipe.message, Contains((folder / "0/1/0.png").string()) && Contains("named pipe"));
-    std::filesystem::remove(folder / "0/1/0.png");
+    REQUIRE_THAT(pipe.message, Contains((folder.path() / "0/1/0.png").string()) && Contains("named pipe"));
+    std::filesystem::remove(folder.path() / "0/1/0.png");
     REQUIRE(source->fetch({0, 1, 0}).status == Status::Missing);
-    std::filesystem::create_directories(folder / "0/1/0.png");
+    std::filesystem::create_directories(folder.path() / "0/1/0.png");
     REQUIRE_THAT(source->fetch({0, 1, 0}).message, Contains("is a folder"));
     TileSourceOptions small;
     small.maximumTileBytes = 10;
@@ -121,26 +122,26 @@ TEST_CASE("A tile that is missing, a pipe or a folder is Missing or Failed, quic
 
 TEST_CASE("A mercator TMS folder counts its rows from the south on disk", "[world][source]")
 {
-    const ScratchFolder folder("source");
+    const TempDirectory folder;
     TileMapResource resource;
     resource.scheme = TilingScheme::webMercator();
     resource.extension = "png";
     for (std::uint32_t level = 0; level <= 2; ++level) {
         resource.tileSets.push_back({std::to_string(level), level, tileMapUnitsPerPixel(resource.scheme, level, 256)});
     }
-    writeFileAtomically(folder / "tilemapresource.xml", formatTileMapResource(resource));
+    writeFileAtomically(folder.path() / "tilemapresource.xml", formatTileMapResource(resource));
     // XYZ row 0 (the north) of level 2 is TMS row 3.
-    writeFileAtomically(folder / "2/1/3.png", tileBytes(1));
+    writeFileAtomically(folder.path() / "2/1/3.png", tileBytes(1));
     const auto source = openTileSource(folder.path().string());
     REQUIRE(source->info().scheme == TilingScheme::webMercator());
-    REQUIRE(source->locate({2, 1, 0}) == (folder / "2/1/3.png").string());
+    REQUIRE(source->locate({2, 1, 0}) == (folder.path() / "2/1/3.png").string());
     REQUIRE(source->fetch({2, 1, 0}).bytes == tileBytes(1));
     REQUIRE(source->fetch({2, 1, 3}).status == Status::Missing);
 }
 
 TEST_CASE("Templates count {y} from the north and {reverseY} from the south in either scheme", "[world][source]")
 {
-    const ScratchFolder folder("template");
+    const TempDirectory folder;
     const std::string base = folder.path().string();
     const auto xyz = openTileSource(base + "/{z}/{x}/{y}.png");
     REQUIRE(xyz->info().scheme == TilingScheme::webMercator());
@@ -161,7 +162,7 @@ TEST_CASE("Templates count {y} from the north and {reverseY} from the south in e
     named.subdomains = "alpha,beta";
     REQUIRE(openTileSource("https://{s}.example/{z}/{x}/{y}", named)->locate({0, 0, 0}) == "https://alpha.example/0/0/0");
 
-    writeFileAtomically(folder / "2/1/0.png", tileBytes(2));
+    writeFileAtomically(folder.path() / "2/1/0.png", tileBytes(2));
     REQUIRE(xyz->fetch({2, 1, 0}).bytes == tileBytes(2));
     REQUIRE(xyz->fetch({2, 1, 1}).status == Status::Missing);
     REQUIRE(xyz->fetch({19, 0, 0}).status == Status::Missing); // beyond the default maximum level 18
@@ -182,20 +183,20 @@ TEST_CASE("Bad templates and missing sources are refused when opened, naming the
     REQUIRE_THROWS_WITH(openTileSource("/nowhere/at/all"), Contains("/nowhere/at/all: no such file or folder"));
     REQUIRE_THROWS_WITH(openTileSource(""), Contains("an empty tile source path"));
     REQUIRE_THROWS_WITH(openTileSource("http://127.0.0.1:1/world.mbtiles"), Contains("MBTiles files are read from disk"));
-    const ScratchFolder folder("source");
-    writeFileAtomically(folder / "notes.txt", std::string_view("just text"));
-    REQUIRE_THROWS_WITH(openTileSource((folder / "notes.txt").string()), Contains("notes.txt: not an MBTiles file"));
+    const TempDirectory folder;
+    writeFileAtomically(folder.path() / "notes.txt", std::string_view("just text"));
+    REQUIRE_THROWS_WITH(openTileSource((folder.path() / "notes.txt").string()), Contains("notes.txt: not an MBTiles file"));
     REQUIRE_THROWS_WITH(openTileSource(folder.path().string()), Contains("tilemapresource.xml: no such file"));
 }
 
 TEST_CASE("Keys outside the source's extent are missing without a look", "[world][source]")
 {
-    const ScratchFolder folder("extent");
+    const TempDirectory folder;
     TileSourceOptions options;
     options.scheme = TilingScheme::geographic();
     options.extent = GeodeticExtent::fromDegrees(0.0, 0.0, 90.0, 45.0); // the level-1 tile (2, 1) and no other
-    writeFileAtomically(folder / "1/2/1.png", tileBytes(3));
-    writeFileAtomically(folder / "1/1/1.png", tileBytes(3));
+    writeFileAtomically(folder.path() / "1/2/1.png", tileBytes(3));
+    writeFileAtomically(folder.path() / "1/1/1.png", tileBytes(3));
     const auto source = openTileSource(folder.path().string() + "/{z}/{x}/{reverseY}.png", options);
     REQUIRE(source->fetch({1, 2, 1}).status == Status::Ok);
     // Sharing only the west edge (0 degrees) with the extent: none of it inside.
@@ -203,9 +204,9 @@ TEST_CASE("Keys outside the source's extent are missing without a look", "[world
     // Across the antimeridian: an extent from 170 E to 170 W holds the first and last columns.
     options.extent = GeodeticExtent::fromDegrees(170.0, -10.0, -170.0, 10.0);
     const auto wrapped = openTileSource(folder.path().string() + "/{z}/{x}/{reverseY}.png", options);
-    writeFileAtomically(folder / "2/0/1.png", tileBytes(4));
-    writeFileAtomically(folder / "2/7/1.png", tileBytes(4));
-    writeFileAtomically(folder / "2/3/1.png", tileBytes(4));
+    writeFileAtomically(folder.path() / "2/0/1.png", tileBytes(4));
+    writeFileAtomically(folder.path() / "2/7/1.png", tileBytes(4));
+    writeFileAtomically(folder.path() / "2/3/1.png", tileBytes(4));
     REQUIRE(wrapped->fetch({2, 0, 1}).status == Status::Ok);
     REQUIRE(wrapped->fetch({2, 7, 1}).status == Status::Ok);
     REQUIRE(wrapped->fetch({2, 3, 1}).status == Status::Missing);
@@ -213,8 +214,8 @@ TEST_CASE("Keys outside the source's extent are missing without a look", "[world
 
 TEST_CASE("An MBTiles file gives its rows counted from the south, and a missing row is Missing", "[world][source][mbtiles]")
 {
-    const ScratchFolder folder("mbtiles");
-    const std::filesystem::path path = folder / "world.mbtiles";
+    const TempDirectory folder;
+    const std::filesystem::path path = folder.path() / "world.mbtiles";
     {
         MBTilesWriter writer(path);
         writer.metadata("name", "test");
@@ -260,8 +261,8 @@ TEST_CASE("An MBTiles file gives its rows counted from the south, and a missing 
 
 TEST_CASE("MBTiles levels come from the tiles table when the metadata lacks them", "[world][source][mbtiles]")
 {
-    const ScratchFolder folder("mbtiles");
-    const std::filesystem::path path = folder / "levels.mbtiles";
+    const TempDirectory folder;
+    const std::filesystem::path path = folder.path() / "levels.mbtiles";
     {
         MBTilesWriter writer(path);
         writer.tile(3, 0, 0, tileBytes(0));
@@ -275,30 +276,30 @@ TEST_CASE("MBTiles levels come from the tiles table when the metadata lacks them
 
 TEST_CASE("Bad MBTiles files are refused when opened, or fail per tile, without a crash", "[world][source][mbtiles][hostile]")
 {
-    const ScratchFolder folder("mbtiles");
+    const TempDirectory folder;
     {
-        MBTilesWriter writer(folder / "badzoom.mbtiles");
+        MBTilesWriter writer(folder.path() / "badzoom.mbtiles");
         writer.metadata("maxzoom", "12abc");
     }
-    REQUIRE_THROWS_WITH(openTileSource((folder / "badzoom.mbtiles").string()),
+    REQUIRE_THROWS_WITH(openTileSource((folder.path() / "badzoom.mbtiles").string()),
                         Contains("badzoom.mbtiles: metadata maxzoom \"12abc\" is not a level from 0 to 30"));
     {
-        MBTilesWriter writer(folder / "badbounds.mbtiles");
+        MBTilesWriter writer(folder.path() / "badbounds.mbtiles");
         writer.metadata("bounds", "-180,-90,180");
     }
-    REQUIRE_THROWS_WITH(openTileSource((folder / "badbounds.mbtiles").string()),
+    REQUIRE_THROWS_WITH(openTileSource((folder.path() / "badbounds.mbtiles").string()),
                         Contains("metadata bounds \"-180,-90,180\" is not west,south,east,north in degrees"));
     {
         sqlite3* database = nullptr;
-        REQUIRE(sqlite3_open((folder / "notiles.mbtiles").c_str(), &database) == SQLITE_OK);
+        REQUIRE(sqlite3_open((folder.path() / "notiles.mbtiles").c_str(), &database) == SQLITE_OK);
         REQUIRE(sqlite3_exec(database, "CREATE TABLE metadata (name TEXT, value TEXT)", nullptr, nullptr, nullptr) == SQLITE_OK);
         sqlite3_close(database);
     }
-    REQUIRE_THROWS_WITH(openTileSource((folder / "notiles.mbtiles").string()), Contains("not an MBTiles database (no tiles table)"));
-    REQUIRE(::mkfifo((folder / "pipe.mbtiles").c_str(), 0600) == 0);
+    REQUIRE_THROWS_WITH(openTileSource((folder.path() / "notiles.mbtiles").string()), Contains("not an MBTiles database (no tiles table)"));
+    REQUIRE(::mkfifo((folder.path() / "pipe.mbtiles").c_str(), 0600) == 0);
     const std::string pipeError = withinSeconds(10, [&] {
         try {
-            openTileSource((folder / "pipe.mbtiles").string());
+            openTileSource((folder.path() / "pipe.mbtiles").string());
         } catch (const Error& error) {
             return std::string(error.what());
         }
@@ -308,17 +309,17 @@ TEST_CASE("Bad MBTiles files are refused when opened, or fail per tile, without 
 
     // A database cut after its first pages: an error at open or per tile, never a crash.
     {
-        MBTilesWriter writer(folder / "whole.mbtiles");
+        MBTilesWriter writer(folder.path() / "whole.mbtiles");
         writer.metadata("format", "png");
         for (int x = 0; x < 64; ++x) {
             writer.tile(6, x, 0, encodePng(orbis::test::testPattern(64, 64, 3), 0));
         }
     }
-    std::vector<std::uint8_t> bytes = readFileBytes(folder / "whole.mbtiles", "database");
+    std::vector<std::uint8_t> bytes = readFileBytes(folder.path() / "whole.mbtiles", "database");
     for (const std::size_t keep : {std::size_t{4096}, bytes.size() / 2}) {
-        orbis::test::writeBytes(folder / "cut.mbtiles", {bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)});
+        orbis::test::writeBytes(folder.path() / "cut.mbtiles", {bytes.begin(), bytes.begin() + std::ptrdiff_t(keep)});
         try {
-            const auto source = openTileSource((folder / "cut.mbtiles").string());
+            const auto source = openTileSource((folder.path() / "cut.mbtiles").string());
             for (std::uint32_t x = 0; x < 64; ++x) {
                 const TileFetch fetched = source->fetch({6, x, 63});
                 if (fetched.status == Status::Failed) {

@@ -3,29 +3,11 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
-#include <unistd.h>
-
 namespace orbis::test {
-
-ScratchFolder::ScratchFolder(const std::string& name)
-{
-    static std::atomic<int> counter{0};
-    _path = std::filesystem::temp_directory_path() /
-            ("orbis-" + name + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    std::filesystem::remove_all(_path);
-    std::filesystem::create_directories(_path);
-}
-
-ScratchFolder::~ScratchFolder()
-{
-    std::error_code ignored;
-    std::filesystem::remove_all(_path, ignored);
-}
 
 namespace {
 

@@ -1,7 +1,7 @@
 #pragma once
 
-// Helpers for the world-data tests: scratch folders and PNG files built byte by byte, so that the
-// decoders are checked against bytes no encoder of ours produced (and headers that lie).
+// Helpers for the world-data tests: PNG files built byte by byte, so that the decoders are checked
+// against bytes no encoder of ours produced (and headers that lie), and image comparisons.
 
 #include <orbis/core/Image.h>
 
@@ -11,21 +11,6 @@
 #include <vector>
 
 namespace orbis::test {
-
-/// A fresh empty folder under the system's temporary folder, removed with everything in it when
-/// the object goes away.
-class ScratchFolder {
-public:
-    explicit ScratchFolder(const std::string& name);
-    ~ScratchFolder();
-    ScratchFolder(const ScratchFolder&) = delete;
-    ScratchFolder& operator=(const ScratchFolder&) = delete;
-    const std::filesystem::path& path() const noexcept { return _path; }
-    std::filesystem::path operator/(const std::string& name) const { return _path / name; }
-
-private:
-    std::filesystem::path _path;
-};
 
 /// A PNG chunk: length, type, data, CRC (computed, so a header can claim anything and still pass
 /// the checksum).

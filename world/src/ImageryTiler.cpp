@@ -252,30 +252,6 @@ InputPlan planInput(const std::filesystem::path& path)
         const double value = GDALGetRasterNoDataValue(GDALGetRasterBand(prepared.get(), band), &hasNoData);
         plan.noData.push_back(hasNoData ? value : std::nan(""));
     }
-    std::vector<int> loaded = {plan.colourBands[0]};
-    if (plan.colourBands[1] != plan.colourBands[0]) {
-        loaded.insert(loaded.end(), {plan.colourBands[1], plan.colourBands[2]});
-    }
-    if (plan.alphaBand) {
-        loaded.push_back(plan.alphaBand);
-    }
-    const std::size_t bytes = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height) * loaded.size();
-    if (bytes <= kMaximumInMemoryBytes) {
-        auto pixels = std::make_shared<std::vector<std::uint8_t>>(bytes);
-        const int count = static_cast<int>(loaded.size());
-        if (GDALDatasetRasterIO(prepared.get(), GF_Read, 0, 0, plan.width, plan.height, pixels->data(), plan.width,
-                                plan.height, GDT_Byte, count, loaded.data(), count, std::int64_t{plan.width} * count,
-                                1) != CE_None) {
-            throw Error(where + ": cannot read the input's pixels: " + gdalMessage());
-        }
-        GDALGetGeoTransform(prepared.get(), plan.transform);
-        plan.wkt = GDALGetProjectionRef(prepared.get());
-        plan.pixels = std::move(pixels);
-        plan.pixelBands = count;
-        plan.colourBands = count >= 3 ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 1, 1};
-        plan.alphaBand = plan.alphaBand ? count : 0;
-    }
-
     // The footprint: the raster's edges and a grid inside it, taken to longitude and latitude.
     const OGRSpatialReference geographic = geographicReference();
     reference.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -331,6 +307,39 @@ InputPlan planInput(const std::filesystem::path& path)
         throw Error(where + ": the input's pixels have no size on the globe");
     }
     return plan;
+}
+
+/// Decodes the input's colours (and alpha) into plan.pixels when they fit kMaximumInMemoryBytes;
+/// done only by a run that cuts the deepest level, the one level made from the input.
+void loadPixels(const std::filesystem::path& path, InputPlan& plan)
+{
+    const std::string where = cutForMessage(path.string());
+    Dataset source = openSource(path);
+    Dataset prepared = prepare(source.get(), plan, path);
+    const QuietGdal quiet;
+    std::vector<int> loaded = {plan.colourBands[0]};
+    if (plan.colourBands[1] != plan.colourBands[0]) {
+        loaded.insert(loaded.end(), {plan.colourBands[1], plan.colourBands[2]});
+    }
+    if (plan.alphaBand) {
+        loaded.push_back(plan.alphaBand);
+    }
+    const std::size_t bytes = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height) * loaded.size();
+    if (bytes > kMaximumInMemoryBytes) {
+        return;
+    }
+    auto pixels = std::make_shared<std::vector<std::uint8_t>>(bytes);
+    const int count = static_cast<int>(loaded.size());
+    if (GDALDatasetRasterIO(prepared.get(), GF_Read, 0, 0, plan.width, plan.height, pixels->data(), plan.width, plan.height,
+                            GDT_Byte, count, loaded.data(), count, std::int64_t{plan.width} * count, 1) != CE_None) {
+        throw Error(where + ": cannot read the input's pixels: " + gdalMessage());
+    }
+    GDALGetGeoTransform(prepared.get(), plan.transform);
+    plan.wkt = GDALGetProjectionRef(prepared.get());
+    plan.pixels = std::move(pixels);
+    plan.pixelBands = count;
+    plan.colourBands = count >= 3 ? std::vector<int>{1, 2, 3} : std::vector<int>{1, 1, 1};
+    plan.alphaBand = plan.alphaBand ? count : 0;
 }
 
 /// One worker's GDAL state: its own datasets (GDAL datasets are not shared between threads), a
@@ -707,6 +716,9 @@ TilerSummary ImageryTiler::run()
     const int threadCount =
         options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
+    if (std::find(levels.begin(), levels.end(), deepest) != levels.end() && !impl.plan.pixels) {
+        loadPixels(options.input, _impl->plan);
+    }
     TilerSummary summary;
     summary.levelCount = impl.levelCount;
     std::mutex mutex;
