@@ -15,7 +15,7 @@ PhysicalPageCache::PhysicalPageCache(int slotsX, int slotsY)
         throw Error("PhysicalPageCache: a physical texture has 1 to 256 slots a side, not " + std::to_string(slotsX) +
                     " x " + std::to_string(slotsY));
     }
-    _occupied.assign(capacity(), false);
+    _occupied.assign(capacity(), 0);
 }
 
 std::optional<PhysicalPageCache::Slot> PhysicalPageCache::find(const PageKey& page) const noexcept
@@ -48,7 +48,7 @@ std::optional<PhysicalPageCache::Placement> PhysicalPageCache::insert(
     const PageKey& page, std::uint64_t frame, const std::function<bool(const PageKey&)>& evictable)
 {
     Placement placement;
-    const auto freeSlot = std::find(_occupied.begin(), _occupied.end(), false);
+    const auto freeSlot = std::find(_occupied.begin(), _occupied.end(), std::uint8_t{0});
     if (freeSlot != _occupied.end()) {
         const auto index = static_cast<int>(freeSlot - _occupied.begin());
         placement.slot = {static_cast<std::uint8_t>(index % _slotsX), static_cast<std::uint8_t>(index / _slotsX)};
@@ -79,7 +79,7 @@ std::optional<PhysicalPageCache::Placement> PhysicalPageCache::insert(
         placement.evicted = victim->first;
         _pages.erase(*placement.evicted);
     }
-    _occupied[static_cast<std::size_t>(placement.slot.y) * _slotsX + placement.slot.x] = true;
+    _occupied[static_cast<std::size_t>(placement.slot.y) * _slotsX + placement.slot.x] = 1;
     _pages[page] = Held{placement.slot, frame};
     return placement;
 }
@@ -90,7 +90,7 @@ void PhysicalPageCache::erase(const PageKey& page) noexcept
     if (found == _pages.end()) {
         return;
     }
-    _occupied[static_cast<std::size_t>(found->second.slot.y) * _slotsX + found->second.slot.x] = false;
+    _occupied[static_cast<std::size_t>(found->second.slot.y) * _slotsX + found->second.slot.x] = 0;
     _pages.erase(found);
 }
 

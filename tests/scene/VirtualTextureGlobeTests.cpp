@@ -230,7 +230,7 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
         command.uniforms.set("u_tileKey", glm::ivec3(static_cast<int>(tile.level), static_cast<int>(tile.x), static_cast<int>(tile.y)));
         command.uniforms.set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border,
                                                      layout.slotSize()));
-        command.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / physicalWidth, 1.0f / physicalHeight));
+        command.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / static_cast<float>(physicalWidth), 1.0f / static_cast<float>(physicalHeight)));
         command.uniforms.set("u_lodBias", 0.25f);
         command.uniforms.set("u_maximumAnisotropyLog2", anisotropyLog2);
         const std::vector<float> captured = context.captureVertexOutputs(command, SceneState{});
@@ -262,8 +262,8 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
             REQUIRE(static_cast<int>(gpu[2]) == static_cast<int>(entry.level));
             // A hundredth of a texel of the physical texture; the float of a level-7 tile's position
             // carries 2^-24 of the tile, 2^-17 of a page two levels up.
-            REQUIRE(std::abs(gpu[0] - physical.x) * physicalWidth < 0.01);
-            REQUIRE(std::abs(gpu[1] - physical.y) * physicalHeight < 0.01);
+            REQUIRE(std::abs(static_cast<double>(gpu[0]) - physical.x) * physicalWidth < 0.01);
+            REQUIRE(std::abs(static_cast<double>(gpu[1]) - physical.y) * physicalHeight < 0.01);
             REQUIRE(gpu[3] == Approx(texelsPerTile).epsilon(1e-6));
             REQUIRE(gpu[4] == Approx(lod).margin(1e-4));
             fallbacks += entry.level < static_cast<std::uint32_t>(p.level) ? 1 : 0;

@@ -69,7 +69,9 @@ private:
     int _slotsX;
     int _slotsY;
     std::unordered_map<PageKey, Held, TileKeyHash> _pages;
-    std::vector<bool> _occupied; ///< by slot index y * slotsX + x
+    /// By slot index y * slotsX + x; bytes, not vector<bool>, whose bit references GCC 12 -O3
+    /// warns about falsely (-Wnull-dereference).
+    std::vector<std::uint8_t> _occupied;
 };
 
 } // namespace orbis::scene
