@@ -66,7 +66,6 @@ void VirtualTextureStatistics::add(const VirtualTextureStatistics& other) noexce
     lodBias = std::max(lodBias, other.lodBias);
     lodBiasRaised = lodBiasRaised || other.lodBiasRaised;
     gpuBytes += other.gpuBytes;
-    hardwarePages = hardwarePages || other.hardwarePages;
     converged = converged && other.converged;
 }
 
@@ -149,8 +148,7 @@ std::string FrameStatistics::toText() const
             << v.feedbackLatencyFrames << " frames late; LOD bias " << number(v.lodBias)
             << (v.lodBiasRaised ? " (raised: the view needs more pages than fit)" : "") << "\n"
             << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
-            << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB" << (v.hardwarePages ? " (sparse texture)" : "")
-            << "; " << (v.converged ? "converged" : "not converged") << "\n";
+            << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << (v.converged ? "converged" : "not converged") << "\n";
     }
     return out.str();
 }
@@ -218,8 +216,7 @@ std::string FrameStatistics::toJson() const
             << ", \"feedbackLatencyFrames\": " << v.feedbackLatencyFrames << ", \"feedbackWidth\": " << v.feedbackWidth
             << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
             << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
-            << ", \"gpuBytes\": " << v.gpuBytes << ", \"hardwarePages\": " << (v.hardwarePages ? "true" : "false")
-            << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
+            << ", \"gpuBytes\": " << v.gpuBytes << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
     }
     if (framesToConverge) {
         out << ",\n  \"framesToConverge\": " << *framesToConverge;

@@ -208,7 +208,7 @@ struct VirtualTextureGlobe::Impl {
     bool requestsOutstanding = false;
 
     // GPU resources, made on the first frame.
-    std::optional<renderer::Texture2D> physical;
+    std::shared_ptr<renderer::Texture2D> physical;
     std::optional<renderer::Texture2D> pageTableTexture;
     std::optional<renderer::Texture2D> lodClamp;
     /// Per page of the finest level: the coarsest level of detail its resident pages allow, and the
@@ -301,8 +301,17 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
                     std::to_string(pagesX + 1) + " texels across, beyond this device's " + std::to_string(maximum) +
                     "; use larger pages");
     }
-    physical = device.createTexture2D(
-        {cache->slotsX() * slot, cache->slotsY() * slot, renderer::TextureFormat::RGBA8, false});
+    physical = std::make_shared<renderer::Texture2D>(device.createTexture2D(
+        {cache->slotsX() * slot, cache->slotsY() * slot, renderer::TextureFormat::RGBA8, false}));
+    {
+        // Defined texels in the empty slots, dark grey in pictures of the physical texture; no
+        // pixel ever reads them.
+        renderer::Framebuffer target = frameState.context.createFramebuffer();
+        target.setColorAttachment(0, physical);
+        renderer::ClearState clear;
+        clear.color = glm::vec4(0.1f, 0.1f, 0.1f, 1.0f);
+        frameState.context.clear(clear, &target);
+    }
     pageTableTexture = device.createTexture2D(
         {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RGBA8, true});
     lodClamp = device.createTexture2D(
@@ -641,6 +650,9 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     if (options->virtualTexture.trilinear) {
         description.defines.push_back({"VT_TRILINEAR"});
     }
+    if (options->virtualTexture.maximumAnisotropy > 1.0f) {
+        description.defines.push_back({"VT_ANISOTROPIC"});
+    }
     for (renderer::ShaderDefine& define : depthStrategyDefines(strategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
@@ -655,17 +667,20 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
 
 void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double lodBias) const
 {
-    draw.uniforms.set("u_tileKey", glm::ivec3(static_cast<int>(tile.key.level), static_cast<int>(tile.key.x),
-                                              static_cast<int>(tile.key.y)));
-    draw.uniforms.set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border,
-                                             layout.slotSize()));
-    if (draw.shaderProgram->hasUniform("u_physicalTexelSize")) { // not in the feedback pass, which reads no texel
-        draw.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / static_cast<float>(physical->width()),
-                                                           1.0f / static_cast<float>(physical->height())));
-    }
-    draw.uniforms.set("u_lodBias", static_cast<float>(lodBias));
-    draw.uniforms.set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
-    draw.uniforms.set("u_waiting", !waitingFootprints.empty());
+    // Each variant (feedback, filtering, lighting) reads its own subset.
+    const renderer::ShaderProgram& program = *draw.shaderProgram;
+    auto set = [&](std::string_view name, const renderer::UniformValue& value) {
+        if (program.hasUniform(name)) {
+            draw.uniforms.set(name, value);
+        }
+    };
+    set("u_tileKey", glm::ivec3(static_cast<int>(tile.key.level), static_cast<int>(tile.key.x), static_cast<int>(tile.key.y)));
+    set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border, layout.slotSize()));
+    set("u_physicalTexelSize",
+        glm::vec2(1.0f / static_cast<float>(physical->width()), 1.0f / static_cast<float>(physical->height())));
+    set("u_lodBias", static_cast<float>(lodBias));
+    set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
+    set("u_waiting", !waitingFootprints.empty());
 }
 
 void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
@@ -923,7 +938,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
         }
         command.draw.textures = {{0, &*impl.pageTableTexture, &*impl.pointSampler},
-                                 {1, &*impl.physical, &*impl.physicalSampler},
+                                 {1, impl.physical.get(), &*impl.physicalSampler},
                                  {2, &*impl.lodClamp, &*impl.pointSampler},
                                  {3, &*impl.tail, &*impl.tailSampler}};
         command.boundingSphere = tile->region.boundingSphere();

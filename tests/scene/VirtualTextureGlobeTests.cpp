@@ -74,10 +74,6 @@ TEST_CASE("A virtual texture over the Alps converges to the Blue Marble's deepes
     place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
     const RenderedFrame frame = renderConverged(scene, 640, 360);
     INFO(frame.statistics.toText());
-    world::writePng(frame.image, "/tmp/vt-alps.png");
-    world::writePng(globe->physicalTextureImage(), "/tmp/vt-alps-physical.png");
-    world::writePng(globe->pageTableImage(), "/tmp/vt-alps-pagetable.png");
-    world::writePng(globe->feedbackImage(), "/tmp/vt-alps-feedback.png");
     REQUIRE(frame.statistics.virtualTexture);
     CHECK(frame.statistics.virtualTexture->converged);
     CHECK(frame.statistics.virtualTexture->fallbackFraction == 0.0);
@@ -359,7 +355,6 @@ TEST_CASE("A tiny physical texture shows coarser texels, never another page's", 
     CHECK(stats.fallbackFraction == 0.0);
     const std::uint32_t deepest = deepestMapped(tinyGlobe->pageTable());
     CHECK(deepest < 5);
-    world::writePng(coarse.image, "/tmp/vt-tiny.png");
 
     long coarser = 0;
     long placeMismatches = 0;

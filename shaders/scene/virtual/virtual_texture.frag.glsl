@@ -91,7 +91,8 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
     float pb = max(dot(b, b), 1e-30);
     float maxLod = 0.5 * log2(max(pa, pb));
     float minLod = 0.5 * log2(min(pa, pb));
-    // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes.
+    // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes
+    // (u_maximumAnisotropyLog2 is 0 without anisotropy: the long axis alone).
     return maxLod - min(maxLod - minLod, u_maximumAnisotropyLog2) + u_lodBias;
 }
 
@@ -170,8 +171,13 @@ vec4 vtSample(int level, vec2 tileCoordinates, vec2 dx, vec2 dy)
     PageEntry entry = vtPageEntry(level, wanted.page);
     float texelsPerTile;
     vec2 physical = vtPhysicalPosition(entry, level, wanted, tileCoordinates, texelsPerTile);
+#ifdef VT_ANISOTROPIC
     vec2 scale = texelsPerTile * u_physicalTexelSize;
     return textureGrad(og_texture1, physical, dx * scale, dy * scale);
+#else
+    // The physical texture has no mipmaps: without anisotropy the footprint does not matter.
+    return textureLod(og_texture1, physical, 0.0);
+#endif
 }
 
 #ifdef VT_FEEDBACK

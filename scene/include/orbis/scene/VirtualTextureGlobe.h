@@ -29,15 +29,6 @@ namespace orbis::scene {
 
 class PageTable;
 
-/// Where the pages live on the GPU.
-enum class VirtualTextureStorage {
-    /// Hardware pages (ARB_sparse_texture, course chapter 5) where the context has them, the
-    /// software page table otherwise.
-    Automatic,
-    /// Always the software page table and physical texture (Mayer; course 6.1).
-    Software,
-};
-
 /// How a virtual texture is cut, stored, fed back and filtered; the defaults are Mayer's base
 /// configuration (256-texel pages, quarter-resolution feedback, priorities) with idTech 5's
 /// 4-texel border.
@@ -68,7 +59,6 @@ struct VirtualTextureOptions {
     std::size_t uploadBytesPerFrame = std::size_t{4} << 20;
     /// Decoded source tiles kept to cut the next pages from (world::VirtualTextureSourceOptions).
     std::size_t tileCacheBytes = std::size_t{64} << 20;
-    VirtualTextureStorage storage = VirtualTextureStorage::Automatic;
 };
 
 struct VirtualTextureGlobeOptions {

@@ -32,7 +32,6 @@ struct VirtualTextureStatistics {
     double lodBias = 0.0;
     bool lodBiasRaised = false;      ///< the dynamic bias is above the configured one
     std::size_t gpuBytes = 0;        ///< physical texture, page table, LOD clamp, feedback buffers: fixed
-    bool hardwarePages = false;      ///< sparse textures (ARB_sparse_texture) instead of a page table
     /// Every page the view asks for is resident (or missing from the source), no load is pending,
     /// and the latest feedback, of the present view, shows no fallback.
     bool converged = false;
