@@ -6,6 +6,7 @@
 #include "orbis/scene/LabelCollection.h"
 #include "orbis/scene/ModelPrimitive.h"
 #include "orbis/scene/TiledGlobe.h"
+#include "orbis/scene/VirtualTextureGlobe.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/world/GeoJson.h>
@@ -184,6 +185,49 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
     return options;
 }
 
+/// The virtual texture a description's one imagery layer asks for (the parser allows no other
+/// layer beside it), its tile source opened.
+VirtualTextureGlobeOptions virtualTextureGlobeOptions(const world::GlobeDescription& globe,
+                                                      const world::SunDescription& sun, const SceneBuildOptions& build)
+{
+    const world::ImageryLayerDescription& layer = globe.imagery.front();
+    const world::VirtualTextureDescription& vt = *layer.virtualTexture;
+    VirtualTextureGlobeOptions options;
+    try {
+        options.source = world::openTileSource(layer.source, world::tileSourceOptions(layer));
+    } catch (const Error& error) {
+        throw Error("/globe/imagery/0: " + std::string(error.what()));
+    }
+    options.style.alpha = layer.alpha;
+    options.style.brightness = layer.brightness;
+    options.style.contrast = layer.contrast;
+    options.style.gamma = layer.gamma;
+    VirtualTextureOptions& pages = options.virtualTexture;
+    pages.pageSize = vt.pageSize;
+    pages.border = vt.border;
+    pages.physicalPages = vt.physicalPages;
+    pages.feedbackDivisor = vt.feedbackDivisor;
+    pages.feedbackLatencyFrames = vt.feedbackLatencyFrames;
+    pages.requestOrder = vt.priorities ? RequestOrder::PixelCount : RequestOrder::Unsorted;
+    pages.trilinear = vt.trilinear;
+    pages.maximumAnisotropy = static_cast<float>(vt.maximumAnisotropy);
+    pages.lodBias = vt.lodBias;
+    pages.dynamicLodBias = vt.dynamicLodBias;
+    pages.uploadBytesPerFrame = static_cast<std::size_t>(vt.uploadMegabytesPerFrame * 1048576.0);
+    // The cap on the tiles' memory holds the decoded source tiles here: the GPU's is the physical texture's.
+    pages.tileCacheBytes = static_cast<std::size_t>(globe.cacheMegabytes * 1048576.0);
+    options.maximumScreenSpaceError = globe.maximumScreenSpaceError;
+    options.loader = build.loader;
+    options.lighting = sun.source != world::SunSource::Camera;
+    return options;
+}
+
+bool hasVirtualTexture(const world::GlobeDescription& globe)
+{
+    return std::any_of(globe.imagery.begin(), globe.imagery.end(),
+                       [](const world::ImageryLayerDescription& layer) { return layer.virtualTexture.has_value(); });
+}
+
 } // namespace
 
 void populateScene(const world::SceneDescription& description, Scene& scene, const SceneBuildOptions& build)
@@ -193,7 +237,14 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
 
-    if (description.globe && !description.globe->imagery.empty()) {
+    if (description.globe && hasVirtualTexture(*description.globe)) {
+        VirtualTextureGlobeOptions options = virtualTextureGlobeOptions(*description.globe, description.sun, build);
+        try {
+            scene.add(std::make_shared<VirtualTextureGlobe>(scene.ellipsoid(), std::move(options)));
+        } catch (const Error& error) {
+            throw Error("/globe/imagery/0/virtualTexture: " + std::string(error.what()));
+        }
+    } else if (description.globe && !description.globe->imagery.empty()) {
         scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), tiledGlobeOptions(*description.globe, description.sun,
                                                                                     build)));
     } else if (description.globe) {

@@ -588,3 +588,50 @@ TEST_CASE("Collecting faults of text that is not JSON gives the one syntax fault
     REQUIRE(faults.size() == 1);
     CHECK(faults.entries()[0].text() == "/nonexistent/scene.json: no such file");
 }
+
+TEST_CASE("An imagery layer's virtualTexture reads every key, and the defaults without them", "[world][scenefile]")
+{
+    const SceneDescription defaults = parse(R"({"version": 1, "globe": {"imagery": [
+        {"source": "tiles", "virtualTexture": {}}]}})");
+    REQUIRE(defaults.globe->imagery.front().virtualTexture);
+    CHECK(*defaults.globe->imagery.front().virtualTexture == VirtualTextureDescription{});
+    CHECK_FALSE(parse(R"({"version": 1, "globe": {"imagery": [{"source": "tiles"}]}})").globe->imagery.front().virtualTexture);
+
+    const SceneDescription all = parse(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {
+        "pageSize": 128, "border": 2, "physicalPages": 1024, "feedbackDivisor": 2, "feedbackLatencyFrames": 3,
+        "priorities": false, "trilinear": false, "maximumAnisotropy": 4, "lodBias": 0.5, "dynamicLodBias": false,
+        "uploadMegabytesPerFrame": 8}}]}})");
+    const VirtualTextureDescription& vt = *all.globe->imagery.front().virtualTexture;
+    CHECK(vt.pageSize == 128);
+    CHECK(vt.border == 2);
+    CHECK(vt.physicalPages == 1024);
+    CHECK(vt.feedbackDivisor == 2);
+    CHECK(vt.feedbackLatencyFrames == 3);
+    CHECK_FALSE(vt.priorities);
+    CHECK_FALSE(vt.trilinear);
+    CHECK(vt.maximumAnisotropy == 4.0);
+    CHECK(vt.lodBias == 0.5);
+    CHECK_FALSE(vt.dynamicLodBias);
+    CHECK(vt.uploadMegabytesPerFrame == 8.0);
+}
+
+TEST_CASE("virtualTexture values out of range are errors naming the key", "[world][scenefile][errors]")
+{
+    auto errorWith = [](const std::string& keys) {
+        return errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {)" + keys + "}}]}}");
+    };
+    using Catch::Matchers::Contains;
+    CHECK_THAT(errorWith(R"("pageSize": 100)"), Contains("/globe/imagery/0/virtualTexture/pageSize: 100 is not a power of two"));
+    CHECK_THAT(errorWith(R"("pageSize": 2048)"), Contains("/virtualTexture/pageSize: 2048 is out of range [16, 1024]"));
+    CHECK_THAT(errorWith(R"("pageSize": 64, "border": 17)"), Contains("/virtualTexture/border: 17 is out of range [0, 16]"));
+    CHECK_THAT(errorWith(R"("physicalPages": 2)"), Contains("/virtualTexture/physicalPages: 2 is out of range [4, 65536]"));
+    CHECK_THAT(errorWith(R"("feedbackDivisor": 0)"), Contains("/virtualTexture/feedbackDivisor"));
+    CHECK_THAT(errorWith(R"("border": 1, "maximumAnisotropy": 4)"), Contains("/virtualTexture/maximumAnisotropy: 4 is out of range [1, 2]"));
+    CHECK_THAT(errorWith(R"("pagesize": 256)"), Contains("unknown key \"pagesize\" (did you mean \"pageSize\"?)"));
+    CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {},
+        "rectangle": {"west": 0, "south": 0, "east": 10, "north": 10}}]}})"),
+               Contains("a virtual texture covers the whole globe"));
+    CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles"},
+        {"source": "tiles", "virtualTexture": {}}]}})"),
+               Contains("/globe/imagery/1/virtualTexture: a virtual texture must be the globe's only imagery layer"));
+}

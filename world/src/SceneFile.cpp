@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -102,9 +103,12 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 7> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "maximumScreenSpaceError",
                                                         "cacheMegabytes"};
-constexpr std::array<std::string_view, 10> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
+constexpr std::array<std::string_view, 11> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
                                                           "contrast", "gamma",     "rectangle",    "minimumLevel",
-                                                          "maximumLevel", "cacheFolder"};
+                                                          "maximumLevel", "cacheFolder", "virtualTexture"};
+constexpr std::array<std::string_view, 11> kVirtualTextureKeys = {
+    "pageSize",  "border",            "physicalPages", "feedbackDivisor", "feedbackLatencyFrames", "priorities",
+    "trilinear", "maximumAnisotropy", "lodBias",       "dynamicLodBias",  "uploadMegabytesPerFrame"};
 constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
 constexpr std::array<std::string_view, 6> kGeoJsonKeys = {"type", "source", "stroke", "fill", "granularity", "curve"};
@@ -662,7 +666,13 @@ private:
             }
             for (std::size_t i = 0; i < imagery->size(); ++i) {
                 attempt([&] {
-                    globe.imagery.push_back(readImageryLayer((*imagery)[i], imageryPointer + "/" + std::to_string(i)));
+                    std::string layerPointer = imageryPointer;
+                    layerPointer.append("/").append(std::to_string(i));
+                    const ImageryLayerDescription& layer = globe.imagery.emplace_back(
+                        readImageryLayer((*imagery)[i], layerPointer));
+                    if (layer.virtualTexture && imagery->size() > 1) {
+                        fail(layerPointer + "/virtualTexture", "a virtual texture must be the globe's only imagery layer");
+                    }
                 });
             }
         }
@@ -746,7 +756,53 @@ private:
         if (const Json* cache = member(value, "cacheFolder")) {
             layer.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
         }
+        if (const Json* virtualTexture = member(value, "virtualTexture")) {
+            if (layer.rectangle) {
+                fail(pointer + "/virtualTexture", "a virtual texture covers the whole globe: give it no \"rectangle\"");
+            }
+            layer.virtualTexture = readVirtualTexture(*virtualTexture, pointer + "/virtualTexture");
+        }
         return layer;
+    }
+
+    VirtualTextureDescription readVirtualTexture(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kVirtualTextureKeys);
+        VirtualTextureDescription vt;
+        auto integer = [&](const char* key, int& target, int minimum, int maximum) {
+            if (const Json* member_ = member(value, key)) {
+                target = readInteger(*member_, pointer + "/" + key, minimum, maximum,
+                                     "an integer " + std::to_string(minimum) + " to " + std::to_string(maximum));
+            }
+        };
+        auto boolean = [&](const char* key, bool& target) {
+            if (const Json* member_ = member(value, key)) {
+                target = readBoolean(*member_, pointer + "/" + key);
+            }
+        };
+        integer("pageSize", vt.pageSize, 16, 1024);
+        if (!std::has_single_bit(static_cast<unsigned>(vt.pageSize))) {
+            fail(pointer + "/pageSize", std::to_string(vt.pageSize) + " is not a power of two (16, 32, ... 1024)");
+        }
+        integer("border", vt.border, 0, vt.pageSize / 4);
+        integer("physicalPages", vt.physicalPages, 4, 65536);
+        integer("feedbackDivisor", vt.feedbackDivisor, 1, 16);
+        integer("feedbackLatencyFrames", vt.feedbackLatencyFrames, 1, 8);
+        boolean("priorities", vt.priorities);
+        boolean("trilinear", vt.trilinear);
+        if (const Json* anisotropy = member(value, "maximumAnisotropy")) {
+            vt.maximumAnisotropy = readNumber(*anisotropy, pointer + "/maximumAnisotropy",
+                                              {1.0, std::max(1.0, 2.0 * vt.border)});
+        }
+        if (const Json* bias = member(value, "lodBias")) {
+            vt.lodBias = readNumber(*bias, pointer + "/lodBias", {-8.0, 16.0});
+        }
+        boolean("dynamicLodBias", vt.dynamicLodBias);
+        if (const Json* upload = member(value, "uploadMegabytesPerFrame")) {
+            vt.uploadMegabytesPerFrame = readNumber(*upload, pointer + "/uploadMegabytesPerFrame", {0.0, 4096.0, true});
+        }
+        return vt;
     }
 
     GlobeTexture readGlobeTexture(const Json& value, const std::string& pointer) const

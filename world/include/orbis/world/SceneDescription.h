@@ -64,6 +64,25 @@ struct GlobeTexture {
     friend bool operator==(const GlobeTexture&, const GlobeTexture&) = default;
 };
 
+/// An imagery layer drawn as one virtual texture over the globe (docs/scene-format.md):
+/// "globe": {"imagery": [{"source": ..., "virtualTexture": {...}}]}. The defaults are
+/// scene::VirtualTextureOptions'.
+struct VirtualTextureDescription {
+    int pageSize = 256;              ///< texels a side of a page, a power of two 16..1024
+    int border = 4;                  ///< 0 to pageSize / 4
+    int physicalPages = 256;         ///< slots of the physical texture, 4..65536
+    int feedbackDivisor = 4;         ///< the feedback pass at 1 / this of the frame's width and height, 1..16
+    int feedbackLatencyFrames = 1;   ///< 1..8
+    bool priorities = true;          ///< load the pages with the most pixels first
+    bool trilinear = true;
+    double maximumAnisotropy = 1.0;  ///< 1 to 2 x border
+    double lodBias = 0.0;            ///< levels, -8..16
+    bool dynamicLodBias = true;
+    double uploadMegabytesPerFrame = 4.0; ///< > 0
+
+    friend bool operator==(const VirtualTextureDescription&, const VirtualTextureDescription&) = default;
+};
+
 /// One imagery layer of a tiled globe: a tile source and how it is drawn over the layers before it.
 struct ImageryLayerDescription {
     /// An absolute path (a TMS folder, an .mbtiles file, a {z}/{x}/{y} template) or an http(s) URL.
@@ -80,6 +99,9 @@ struct ImageryLayerDescription {
     std::optional<std::uint32_t> maximumLevel;
     /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
     std::optional<std::filesystem::path> cacheFolder;
+    /// Drawn as one virtual texture instead of per-tile textures; then it is the globe's only
+    /// layer.
+    std::optional<VirtualTextureDescription> virtualTexture;
 
     friend bool operator==(const ImageryLayerDescription&, const ImageryLayerDescription&) = default;
 };
