@@ -132,6 +132,31 @@ int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
     return runWithFramebuffer(argc, argv, defaults, render);
 }
 
+int runStreamingExample(int argc, char** argv, const std::string& defaultOutput,
+                        const std::function<void(Scene&, const ExampleSettings&)>& setup,
+                        const std::function<void(Context&, Scene&, const ExampleSettings&)>& done, int maxFrames)
+{
+    ExampleSettings defaults;
+    defaults.output = defaultOutput;
+    auto render = [&](Context& context, Framebuffer& framebuffer, const ExampleSettings& settings) {
+        context.setFramebuffer(&framebuffer);
+        Scene scene;
+        scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T12:00:00Z")));
+        setup(scene, settings);
+        FrameStatistics statistics;
+        int frames = 0;
+        do {
+            statistics = scene.render(context);
+            ++frames;
+        } while (statistics.tiles && !statistics.tiles->converged && frames < maxFrames);
+        writePng(context.readPixels(), settings.output);
+        std::printf("%s: %dx%d after %d frames\n%s", settings.output.c_str(), settings.width, settings.height, frames,
+                    statistics.toText().c_str());
+        done(context, scene, settings);
+    };
+    return runWithFramebuffer(argc, argv, defaults, render);
+}
+
 int runTiledExample(int argc, char** argv, const ExampleSettings& defaults, std::size_t tileCount,
                     const std::function<ExampleTile(Context&, std::size_t tile, const ExampleSettings&)>& renderTile)
 {

@@ -34,6 +34,14 @@ struct ExampleSettings {
 int runSceneExample(int argc, char** argv, const std::string& defaultOutput,
                     const std::function<void(scene::Scene&, const ExampleSettings&)>& setup);
 
+/// As runSceneExample, for a scene that streams (tiles, pages): frames are rendered until the
+/// statistics say the tiles converged (at most maxFrames), the last goes to the PNG, then `done`
+/// runs with the context and the scene (for further pictures). No window.
+int runStreamingExample(int argc, char** argv, const std::string& defaultOutput,
+                        const std::function<void(scene::Scene&, const ExampleSettings&)>& setup,
+                        const std::function<void(renderer::Context&, scene::Scene&, const ExampleSettings&)>& done,
+                        int maxFrames = 600);
+
 /// One tile of a side-by-side example: its pixels and the caption written over them.
 struct ExampleTile {
     Image image;

@@ -66,6 +66,28 @@ TEST_CASE("The chapter 9 example renders its golden image", "[scene][golden][exa
     ORBIS_REQUIRE_GOLDEN(runExample("ch09_billboards", "ch09_billboards"), "scene/ch09_billboards", kTolerance);
 }
 
+TEST_CASE("The virtual texturing example renders its golden image and the three pictures of its machinery",
+          "[scene][golden][examples]")
+{
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() /
+                                         ("orbis-ch_virtual_texturing-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder);
+    const std::string line = std::string(ORBIS_EXAMPLE_DIR) + "/ch_virtual_texturing --out " +
+                             (folder / "vt.png").string() + " --width 160 --height 120 > /dev/null";
+    INFO(line);
+    REQUIRE(std::system(line.c_str()) == 0);
+    ORBIS_REQUIRE_GOLDEN(readImage(folder / "vt.png"), "scene/ch_virtual_texturing", kTolerance);
+    // 64 slots of 256 + 2 x 4 texels, 8 a side; the page table's 32 x 16 pages at 16 pixels each;
+    // the quarter-resolution feedback (40 x 30) enlarged back to the view.
+    const Image physical = readImage(folder / "vt-physical.png");
+    CHECK((physical.width == 8 * 264 && physical.height == 8 * 264));
+    const Image pageTable = readImage(folder / "vt-page-table.png");
+    CHECK((pageTable.width == 32 * 16 && pageTable.height == 16 * 16));
+    const Image feedback = readImage(folder / "vt-feedback.png");
+    CHECK((feedback.width == 160 && feedback.height == 120));
+    std::filesystem::remove_all(folder);
+}
+
 TEST_CASE("orbis render draws the default Earth as its golden image", "[scene][golden][examples]")
 {
     ORBIS_REQUIRE_GOLDEN(runExample("orbis render", "render-default"), "scene/orbis_render_default", kTolerance);
