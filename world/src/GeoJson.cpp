@@ -3,6 +3,11 @@
 #include "orbis/core/Error.h"
 #include "orbis/core/Math.h"
 
+#include "orbis/world/TopoJson.h"
+
+#include "JsonDepth.h"
+#include "RingConvention.h"
+#include "TopoJsonDocument.h"
 #include "ReadFile.h"
 
 #include <nlohmann/json.hpp>
@@ -465,40 +470,11 @@ std::pair<std::size_t, std::size_t> lineAndColumn(std::string_view text, std::si
     return {line, column};
 }
 
-/// Byte offset of the first bracket nested deeper than `limit`, or npos. Parsing, reading and
-/// freeing a JSON document recurse once per level, so a hostile file could exhaust the stack.
-std::size_t tooDeep(std::string_view text, std::size_t limit)
+/// The JSON document of GeoJSON or TopoJSON text, or an Error naming the file, line and column.
+Json parseDocument(std::string_view text, const std::string& source)
 {
-    std::size_t depth = 0;
-    bool inString = false;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (inString) {
-            if (c == '\\') {
-                ++i;
-            } else if (c == '"') {
-                inString = false;
-            }
-        } else if (c == '"') {
-            inString = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > limit) {
-                return i;
-            }
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return std::string_view::npos;
-}
-
-} // namespace
-
-FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName, const GeoJsonOptions& options)
-{
-    const std::string source(sourceName);
     constexpr std::size_t kMaxDepth = 256;
-    if (const std::size_t offset = tooDeep(text, kMaxDepth); offset != std::string_view::npos) {
+    if (const std::size_t offset = detail::firstBracketDeeperThan(text, kMaxDepth); offset != std::string_view::npos) {
         const auto [line, column] = lineAndColumn(text, offset);
         throw Error(source + ": JSON nested deeper than " + std::to_string(kMaxDepth) + " levels at line " +
                     std::to_string(line) + ", column " + std::to_string(column) + " (byte " + std::to_string(offset) +
@@ -532,7 +508,18 @@ FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceNam
         throw Error(source + ": JSON number out of range at line " + std::to_string(line) + ", column " +
                     std::to_string(column) + " (byte " + std::to_string(offset) + "): " + number);
     }
+    return document;
+}
 
+bool isTopology(const Json& document)
+{
+    const auto type = document.is_object() ? document.find("type") : document.end();
+    return type != document.end() && type->is_string() && type->get_ref<const std::string&>() == "Topology";
+}
+
+/// The features of a GeoJSON document, each polygon's outer ring first (see putOuterRingsFirst).
+FeatureCollection readFeatures(const Json& document, const std::string& source, const GeoJsonOptions& options)
+{
     FeatureCollection result;
     FeatureReader reader(source, options, result);
     if (!document.is_object()) {
@@ -561,9 +548,45 @@ FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceNam
         reader.readTopLevelGeometry(document);
     } else {
         throw Error(source + ": type: unknown GeoJSON type \"" + name +
-                    "\" (expected FeatureCollection, Feature or a geometry type)");
+                    "\" (expected FeatureCollection, Feature, a geometry type or a TopoJSON Topology)");
     }
+    detail::putOuterRingsFirst(result, detail::detectRingConvention(result));
     return result;
+}
+
+FeatureCollection readTopology(const Json& topology, const std::string& source, std::string_view objectName,
+                               const GeoJsonOptions& options)
+{
+    std::vector<std::string> warnings;
+    const Json features = detail::topologyToGeoJson(topology, source, objectName, warnings);
+    FeatureCollection result = readFeatures(features, source, options);
+    result.warnings.insert(result.warnings.begin(), warnings.begin(), warnings.end());
+    return result;
+}
+
+} // namespace
+
+FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName, const GeoJsonOptions& options)
+{
+    const std::string source(sourceName);
+    const Json document = parseDocument(text, source);
+    return isTopology(document) ? readTopology(document, source, {}, options) : readFeatures(document, source, options);
+}
+
+FeatureCollection parseTopoJson(std::string_view text, std::string_view sourceName, std::string_view objectName,
+                                const GeoJsonOptions& options)
+{
+    const std::string source(sourceName);
+    const Json document = parseDocument(text, source);
+    if (!isTopology(document)) {
+        throw Error(source + ": expected a TopoJSON Topology (\"type\": \"Topology\")");
+    }
+    return readTopology(document, source, objectName, options);
+}
+
+FeatureCollection loadTopoJson(const std::filesystem::path& path, std::string_view objectName, const GeoJsonOptions& options)
+{
+    return parseTopoJson(readTextFile(path, "TopoJSON"), path.string(), objectName, options);
 }
 
 FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOptions& options)
