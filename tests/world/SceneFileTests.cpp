@@ -463,7 +463,7 @@ TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[wo
             "test.json:1:14: invalid JSON: syntax error while parsing object - unexpected end of input; expected '}'");
     CHECK(errorOf(" \n ") == "test.json: the file is empty; expected a JSON object");
     CHECK(errorOf(std::string(100, '[') + std::string(100, ']')) ==
-            "test.json: invalid scene: nested deeper than 64 levels");
+            "test.json:1:65: invalid scene: nested deeper than 64 levels");
 }
 
 TEST_CASE("A key given twice is an error at the second", "[world][scenefile][errors]")

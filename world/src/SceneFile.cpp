@@ -1,7 +1,9 @@
 #include "orbis/world/SceneFile.h"
 
 #include "orbis/world/CsvPoints.h"
+#include "orbis/world/FileAccess.h"
 
+#include "JsonDepth.h"
 #include "JsonLocator.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -48,13 +50,11 @@ namespace fs = std::filesystem;
 using Keys = std::span<const std::string_view>;
 
 /// No scene file needs more; deeper documents are refused before they cost memory.
-constexpr int kMaxDepth = 64;
+constexpr std::size_t kMaxDepth = 64;
 /// A CSV header longer than this is not a header.
 constexpr std::size_t kMaxCsvHeaderBytes = 64 * 1024;
 /// Sizes in pixels beyond this are typing errors.
 constexpr double kMaxPixels = 1024.0;
-
-struct DepthExceeded {};
 
 // ---------------------------------------------------------------------------------------------
 // Text helpers
@@ -658,12 +658,23 @@ private:
         return reason;
     }
 
+    /// Fails when a sandbox is set (setFileSandbox) and resolved lies outside it.
+    void requireInSandbox(const std::string& pointer, const fs::path& resolved) const
+    {
+        try {
+            resolveInSandbox(resolved, "file");
+        } catch (const Error& error) {
+            fail(pointer, error.what());
+        }
+    }
+
     /// Fails unless resolved is a regular file (when files are checked).
     void requireFile(const Json& value, const std::string& pointer, const fs::path& resolved) const
     {
         if (!_options.checkFiles) {
             return;
         }
+        requireInSandbox(pointer, resolved);
         std::error_code error;
         const fs::file_status status = fs::status(resolved, error);
         if (status.type() == fs::file_type::not_found) {
@@ -900,6 +911,7 @@ private:
             texture.kind = texture.path.has_extension() ? GlobeTexture::Kind::Image : GlobeTexture::Kind::TileMapService;
             return texture;
         }
+        requireInSandbox(pointer, texture.path);
         std::error_code error;
         if (fs::is_directory(texture.path, error)) {
             if (!fs::is_regular_file(texture.path / "tilemapresource.xml", error)) {
@@ -1255,22 +1267,20 @@ namespace {
 /// line and column for what is not JSON.
 Json parseJsonDocument(std::string_view text, const std::string& origin)
 {
+    // Depth first, by a scan of the text: a parser callback would do it too, but nlohmann then
+    // keeps each finished object for the callback to judge, which is quadratic in a long array.
+    if (const std::size_t offset = detail::firstBracketDeeperThan(text, kMaxDepth); offset != std::string_view::npos) {
+        const detail::TextPosition position = detail::textPositionOf(text, offset);
+        throw SceneFileError(origin, "", position.line, position.column,
+                             "invalid scene: nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    }
     Json root;
     try {
-        const Json::parser_callback_t limitDepth = [](int depth, Json::parse_event_t, Json&) {
-            if (depth > kMaxDepth) {
-                throw DepthExceeded{};
-            }
-            return true;
-        };
-        root = Json::parse(text.begin(), text.end(), limitDepth);
+        root = Json::parse(text.begin(), text.end());
     } catch (const Json::parse_error& error) {
         throwSyntaxError(text, origin, error);
     } catch (const Json::out_of_range& error) {
         throwNumberOverflow(text, origin, error);
-    } catch (const DepthExceeded&) {
-        throw SceneFileError(origin, "", 0, 0,
-                             "invalid scene: nested deeper than " + std::to_string(kMaxDepth) + " levels");
     }
     if (const auto duplicate = detail::findDuplicateKey(text)) {
         const detail::TextPosition position = detail::textPositionOf(text, duplicate->offset);
@@ -1286,6 +1296,7 @@ Json parseJsonDocument(std::string_view text, const std::string& origin)
 /// The text of a file, or a SceneFileError naming it.
 std::string readDocument(const fs::path& path, std::string_view what)
 {
+    resolveInSandbox(path, what);
     const std::string origin = path.string();
     std::error_code error;
     if (fs::is_directory(path, error)) {
