@@ -12,6 +12,7 @@
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/FileAccess.h>
 #include <orbis/world/ImageryTiler.h>
+#include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
 
 #include <algorithm>
@@ -99,8 +100,8 @@ bool confineFiles(const char* folder)
     }
 }
 
-/// orbis validate [--sandbox FOLDER] SCENE.json...: reads each file as `orbis render` would,
-/// renders nothing.
+/// orbis validate [--sandbox FOLDER] SCENE.json...: reads each file, and the files it names, as
+/// `orbis render` would, renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
 {
     std::vector<std::string> scenes;
@@ -120,12 +121,13 @@ int runValidate(Arguments arguments)
     }
     int exitCode = kExitOk;
     for (const std::string& path : scenes) {
-        try {
-            const orbis::world::SceneDescription scene = orbis::world::parseSceneFile(path);
+        orbis::world::SceneDescription scene;
+        const orbis::world::DiagnosticList faults = orbis::world::validateSceneFile(path, &scene);
+        if (faults.empty()) {
             std::printf("%s: ok (%zu %s)\n", path.c_str(), scene.layers.size(),
                         scene.layers.size() == 1 ? "layer" : "layers");
-        } catch (const orbis::Error& error) {
-            std::fprintf(stderr, "%s\n", error.what());
+        } else {
+            std::fprintf(stderr, "%s", faults.text().c_str());
             exitCode = kExitFailed;
         }
     }
@@ -566,7 +568,9 @@ constexpr Subcommand kSubcommands[] = {
      "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
      "D, E Q), Escape to close",
      runView},
-    {"validate", "[--sandbox FOLDER] SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+    {"validate", "[--sandbox FOLDER] SCENE.json...",
+     "check scene files and the files they name without rendering, listing every fault (see docs/scene-format.md)",
+     runValidate},
     {"tile", "imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q] [--level L [--range X0:X1]] "
              "[--threads N] [--title TEXT] [--attribution TEXT]",
      "cut an image GDAL reads (GeoTIFF in any CRS, or a plain whole-globe JPEG/PNG) into a geographic TMS "

@@ -1,6 +1,6 @@
 #include "orbis/world/GltfModel.h"
 
-#include "JsonDepth.h"
+#include "JsonText.h"
 #include "TinyGltf.h"
 
 #include "orbis/world/FileAccess.h"
@@ -908,9 +908,9 @@ GltfModel GltfModel::read(const fs::path& file)
     const std::vector<std::uint8_t> bytes = readFileBytes(file, "glTF model");
     const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     const std::string_view json = jsonOf(bytes, binary);
-    if (const std::size_t offset = detail::firstBracketDeeperThan(json, kMaxJsonDepth); offset != std::string_view::npos) {
-        throw Error(name + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels (at byte " +
-                    std::to_string(offset + (binary ? 20 : 0)) + ")");
+    // Only the nesting here (and an empty file); tinygltf says what else is wrong with the JSON.
+    if (const std::optional<Diagnostic> fault = detail::jsonSyntaxFault(json, name, kMaxJsonDepth, nullptr)) {
+        throw Error(fault->text());
     }
     if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
         throw Error(name + ": larger than 4 GiB");

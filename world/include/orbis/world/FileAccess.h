@@ -1,5 +1,7 @@
 #pragma once
 
+#include "orbis/world/Diagnostics.h" // cutForMessage, which these messages use
+
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -47,9 +49,5 @@ std::optional<std::filesystem::path> fileSandbox();
 /// naming the path and `kind` when a sandbox is set and the resolved path lies outside it, or
 /// when the links loop.
 std::filesystem::path resolveInSandbox(const std::filesystem::path& path, std::string_view kind);
-
-/// `value` for a message: as is when short, else its first `maximumCharacters` characters and
-/// "... (N bytes)", so that a hostile name or URL cannot make a message megabytes long.
-std::string cutForMessage(std::string_view value, std::size_t maximumCharacters = 300);
 
 } // namespace orbis::world

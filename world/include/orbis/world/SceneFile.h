@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/world/CameraKeyframe.h"
+#include "orbis/world/Diagnostics.h"
 #include "orbis/world/SceneDescription.h"
 
 #include <orbis/core/Error.h>
@@ -48,6 +49,10 @@ struct SceneParseOptions {
     /// columns). Off: paths are only resolved, and a texture is a TMS folder when the path has
     /// no extension.
     bool checkFiles = true;
+    /// Where faults go when the caller wants every one: set, parsing records each fault here and
+    /// reads on past it (the description returned holds what could be read) instead of throwing
+    /// at the first. Not owned.
+    DiagnosticList* diagnostics = nullptr;
 };
 
 /// Reads and validates a scene file; relative paths in it resolve against the file's folder.
