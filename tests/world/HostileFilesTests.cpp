@@ -58,7 +58,7 @@ TEST_CASE("A glTF nested 100,000 deep is refused before tinygltf parses it", "[w
     const test::TempDirectory folder;
     const std::string deep = R"({"asset": {"version": "2.0"}, "extras": )" + std::string(100000, '[') +
                              std::string(100000, ']') + "}";
-    CHECK_THAT(readError(folder.write("deep.gltf", deep)), Contains("deep.gltf: JSON nested deeper than 128 levels"));
+    CHECK_THAT(readError(folder.write("deep.gltf", deep)), Contains("deep.gltf:1:168: invalid JSON: nested deeper than 128 levels"));
     // The same JSON as a .glb's chunk: header (magic, version 2, length), chunk length and "JSON".
     std::string glb = "glTF";
     auto word = [&](std::uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
@@ -67,7 +67,7 @@ TEST_CASE("A glTF nested 100,000 deep is refused before tinygltf parses it", "[w
     word(static_cast<std::uint32_t>(deep.size()));
     glb += "JSON";
     glb += deep;
-    CHECK_THAT(readError(folder.write("deep.glb", glb)), Contains("deep.glb: JSON nested deeper than 128 levels"));
+    CHECK_THAT(readError(folder.write("deep.glb", glb)), Contains("deep.glb:1:168: invalid JSON: nested deeper than 128 levels"));
 }
 
 TEST_CASE("A glTF buffer that is a folder or a named pipe is refused, and nothing blocks", "[world][gltf][hostile]")

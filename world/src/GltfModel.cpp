@@ -908,8 +908,11 @@ GltfModel GltfModel::read(const fs::path& file)
     const std::vector<std::uint8_t> bytes = readFileBytes(file, "glTF model");
     const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     const std::string_view json = jsonOf(bytes, binary);
-    // Only the nesting here (and an empty file); tinygltf says what else is wrong with the JSON.
-    if (const std::optional<Diagnostic> fault = detail::jsonSyntaxFault(json, name, kMaxJsonDepth, nullptr)) {
+    // Only the nesting here (and an empty file); tinygltf says what else is wrong with the JSON,
+    // and what is wrong with a .glb too short for its JSON chunk.
+    const bool glbWithoutJson = binary && json.empty();
+    if (const std::optional<Diagnostic> fault =
+            glbWithoutJson ? std::nullopt : detail::jsonSyntaxFault(json, name, kMaxJsonDepth, nullptr)) {
         throw Error(fault->text());
     }
     if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
