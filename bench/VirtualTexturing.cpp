@@ -213,7 +213,7 @@ struct FlightResult {
     int framesAbovePercent = 0; ///< frames with more than 1% fallback pixels
     std::size_t pagesLoaded = 0;
     std::size_t pagesEvicted = 0;
-    std::size_t maximumUploadBytes = 0; ///< in one frame, the first (the level-0 pages) left out
+    std::size_t maximumUploadBytes = 0; ///< in one frame
     double uploadedBytes = 0.0;
     bool biasRaised = false;
     double millisecondsPerFrame = 0.0; ///< median of the whole frames
@@ -225,6 +225,10 @@ FlightResult fly(Context& context, const VirtualTextureGlobeOptions& options, in
 {
     Scene scene(kEarth);
     scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+    // The flight starts from its first view converged, as a flight does that follows a jump.
+    place(scene.camera(), flightView(0.0));
+    int startFrames = 0;
+    converge(scene, context, 200, startFrames);
     FlightResult result;
     std::vector<double> times;
     double fallbackSum = 0.0;
@@ -240,13 +244,11 @@ FlightResult fly(Context& context, const VirtualTextureGlobeOptions& options, in
         result.pagesLoaded += vt.pagesLoaded;
         result.pagesEvicted += vt.pagesEvicted;
         result.uploadedBytes += static_cast<double>(vt.uploadedBytes);
-        if (frame > 0) {
-            result.maximumUploadBytes = std::max(result.maximumUploadBytes, vt.uploadedBytes);
-        }
+        result.maximumUploadBytes = std::max(result.maximumUploadBytes, vt.uploadedBytes);
         result.biasRaised = result.biasRaised || vt.lodBiasRaised;
-        if (frame == 1) {
-            result.gpuBytes = vt.gpuBytes; // the feedback's second pixel buffer exists from here on
-        } else if (frame > 1) {
+        if (frame == 0) {
+            result.gpuBytes = vt.gpuBytes;
+        } else {
             result.gpuBytesFixed = result.gpuBytesFixed && vt.gpuBytes == result.gpuBytes;
         }
     }
@@ -273,7 +275,7 @@ Table flightTable(const Options& options)
         "The Blue Marble as one virtual texture in the base configuration, " + std::to_string(width) + " x " +
         std::to_string(height) +
         ", along a flyover from 4,000 km down to 150 km while travelling 60 degrees east over Europe, weaving 6 "
-        "degrees in latitude and 35 in heading. The loader starts at most 8 pages a frame, each arriving 2 frames "
+        "degrees in latitude and 35 in heading, starting from the first view converged. The loader starts at most 8 pages a frame, each arriving 2 frames "
         "later; uploads are capped at 4 MiB a frame (at least one page). Fallback pixels are counted in each "
         "frame's feedback (quarter resolution). Targets: <= 1% in every frame; the upload within its budget; the "
         "memory fixed.";

@@ -225,9 +225,12 @@ void main()
         }
     }
     vec3 color = u_baseColor.rgb;
-    vec3 adjusted = texel.rgb * u_textureAdjustment.y;
-    adjusted = mix(vec3(0.5), adjusted, u_textureAdjustment.z);
-    adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
+    vec3 adjusted = texel.rgb;
+    // The usual layer has no adjustment: a uniform branch saves the pow per pixel.
+    if (any(notEqual(u_textureAdjustment.yzw, vec3(1.0)))) {
+        adjusted = mix(vec3(0.5), adjusted * u_textureAdjustment.y, u_textureAdjustment.z);
+        adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
+    }
     color = mix(color, adjusted, texel.a * u_textureAdjustment.x);
 #ifdef LIGHTING
     color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
