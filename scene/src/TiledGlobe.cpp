@@ -42,6 +42,8 @@ namespace {
 /// At most this many imagery tiles of one layer on one surface tile: a coarser level is taken
 /// when more would be needed (Web Mercator rows near the poles).
 constexpr std::size_t kMaximumTexturesPerLayer = 4;
+/// How far the cap may raise the screen-space error above the one asked for.
+constexpr double kMaximumCoarsening = 1 << 16;
 /// GLSL 3.30 guarantees 16 texture units; the renderer keeps one for uploads.
 constexpr int kMaximumTextures = 15;
 
@@ -90,6 +92,11 @@ struct SurfaceTile final : TileData {
 SurfaceTile& surfaceOf(QuadtreeTile& tile)
 {
     return static_cast<SurfaceTile&>(*tile.data);
+}
+
+const SurfaceTile& surfaceOf(const QuadtreeTile& tile)
+{
+    return static_cast<const SurfaceTile&>(*tile.data);
 }
 
 /// A texture a drawn tile uses.
@@ -148,6 +155,10 @@ struct TiledGlobe::Impl {
     world::TileLoadWork workFor(const LoadTarget& target) const;
     void receive(world::TileLoadResult result, TileStatistics& statistics);
     void upload(FrameState& frameState, PendingUpload pending, TileStatistics& statistics);
+    /// Whether no frame since the one before last asked for what a load brought (the view moved on).
+    bool unwanted(const LoadTarget& target, std::uint64_t frame) const;
+    /// Forgets a load's result unuploaded; the view asks for it again if it comes back.
+    void drop(PendingUpload pending);
     bool makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics);
     std::shared_ptr<renderer::Texture2D> reproject(FrameState& frameState, const Layer& layer, const TileKey& key,
                                                    const Image& image);
@@ -156,6 +167,8 @@ struct TiledGlobe::Impl {
     std::vector<TextureUse> texturesFor(QuadtreeTile& tile, std::uint64_t frame);
     void warn(const std::string& message) const;
     std::size_t residentBytes() const noexcept { return gpuBytes + cpuBytes; }
+    /// The bytes of what the last two frames drew, and of loads waiting to be uploaded.
+    std::size_t workingSetBytes(std::uint64_t frame) const noexcept;
 
     Ellipsoid ellipsoid;
     const TiledGlobeOptions* options = nullptr;
@@ -276,6 +289,9 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
             if (const std::optional<TileKey> source = sourceKey(layers[l], key)) {
                 const auto found = layers[l].tiles.find(*source);
                 wants = wants || found == layers[l].tiles.end() || found->second.state == LoadState::Unloaded;
+                if (found != layers[l].tiles.end() && found->second.state == LoadState::Loading) {
+                    found->second.lastUsedFrame = streamedFrame.value_or(0); // still wanted when it arrives
+                }
             }
             TileKey used;
             bool waiting = false;
@@ -373,6 +389,21 @@ void TiledGlobe::Impl::receive(world::TileLoadResult result, TileStatistics& sta
     }
 }
 
+std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcept
+{
+    const std::uint64_t since = frame > 0 ? frame - 1 : 0;
+    std::size_t bytes = cpuBytes;
+    for (const QuadtreeTile* tile : residentTiles) {
+        bytes += tile->lastVisitedFrame >= since ? surfaceOf(*tile).bytes : 0;
+    }
+    for (const Layer& layer : layers) {
+        for (const auto& [key, imagery] : layer.tiles) {
+            bytes += imagery.state == LoadState::Ready && imagery.lastUsedFrame >= since ? imagery.bytes : 0;
+        }
+    }
+    return bytes;
+}
+
 bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics)
 {
     if (residentBytes() + bytes <= options->cacheBytes) {
@@ -452,6 +483,30 @@ std::shared_ptr<renderer::Texture2D> TiledGlobe::Impl::reproject(FrameState& fra
     return target;
 }
 
+bool TiledGlobe::Impl::unwanted(const LoadTarget& target, std::uint64_t frame) const
+{
+    std::uint64_t wanted = 0;
+    if (target.layer < 0) {
+        wanted = target.tile->lastVisitedFrame;
+    } else {
+        const auto& tiles = layers[static_cast<std::size_t>(target.layer)].tiles;
+        const auto found = tiles.find(target.key);
+        wanted = found == tiles.end() ? 0 : found->second.lastUsedFrame;
+    }
+    return target.key.level > 0 && wanted + 2 < frame;
+}
+
+void TiledGlobe::Impl::drop(PendingUpload pending)
+{
+    cpuBytes -= pending.content->byteSize();
+    const LoadTarget& target = pending.target;
+    if (target.layer < 0) {
+        surfaceOf(*target.tile).mesh = LoadState::Unloaded;
+    } else {
+        layers[static_cast<std::size_t>(target.layer)].tiles[target.key].state = LoadState::Unloaded;
+    }
+}
+
 void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, TileStatistics& statistics)
 {
     const std::size_t cpu = pending.content->byteSize();
@@ -503,7 +558,6 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
     }
     imagery.state = LoadState::Ready;
     imagery.bytes = bytes;
-    imagery.lastUsedFrame = frameState.frameNumber;
     gpuBytes += bytes;
     statistics.uploadedBytes += bytes;
 }
@@ -691,6 +745,10 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         while (!impl.uploads.empty() && (uploaded == 0 || statistics.uploadedBytes < _options.uploadBytesPerFrame)) {
             PendingUpload pending = std::move(impl.uploads.front());
             impl.uploads.pop_front();
+            if (impl.unwanted(pending.target, frame)) {
+                impl.drop(std::move(pending));
+                continue;
+            }
             impl.upload(frameState, std::move(pending), statistics);
             ++uploaded;
         }
@@ -714,9 +772,12 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         impl.quadtree.select(view, selectionOptions, frame, impl.selection,
                              [&impl](QuadtreeTile& tile) { impl.refresh(tile); });
 
+        // No new loads while more arrived than four frames' uploads: what the view asks for later
+        // is more useful than what it asked for while the queue was long.
+        const bool mayStart = impl.cpuBytes < 4 * _options.uploadBytesPerFrame;
         for (const TileLoadCandidate& candidate : impl.selection.loads) {
             SurfaceTile& surface = surfaceOf(*candidate.tile);
-            if (surface.mesh == LoadState::Unloaded) {
+            if (surface.mesh == LoadState::Unloaded && mayStart) {
                 surface.mesh = LoadState::Loading;
                 impl.request({-1, candidate.tile->key, candidate.tile}, candidate.priority);
             }
@@ -727,7 +788,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
                         continue;
                     }
                     ImageryTile& imagery = impl.layers[l].tiles[*source];
-                    if (imagery.state == LoadState::Unloaded) {
+                    // Kept (or, still loading, uploaded) while the tile waits for what it lacks.
+                    imagery.lastUsedFrame = frame;
+                    if (imagery.state == LoadState::Unloaded && mayStart) {
                         imagery.state = LoadState::Loading;
                         impl.request({static_cast<int>(l), *source, nullptr}, candidate.priority);
                     }
@@ -795,17 +858,22 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         statistics.residentBytesCpu = impl.cpuBytes;
         statistics.residentBytesGpu = impl.gpuBytes;
         statistics.maximumScreenSpaceError = impl.effectiveScreenSpaceError;
-        statistics.memoryLimited = statistics.memoryLimited || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
+        const bool refusedForRoom = statistics.memoryLimited; // set by an upload the cap refused
+        statistics.memoryLimited = refusedForRoom || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
         statistics.converged = selection.standIns == 0 && selection.loads.empty() && statistics.pending == 0 &&
                                statistics.fallbackImagery == 0;
-        // The cap: coarser while it binds, back towards the error asked for once there is room.
-        if (statistics.evicted > 0 && impl.residentBytes() > _options.cacheBytes * 9 / 10) {
-            impl.effectiveScreenSpaceError *= 1.25;
-        } else if (statistics.memoryLimited && impl.residentBytes() + _options.cacheBytes / 10 > _options.cacheBytes) {
-            impl.effectiveScreenSpaceError *= 1.25;
+        // The cap binds when an upload finds no room after everything evictable went (a full
+        // cache of tiles the view no longer uses is no reason: those are evicted as needed).
+        // Coarser while uploads are refused; back towards the error asked for once the view's own
+        // tiles leave room.
+        const std::size_t working = impl.workingSetBytes(frame);
+        if (refusedForRoom) {
+            impl.effectiveScreenSpaceError = std::min(impl.effectiveScreenSpaceError * 1.25,
+                                                      _options.maximumScreenSpaceError * kMaximumCoarsening);
         } else if (impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError &&
-                   impl.residentBytes() < _options.cacheBytes * 7 / 10) {
-            impl.effectiveScreenSpaceError = std::max(_options.maximumScreenSpaceError, impl.effectiveScreenSpaceError / 1.1);
+                   working < _options.cacheBytes * 7 / 10) {
+            impl.effectiveScreenSpaceError = std::max(_options.maximumScreenSpaceError, impl.effectiveScreenSpaceError / 1.25);
+            statistics.converged = false; // the next frame refines
         }
         _statistics = statistics;
     }
