@@ -29,6 +29,7 @@ workdir=""
 case "$target" in
   scene)
     sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
+      world/src/JsonText.cpp world/src/Diagnostics.cpp world/src/CsvPoints.cpp world/src/FileAccess.cpp
       world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
       core/src/Transforms.cpp scene/src/Camera.cpp"
     seeds="$root/data/scenes/*.json"
@@ -37,13 +38,13 @@ case "$target" in
     ;;
   tms)
     sources="tests/fuzz/TileMapResourceFuzz.cpp world/src/TileMapResource.cpp world/src/XmlScanner.cpp
-      world/src/FileAccess.cpp core/src/TilingScheme.cpp core/src/GeodeticExtent.cpp core/src/Ellipsoid.cpp
+      world/src/FileAccess.cpp world/src/Diagnostics.cpp core/src/TilingScheme.cpp core/src/GeodeticExtent.cpp core/src/Ellipsoid.cpp
       core/src/Math.cpp"
     seeds="$root/data/imagery/*/tilemapresource.xml"
     dictionary="-dict=$root/tests/fuzz/tms.dict"
     ;;
   tiles)
-    sources="tests/fuzz/TileDecoderFuzz.cpp world/src/ImageCodec.cpp world/src/FileAccess.cpp"
+    sources="tests/fuzz/TileDecoderFuzz.cpp world/src/ImageCodec.cpp world/src/FileAccess.cpp world/src/Diagnostics.cpp"
     libraries="-lturbojpeg -lspng -lwebp"
     seeds="$root/tests/fuzz/seeds/tiles/*.*"
     ;;

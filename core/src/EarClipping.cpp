@@ -1,6 +1,8 @@
 #include "orbis/core/EarClipping.h"
 
+#include "PointIndex.h"
 #include "RobustPredicates.h"
+#include "SegmentPairs.h"
 
 #include "orbis/core/Error.h"
 #include "orbis/core/PolygonCleanup.h"
@@ -8,9 +10,12 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
+#include <queue>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -24,8 +29,8 @@ using detail::onSegment;
 using detail::orient2d;
 using detail::segmentsIntersect;
 
-// Pass 0 of the clipping loop skips ears thinner than this (twice the area over the longest edge
-// squared, about the sine of the smallest angle): slivers are clipped only when nothing else is.
+// Ears thinner than this (twice the area over the longest edge squared, about the sine of the
+// smallest angle) are clipped only when no other ear is left.
 constexpr double kSliverQuality = 1e-9;
 
 struct Node {
@@ -191,58 +196,56 @@ private:
     // False when it removed a vertex to undo a crossing (call again); throws on other crossings.
     bool splitTouchingEdges()
     {
-        struct Edge {
-            int from;
-            double minX, maxX, minY, maxY;
-        };
-        std::vector<Edge> edges;
+        std::vector<int> edges; // by the node each starts at
+        std::vector<glm::dvec2> starts;
+        std::vector<glm::dvec2> ends;
         for (const int start : _cycles) {
             forEachInCycle(start, [&](int i) {
-                const glm::dvec2& a = pos(i);
-                const glm::dvec2& b = pos(node(i).next);
-                edges.push_back({i, std::min(a.x, b.x), std::max(a.x, b.x), std::min(a.y, b.y), std::max(a.y, b.y)});
+                edges.push_back(i);
+                starts.push_back(pos(i));
+                ends.push_back(pos(node(i).next));
             });
         }
-        std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) { return a.minX < b.minX; });
 
         std::vector<std::vector<int>> touching(_nodes.size()); // per edge (by its first node): touching vertices
-        auto touches = [&](int vertex, int edgeFrom) {
+        // Vertex touches the edge from edgeFrom, given which side of the edge it is on.
+        auto touches = [&](int vertex, int edgeFrom, int side) {
             const glm::dvec2& a = pos(edgeFrom);
             const glm::dvec2& b = pos(node(edgeFrom).next);
             const glm::dvec2& p = pos(vertex);
-            if (p != a && p != b && onSegment(a, b, p)) {
+            if (side == 0 && p != a && p != b && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) &&
+                std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y)) {
                 touching[static_cast<std::size_t>(edgeFrom)].push_back(vertex);
             }
         };
-        for (std::size_t i = 0; i < edges.size(); ++i) {
-            const Edge& e = edges[i];
-            for (std::size_t j = i + 1; j < edges.size() && edges[j].minX <= e.maxX; ++j) {
-                const Edge& f = edges[j];
-                if (f.minY > e.maxY || f.maxY < e.minY) {
-                    continue;
-                }
-                const int a = e.from;
-                const int b = node(a).next;
-                const int c = f.from;
-                const int d = node(c).next;
-                if (b == c || d == a) {
-                    continue; // neighbours meet at their shared vertex; folding back is a spike, harmless
-                }
-                const int o1 = orient2d(pos(a), pos(b), pos(c));
-                const int o2 = orient2d(pos(a), pos(b), pos(d));
-                const int o3 = orient2d(pos(c), pos(d), pos(a));
-                const int o4 = orient2d(pos(c), pos(d), pos(b));
-                if (o1 * o2 < 0 && o3 * o4 < 0) {
-                    if (repairCrossing(a, c)) {
-                        return false;
-                    }
-                    fail(describeEdge(node(a), node(b)) + " crosses " + describeEdge(node(c), node(d)));
-                }
-                touches(c, a);
-                touches(d, a);
-                touches(a, c);
-                touches(b, c);
+        bool repaired = false;
+        detail::findMeetingSegments(starts, ends, [&](std::size_t e, std::size_t f) {
+            const int a = edges[e];
+            const int b = node(a).next;
+            const int c = edges[f];
+            const int d = node(c).next;
+            if (b == c || d == a) {
+                return false; // neighbours meet at their shared vertex; folding back is a spike, harmless
             }
+            const int o1 = orient2d(pos(a), pos(b), pos(c));
+            const int o2 = orient2d(pos(a), pos(b), pos(d));
+            const int o3 = orient2d(pos(c), pos(d), pos(a));
+            const int o4 = orient2d(pos(c), pos(d), pos(b));
+            if (o1 * o2 < 0 && o3 * o4 < 0) {
+                if (repairCrossing(a, c)) {
+                    repaired = true;
+                    return true;
+                }
+                fail(describeEdge(node(a), node(b)) + " crosses " + describeEdge(node(c), node(d)));
+            }
+            touches(c, a, o1);
+            touches(d, a, o2);
+            touches(a, c, o3);
+            touches(b, c, o4);
+            return false;
+        });
+        if (repaired) {
+            return false;
         }
         for (std::size_t from = 0; from < touching.size(); ++from) {
             std::vector<int>& list = touching[from];
@@ -628,7 +631,26 @@ private:
         return inOpenWedge(x, y, z, pos(node(other).prev)) || inOpenWedge(x, y, z, pos(node(other).next));
     }
 
-    bool isEar(int b, int pass) const
+    // Ears thinner than kSliverQuality are clipped only when no other ear is left.
+    bool isSliver(int b) const
+    {
+        const glm::dvec2& pa = pos(node(b).prev);
+        const glm::dvec2& pb = pos(b);
+        const glm::dvec2& pc = pos(node(b).next);
+        const glm::dvec2 ab = pb - pa;
+        const glm::dvec2 bc = pc - pb;
+        const glm::dvec2 ca = pa - pc;
+        const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+        return std::abs(ab.x * bc.y - ab.y * bc.x) < kSliverQuality * longest;
+    }
+
+    static constexpr int kEar = -1;
+    static constexpr int kNotConvex = -2; // or an edge next to the ear enters it: b's neighbours decide
+
+    // kEar when b is an ear; otherwise kNotConvex, or a vertex that is in the way (inside the
+    // triangle, or at one of its corners with an edge entering it): b stays no ear while that
+    // vertex and its neighbours stay.
+    int earBlocker(int b)
     {
         const int a = node(b).prev;
         const int c = node(b).next;
@@ -636,42 +658,73 @@ private:
         const glm::dvec2& pb = pos(b);
         const glm::dvec2& pc = pos(c);
         if (orient2d(pa, pb, pc) <= 0) {
-            return false;
+            return kNotConvex;
         }
-        if (pass == 0) {
-            const glm::dvec2 ab = pb - pa;
-            const glm::dvec2 bc = pc - pb;
-            const glm::dvec2 ca = pa - pc;
-            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
-            if (std::abs(ab.x * bc.y - ab.y * bc.x) < kSliverQuality * longest) {
+        // The edges on either side of the ear must not enter it.
+        if (inOpenWedge(pa, pb, pc, pos(node(a).prev)) || inOpenWedge(pc, pa, pb, pos(node(c).next))) {
+            return kNotConvex;
+        }
+        int blocker = kEar;
+        _index->findIn(glm::min(pa, glm::min(pb, pc)), glm::max(pa, glm::max(pb, pc)), b, [&](int i) {
+            if (i == a || i == b || i == c) {
                 return false;
             }
-        }
-        const glm::dvec2 lo = glm::min(pa, glm::min(pb, pc));
-        const glm::dvec2 hi = glm::max(pa, glm::max(pb, pc));
-        for (int i = node(c).next; i != a; i = node(i).next) {
             const glm::dvec2& q = pos(i);
-            if (q.x < lo.x || q.x > hi.x || q.y < lo.y || q.y > hi.y) {
-                continue;
+            const bool inTheWay = q == pa   ? edgesEnter(i, pa, pb, pc)
+                                  : q == pb ? edgesEnter(i, pb, pc, pa)
+                                  : q == pc ? edgesEnter(i, pc, pa, pb)
+                                            : inClosedTriangle(pa, pb, pc, q);
+            if (inTheWay) {
+                blocker = i;
             }
-            if (q == pa) {
-                if (edgesEnter(i, pa, pb, pc)) {
-                    return false;
-                }
-            } else if (q == pb) {
-                if (edgesEnter(i, pb, pc, pa)) {
-                    return false;
-                }
-            } else if (q == pc) {
-                if (edgesEnter(i, pc, pa, pb)) {
-                    return false;
-                }
-            } else if (inClosedTriangle(pa, pb, pc, q)) {
-                return false;
-            }
+            return inTheWay;
+        });
+        return blocker;
+    }
+
+    // --- The order of clipping: a queue of candidate ears, shortest diagonal first ------------
+    //
+    // Whether b is an ear depends on b's neighbours, theirs (the edges next to the ear), and the
+    // vertices in the triangle. So a vertex is tested again only when one of those changes: when a
+    // vertex within two steps of it goes, or the vertex found in its way goes or gets new
+    // neighbours. Short diagonals first keep the triangles small, so each test looks at few
+    // vertices, and make fuller triangles than clipping round the ring.
+
+    // Slivers last, then by the binary order of magnitude of the squared diagonal, then by vertex
+    // (so that ears of about one size go in ring order, visiting memory in order): one integer,
+    // so that the queue is a small heap.
+    std::uint64_t priority(int b) const
+    {
+        const glm::dvec2 diagonal = pos(node(b).next) - pos(node(b).prev);
+        const double squared = std::min(glm::dot(diagonal, diagonal), std::numeric_limits<double>::max());
+        const std::uint64_t magnitude = std::bit_cast<std::uint64_t>(squared) >> 52; // the biased exponent
+        return (std::uint64_t{isSliver(b)} << 63) | (magnitude << 32) | static_cast<std::uint32_t>(b);
+    }
+
+    // Queues b unless it is queued already with the same priority (an older entry is left to be
+    // skipped when it comes up).
+    void enqueue(int b)
+    {
+        const auto i = static_cast<std::size_t>(b);
+        if (node(b).removed) {
+            return;
         }
-        // The edges on either side of the ear must not enter it either.
-        return !inOpenWedge(pa, pb, pc, pos(node(a).prev)) && !inOpenWedge(pc, pa, pb, pos(node(c).next));
+        const std::uint64_t key = priority(b);
+        if (_queued[i] == key) {
+            return;
+        }
+        _queued[i] = key;
+        _queue.push(key);
+    }
+
+    // The vertices waiting on v are tested again.
+    void wake(int v)
+    {
+        std::vector<int>& waiting = _waiting[static_cast<std::size_t>(v)];
+        for (const int b : waiting) {
+            enqueue(b);
+        }
+        waiting.clear();
     }
 
     void unlink(int b)
@@ -685,6 +738,17 @@ private:
             _start = c;
         }
         --_remaining;
+        _index->remove(b);
+        enqueue(a); // new diagonals
+        enqueue(c);
+        for (const int beyond : {node(a).prev, node(c).next}) { // the same diagonal, a new edge next to the ear
+            if (_queued[static_cast<std::size_t>(beyond)] == kNotQueued) {
+                enqueue(beyond);
+            }
+        }
+        for (const int moved : {b, a, c}) {
+            wake(moved);
+        }
     }
 
     // A vertex that bounds no area: the end of a zero-length edge, or the tip of a spike (the
@@ -698,7 +762,7 @@ private:
     }
 
     // Removes the vertices that bound no area among the given ones and those that become so.
-    void removeNoArea(std::vector<int> work)
+    void removeNoArea(std::vector<int>& work)
     {
         while (!work.empty() && _remaining >= 3) {
             const int b = work.back();
@@ -740,53 +804,57 @@ private:
 
     void clip(std::vector<std::uint32_t>& indices)
     {
-        _remaining = 0;
-        forEachInCycle(_start, [&](int) { ++_remaining; });
-        indices.reserve(3 * _remaining);
         std::vector<int> all;
         forEachInCycle(_start, [&](int i) { all.push_back(i); });
-        removeNoArea(std::move(all));
+        _positions.clear();
+        for (const Node& n : _nodes) {
+            _positions.push_back(n.p);
+        }
+        _remaining = all.size();
+        _index.emplace(_positions, all);
+        _queued.assign(_nodes.size(), kNotQueued);
+        _waiting.assign(_nodes.size(), {});
+        indices.reserve(3 * _remaining);
+        std::vector<int> work = all;
+        removeNoArea(work);
+        for (const int i : all) {
+            enqueue(i);
+        }
         auto emit = [&](int a, int b, int c) {
             indices.push_back(node(a).index);
             indices.push_back(node(b).index);
             indices.push_back(node(c).index);
         };
 
-        int ear = _start;
-        int stop = ear;
-        int pass = 0;
         while (_remaining > 3) {
-            if (isEar(ear, pass)) {
-                const int a = node(ear).prev;
-                const int c = node(ear).next;
-                emit(a, ear, c);
-                unlink(ear);
-                removeNoArea({a, c});
-                ear = node(_start).next;
-                if (!node(c).removed) {
-                    ear = c;
-                } else if (!node(a).removed) {
-                    ear = a;
+            if (_queue.empty()) {
+                // No ear anywhere: vertices that bound no area are in the way.
+                if (!removeDegenerate(false) && !removeDegenerate(true)) {
+                    fail("no ear found among the " + std::to_string(_remaining) +
+                         " vertices left (do rings overlap or cross?)");
                 }
-                stop = ear;
-                pass = 0;
                 continue;
             }
-            ear = node(ear).next;
-            if (ear != stop) {
+            const std::uint64_t key = _queue.top();
+            _queue.pop();
+            const auto b = static_cast<int>(key & 0xffffffffu);
+            if (node(b).removed || _queued[static_cast<std::size_t>(b)] != key) {
+                continue; // superseded
+            }
+            _queued[static_cast<std::size_t>(b)] = kNotQueued;
+            const int blocker = earBlocker(b);
+            if (blocker >= 0) {
+                _waiting[static_cast<std::size_t>(blocker)].push_back(b);
+            }
+            if (blocker != kEar) {
                 continue;
             }
-            // A full turn without an ear.
-            if (pass == 0) {
-                pass = 1;
-            } else if (removeDegenerate(false) || removeDegenerate(true)) {
-                pass = 0;
-            } else {
-                fail("no ear found among the " + std::to_string(_remaining) +
-                     " vertices left (do rings overlap or cross?)");
-            }
-            ear = _start;
-            stop = ear;
+            const int a = node(b).prev;
+            const int c = node(b).next;
+            emit(a, b, c);
+            unlink(b);
+            work.assign({a, c});
+            removeNoArea(work);
         }
         if (_remaining == 3) {
             const int a = node(_start).prev;
@@ -806,11 +874,15 @@ private:
     // two fuller triangles; the triangulation stays one of the same polygon.
     void flipSlivers(std::vector<std::uint32_t>& indices) const
     {
-        std::unordered_map<std::uint32_t, glm::dvec2> where;
+        std::uint32_t largest = 0;
         for (const Node& n : _nodes) {
-            where.emplace(n.index, n.p);
+            largest = std::max(largest, n.index);
         }
-        auto at = [&](std::uint32_t i) -> const glm::dvec2& { return where.find(i)->second; };
+        std::vector<glm::dvec2> where(std::size_t{largest} + 1);
+        for (const Node& n : _nodes) {
+            where[n.index] = n.p;
+        }
+        auto at = [&](std::uint32_t i) -> const glm::dvec2& { return where[i]; };
         auto quality = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             const glm::dvec2 ab = at(b) - at(a);
             const glm::dvec2 bc = at(c) - at(b);
@@ -818,29 +890,43 @@ private:
             const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
             return longest > 0.0 ? std::abs(ab.x * bc.y - ab.y * bc.x) / longest : 0.0;
         };
-        auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
         const std::size_t count = indices.size() / 3;
-        std::unordered_map<std::uint64_t, std::size_t> owner; // directed edge -> triangle
         auto corner = [&](std::size_t t, std::size_t k) -> std::uint32_t& { return indices[3 * t + k % 3]; };
-        auto own = [&](std::size_t t, bool add) {
-            for (std::size_t k = 0; k < 3; ++k) {
-                const std::uint64_t edge = key(corner(t, k), corner(t, k + 1));
-                if (add) {
-                    owner[edge] = t;
-                } else {
-                    owner.erase(edge);
-                }
+        auto isSliverTriangle = [&](std::size_t t) { return quality(corner(t, 0), corner(t, 1), corner(t, 2)) < kSliverQuality; };
+        bool anySliver = false;
+        for (std::size_t t = 0; t < count && !anySliver; ++t) {
+            anySliver = isSliverTriangle(t);
+        }
+        if (!anySliver) {
+            return;
+        }
+
+        // Half-edge 3t + k runs from corner k of triangle t to corner k + 1; its twin is the one
+        // running back, where each direction occurs once (rings that touch give an edge twice:
+        // those are left alone).
+        constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+        auto key = [&](std::size_t h) { return (std::uint64_t{indices[h]} << 32) | indices[h - h % 3 + (h % 3 + 1) % 3]; };
+        std::vector<std::pair<std::uint64_t, std::size_t>> sorted;
+        sorted.reserve(indices.size());
+        for (std::size_t h = 0; h < indices.size(); ++h) {
+            sorted.emplace_back(key(h), h);
+        }
+        std::sort(sorted.begin(), sorted.end());
+        auto unique = [&](std::uint64_t k) -> std::size_t {
+            const auto it = std::lower_bound(sorted.begin(), sorted.end(), std::make_pair(k, std::size_t{0}));
+            if (it == sorted.end() || it->first != k || (it + 1 != sorted.end() && (it + 1)->first == k)) {
+                return kNone;
             }
+            return it->second;
         };
-        constexpr std::size_t shared = static_cast<std::size_t>(-1); // an edge twice: rings touch, leave it
-        for (std::size_t t = 0; t < count; ++t) {
-            for (std::size_t k = 0; k < 3; ++k) {
-                const auto [it, inserted] = owner.emplace(key(corner(t, k), corner(t, k + 1)), t);
-                if (!inserted) {
-                    it->second = shared;
-                }
+        std::vector<std::size_t> twin(indices.size(), kNone);
+        for (std::size_t h = 0; h < indices.size(); ++h) {
+            const std::uint64_t k = key(h);
+            if (unique(k) == h) {
+                twin[h] = unique((k << 32) | (k >> 32));
             }
         }
+
         for (int round = 0; round < 4; ++round) {
             bool flipped = false;
             for (std::size_t t = 0; t < count; ++t) {
@@ -857,36 +943,40 @@ private:
                         k = j;
                     }
                 }
+                const std::size_t across = twin[3 * t + k];
+                if (across == kNone) {
+                    continue;
+                }
+                const std::size_t t2 = across / 3;
+                const std::size_t k2 = across % 3; // t2 runs v -> u -> x from corner k2
                 const std::uint32_t u = corner(t, k);
                 const std::uint32_t v = corner(t, k + 1);
                 const std::uint32_t w = corner(t, k + 2);
-                const auto across = owner.find(key(v, u));
-                const auto along = owner.find(key(u, v));
-                if (across == owner.end() || across->second == shared || along->second != t) {
-                    continue;
-                }
-                const std::size_t t2 = across->second;
-                std::uint32_t x = corner(t2, 0);
-                for (std::size_t j = 0; j < 3; ++j) {
-                    if (corner(t2, j) != u && corner(t2, j) != v) {
-                        x = corner(t2, j);
-                    }
-                }
+                const std::uint32_t x = corner(t2, k2 + 2);
                 if (x == u || x == v || x == w || orient2d(at(u), at(x), at(w)) <= 0 ||
                     orient2d(at(x), at(v), at(w)) <= 0 ||
                     std::min(quality(u, x, w), quality(x, v, w)) <= std::min(q, quality(corner(t2, 0), corner(t2, 1), corner(t2, 2)))) {
                     continue;
                 }
-                own(t, false);
-                own(t2, false);
+                // The outer half-edges' twins, then the two new triangles (u, x, w) and (x, v, w).
+                const std::size_t ux = twin[3 * t2 + (k2 + 1) % 3];
+                const std::size_t xv = twin[3 * t2 + (k2 + 2) % 3];
+                const std::size_t vw = twin[3 * t + (k + 1) % 3];
+                const std::size_t wu = twin[3 * t + (k + 2) % 3];
                 corner(t, 0) = u;
                 corner(t, 1) = x;
                 corner(t, 2) = w;
                 corner(t2, 0) = x;
                 corner(t2, 1) = v;
                 corner(t2, 2) = w;
-                own(t, true);
-                own(t2, true);
+                const std::size_t newTwins[6] = {ux, 3 * t2 + 2, wu, xv, vw, 3 * t + 1};
+                for (std::size_t j = 0; j < 6; ++j) {
+                    const std::size_t h = j < 3 ? 3 * t + j : 3 * t2 + (j - 3);
+                    twin[h] = newTwins[j];
+                    if (newTwins[j] != kNone) {
+                        twin[newTwins[j]] = h;
+                    }
+                }
                 flipped = true;
             }
             if (!flipped) {
@@ -903,6 +993,13 @@ private:
     std::vector<int> _cycles; // the first node of each ring kept: the outer ring first
     int _start = -1;
     std::size_t _remaining = 0;
+    // While clipping:
+    std::vector<glm::dvec2> _positions;       // by node, for the index
+    std::optional<detail::PointIndex> _index; // the vertices left
+    std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<>> _queue; // priorities, smallest first
+    static constexpr std::uint64_t kNotQueued = ~std::uint64_t{0}; // no priority: no magnitude is that large
+    std::vector<std::uint64_t> _queued;       // per vertex: the priority it is queued with
+    std::vector<std::vector<int>> _waiting;   // per vertex: vertices it is in the way of
 };
 
 } // namespace

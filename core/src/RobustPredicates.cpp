@@ -67,6 +67,9 @@ private:
     std::size_t _size = 0;
 };
 
+
+} // namespace
+
 int exactOrient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
 {
     // det = (ax - cx)(by - cy) - (ay - cy)(bx - cx), each difference split exactly in two parts.
@@ -90,25 +93,6 @@ int exactOrient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c)
         }
     }
     return sum.sign();
-}
-
-} // namespace
-
-int orient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
-{
-    const double left = (a.x - c.x) * (b.y - c.y);
-    const double right = (a.y - c.y) * (b.x - c.x);
-    const double det = left - right;
-    // A bound on the rounding error of det, a little looser than Shewchuk's (3 + 16u)u so that it
-    // is safe without a proof of our own; below it the exact evaluation decides.
-    const double bound = 1e-15 * (std::abs(left) + std::abs(right));
-    if (det > bound) {
-        return 1;
-    }
-    if (-det > bound) {
-        return -1;
-    }
-    return exactOrient2d(a, b, c);
 }
 
 bool onSegment(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) noexcept

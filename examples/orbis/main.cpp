@@ -11,6 +11,7 @@
 #include <orbis/core/TileKey.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
+#include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
 #include <orbis/world/TerrainTiler.h>
 
@@ -87,7 +88,8 @@ std::string resolveDataFile(const std::string& argument, const char* folder)
     return argument;
 }
 
-/// orbis validate SCENE.json...: reads each file as `orbis render` would, renders nothing.
+/// orbis validate SCENE.json...: reads each file, and the files it names, as `orbis render` would,
+/// renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
 {
     if (arguments.empty()) {
@@ -96,12 +98,13 @@ int runValidate(Arguments arguments)
     int exitCode = kExitOk;
     for (const char* argument : arguments) {
         const std::string path = resolveDataFile(argument, "scenes");
-        try {
-            const orbis::world::SceneDescription scene = orbis::world::parseSceneFile(path);
+        orbis::world::SceneDescription scene;
+        const orbis::world::DiagnosticList faults = orbis::world::validateSceneFile(path, &scene);
+        if (faults.empty()) {
             std::printf("%s: ok (%zu %s)\n", path.c_str(), scene.layers.size(),
                         scene.layers.size() == 1 ? "layer" : "layers");
-        } catch (const orbis::Error& error) {
-            std::fprintf(stderr, "%s\n", error.what());
+        } else {
+            std::fprintf(stderr, "%s", faults.text().c_str());
             exitCode = kExitFailed;
         }
     }
@@ -247,7 +250,8 @@ int runRender(Arguments arguments)
 
     try {
         const orbis::world::SceneDescription description =
-            scenePath ? orbis::world::parseSceneFile(*scenePath) : orbis::world::parseDefaultScene();
+            scenePath ? orbis::world::parseSceneFile(*scenePath)
+                      : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
         std::optional<orbis::scene::CameraPath> flight;
         if (cameraPath) {
             flight.emplace(orbis::Ellipsoid::wgs84());
@@ -346,7 +350,8 @@ int runView(Arguments arguments)
     }
     try {
         const orbis::world::SceneDescription description =
-            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath) : orbis::world::parseDefaultScene();
+            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath)
+                             : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
         orbis::examples::ViewerOptions options;
         options.width = parsed.width.value_or(description.width);
         options.height = parsed.height.value_or(description.height);
@@ -685,7 +690,9 @@ constexpr Subcommand kSubcommands[] = {
      "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
      "D, E Q), Escape to close",
      runView},
-    {"validate", "SCENE.json...", "check scene files without rendering (see docs/scene-format.md)", runValidate},
+    {"validate", "SCENE.json...",
+     "check scene files and the files they name without rendering, listing every fault (see docs/scene-format.md)",
+     runValidate},
     {"tile", "imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q] [--level L [--range X0:X1]] "
              "[--threads N] [--title TEXT] [--attribution TEXT]",
      "cut an image GDAL reads (GeoTIFF in any CRS, or a plain whole-globe JPEG/PNG) into a geographic TMS "

@@ -8,9 +8,9 @@
 #include "orbis/scene/TiledGlobe.h"
 
 #include <orbis/core/Error.h>
-#include <orbis/world/CsvPoints.h>
 #include <orbis/world/GeoJson.h>
 #include <orbis/world/ImageFile.h>
+#include <orbis/world/SceneData.h>
 #include <orbis/world/TileSource.h>
 
 #include <algorithm>
@@ -95,56 +95,10 @@ std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(world::Origin origin)
     return {HorizontalOrigin::Center, VerticalOrigin::Center};
 }
 
-/// Positions and, when a label field is given, their texts.
-struct Points {
-    std::vector<Geodetic3D> positions;
-    std::vector<std::string> texts;
-};
-
-Points readPoints(const world::PointsLayer& layer)
-{
-    Points points;
-    const std::string field = layer.label ? layer.label->field : std::string();
-    if (layer.format == world::PointsLayer::Format::Csv) {
-        world::CsvPointsOptions options;
-        options.longitudeColumn.clear(); // any accepted name
-        options.latitudeColumn.clear();
-        world::CsvPoints csv = world::loadCsvPoints(layer.source, options);
-        points.positions = std::move(csv.positions);
-        if (!field.empty()) {
-            const std::vector<std::string>* texts = csv.column(field);
-            if (!texts) {
-                throw Error("label field: " + layer.source.string() + " has no column \"" + field + "\"");
-            }
-            points.texts = *texts;
-        }
-        return points;
-    }
-    for (const world::Feature& feature : world::loadGeoJson(layer.source).features) {
-        if (!feature.geometry) {
-            continue;
-        }
-        std::vector<Geodetic3D> positions;
-        if (const auto* point = std::get_if<world::Point>(&feature.geometry->value)) {
-            positions.push_back(point->position);
-        } else if (const auto* multi = std::get_if<world::MultiPoint>(&feature.geometry->value)) {
-            positions = multi->positions;
-        }
-        const std::string text = field.empty() ? std::string() : feature.stringProperty(field).value_or("");
-        for (const Geodetic3D& position : positions) {
-            points.positions.push_back(position);
-            if (!field.empty()) {
-                points.texts.push_back(text);
-            }
-        }
-    }
-    return points;
-}
-
 /// A billboard for every point, and a label when the layer asks for one.
 void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
 {
-    const Points points = readPoints(layer);
+    const world::PointsData points = world::readPointsData(layer);
     const Ellipsoid& ellipsoid = scene.ellipsoid();
     const world::BillboardStyle& style = layer.billboard;
     const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
@@ -214,19 +168,9 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
     options.lighting = sun.source != world::SunSource::Camera;
     for (std::size_t i = 0; i < globe.imagery.size(); ++i) {
         const world::ImageryLayerDescription& layer = globe.imagery[i];
-        world::TileSourceOptions sourceOptions;
-        if (layer.scheme) {
-            sourceOptions.scheme = *layer.scheme == TilingProjection::WebMercator ? TilingScheme::webMercator()
-                                                                                  : TilingScheme::geographic();
-        }
-        sourceOptions.minimumLevel = layer.minimumLevel.value_or(sourceOptions.minimumLevel);
-        sourceOptions.maximumLevel = layer.maximumLevel.value_or(sourceOptions.maximumLevel);
-        if (layer.cacheFolder) {
-            sourceOptions.cacheFolder = *layer.cacheFolder;
-        }
         ImageryLayer imagery;
         try {
-            imagery.source = world::openTileSource(layer.source, sourceOptions);
+            imagery.source = world::openTileSource(layer.source, world::tileSourceOptions(layer));
         } catch (const Error& error) {
             throw Error("/globe/imagery/" + std::to_string(i) + ": " + error.what());
         }

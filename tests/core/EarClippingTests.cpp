@@ -445,6 +445,31 @@ TEST_CASE("earClip handles thousands of vertices", "[polygon][ear-clipping]")
     requireCoversArea(Rings{star}, result);
 }
 
+TEST_CASE("earClip triangulates rings of 100,000 vertices, round, wavy and spiky", "[polygon][ear-clipping][large]")
+{
+    // Each shape stresses a different part: a circle, all convex, makes ears that grow if taken
+    // round the ring; a wavy coast is what real data looks like; a star of random radii has long
+    // spikes and every other vertex reflex, so each ear has many vertices near it. (The time each
+    // takes is in the benchmark: orbis_bench --only polygons.)
+    const int n = 100000;
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (const char* shape : {"circle", "coast", "star"}) {
+        INFO(shape);
+        Ring ring;
+        for (int i = 0; i < n; ++i) {
+            const double angle = kTwoPi * i / n;
+            const double radius = shape[0] == 'c' && shape[1] == 'i' ? 1.0
+                                  : shape[0] == 'c'                  ? 1.0 + 0.05 * std::sin(37.0 * angle) + 0.01 * unit(random)
+                                                                     : 0.5 + 0.5 * unit(random);
+            ring.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+        }
+        const PolygonTriangles result = earClip(Rings{ring});
+        REQUIRE(result.triangleCount() == n - 2);
+        requireTriangulation(Rings{ring}, result);
+    }
+}
+
 TEST_CASE("earClip triangulates random lattice polygons with collinear runs, pinches and holes", "[polygon][ear-clipping]")
 {
     // A random set of cells of a 10 x 10 grid, grown from the centre; its boundary traced along

@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <string_view>
 
 namespace {
@@ -64,10 +66,24 @@ void parseOnce(std::string_view text, bool checkFiles)
     // Relative paths resolve against the folder the fuzzer runs in (scripts/fuzz.sh: data/scenes).
     static const std::filesystem::path base = std::filesystem::current_path();
     constexpr std::string_view kOrigin = "fuzz.json";
+    std::optional<std::string> thrown;
     try {
         checkDescription(orbis::world::parseSceneText(text, kOrigin, base, orbis::world::SceneParseOptions{checkFiles}));
     } catch (const orbis::world::SceneFileError& error) {
         checkError(error, kOrigin);
+        thrown = error.what();
+    }
+    // Collecting every fault never throws, finds a fault exactly when the throwing parse does, and
+    // finds that one first.
+    orbis::world::DiagnosticList faults;
+    orbis::world::SceneParseOptions collecting{checkFiles};
+    collecting.diagnostics = &faults;
+    orbis::world::parseSceneText(text, kOrigin, base, collecting);
+    require(faults.empty() == !thrown);
+    require(!thrown || faults.entries().front().text() == *thrown);
+    for (const orbis::world::Diagnostic& fault : faults.entries()) {
+        require(fault.file == kOrigin && !fault.what.empty() && (fault.line == 0) == (fault.column == 0));
+        require(fault.where.empty() || fault.where.front() == '/');
     }
 }
 

@@ -99,38 +99,38 @@ TEST_CASE("parseCsvPoints takes named longitude, latitude and height columns and
     CHECK(parseCsvPoints(text, "points.csv", options).propertyNames.empty());
 }
 
-TEST_CASE("CSV errors name the file, the line and the column", "[world][csv]")
+TEST_CASE("CSV errors name the file, the line and the column, as every reader's do", "[world][csv]")
 {
     const test::TempDirectory directory;
     const auto missingColumn = directory.write("missing.csv", "name,latitude,lon\nx,1,2\n");
     CHECK_THAT(test::errorMessage([&] { loadCsvPoints(missingColumn); }),
                Equals(missingColumn.string() +
-                      ": line 1: no latitude column \"lat\" in the header (columns: name, latitude, lon)"));
+                      ":1: no latitude column \"lat\" in the header (columns: \"name\", \"latitude\", \"lon\")"));
 
     const auto unterminated = directory.write("quote.csv", "name,lat,lon\n\"ok\",1,2\n\"Saint-Jean, Quebec,3,4\nx,5,6\n");
     CHECK_THAT(test::errorMessage([&] { loadCsvPoints(unterminated); }),
-               Equals(unterminated.string() + ": line 3, column 1: unterminated quoted field (the closing quote is "
+               Equals(unterminated.string() + ":3: column 1: unterminated quoted field (the closing quote is "
                                               "missing before the end of the file)"));
 
     const auto nonNumeric = directory.write("lat.csv", "name,lat,lon\na,1,2\nb,north,3\n");
     CHECK_THAT(test::errorMessage([&] { loadCsvPoints(nonNumeric); }),
-               Equals(nonNumeric.string() + ": line 3, column 2 \"lat\": expected a number (latitude), got \"north\""));
+               Equals(nonNumeric.string() + ":3: column 2 \"lat\": expected a finite number (latitude), got \"north\""));
 
     struct Case {
         std::string row;
         std::string expected;
     };
     const Case cases[] = {
-        {"a,1", "f.csv: line 2: expected 3 fields as in the header, got 2"},
-        {"a,1,2,3", "f.csv: line 2: expected 3 fields as in the header, got 4"},
-        {"a,95,2", "f.csv: line 2, column 2 \"lat\": latitude 95 out of range [-90, 90]"},
-        {"a,1,-180.5", "f.csv: line 2, column 3 \"lon\": longitude -180.5 out of range [-180, 180]"},
-        {"a,nan,2", "f.csv: line 2, column 2 \"lat\": latitude \"nan\" is not a finite number"},
-        {"a,1,inf", "f.csv: line 2, column 3 \"lon\": longitude \"inf\" is not a finite number"},
-        {"a,1e999,2", "f.csv: line 2, column 2 \"lat\": latitude \"1e999\" is not a finite number"},
-        {"a,,2", "f.csv: line 2, column 2 \"lat\": expected a number (latitude), got \"\""},
-        {"a,1.5x,2", "f.csv: line 2, column 2 \"lat\": expected a number (latitude), got \"1.5x\""},
-        {"\"a\"b,1,2", "f.csv: line 2, column 1: unexpected character after a closing quote"},
+        {"a,1", "f.csv:2: expected 3 fields as in the header, got 2"},
+        {"a,1,2,3", "f.csv:2: expected 3 fields as in the header, got 4"},
+        {"a,95,2", "f.csv:2: column 2 \"lat\": latitude 95 out of range [-90, 90]"},
+        {"a,1,-180.5", "f.csv:2: column 3 \"lon\": longitude -180.5 out of range [-180, 180]"},
+        {"a,nan,2", "f.csv:2: column 2 \"lat\": expected a finite number (latitude), got \"nan\""},
+        {"a,1,inf", "f.csv:2: column 3 \"lon\": expected a finite number (longitude), got \"inf\""},
+        {"a,1e999,2", "f.csv:2: column 2 \"lat\": expected a finite number (latitude), got \"1e999\""},
+        {"a,,2", "f.csv:2: column 2 \"lat\": expected a finite number (latitude), got \"\""},
+        {"a,1.5x,2", "f.csv:2: column 2 \"lat\": expected a finite number (latitude), got \"1.5x\""},
+        {"\"a\"b,1,2", "f.csv:2: column 1: unexpected character after a closing quote"},
     };
     for (const Case& c : cases) {
         INFO(c.row);
@@ -139,9 +139,9 @@ TEST_CASE("CSV errors name the file, the line and the column", "[world][csv]")
     }
 
     CHECK_THAT(test::errorMessage([] { parseCsvPoints("", "empty.csv"); }),
-               Equals("empty.csv: empty CSV file (expected a header row)"));
+               Equals("empty.csv: the file is empty; expected a header row"));
     CHECK_THAT(test::errorMessage([] { loadCsvPoints("/nonexistent/cities.csv"); }),
-               Contains("/nonexistent/cities.csv: cannot open CSV file"));
+               Contains("/nonexistent/cities.csv: CSV file: no such file"));
 }
 
 TEST_CASE("skipInvalidRows keeps the valid rows and reports each bad one with its line", "[world][csv]")
@@ -161,9 +161,9 @@ TEST_CASE("skipInvalidRows keeps the valid rows and reports each bad one with it
     REQUIRE(points.size() == 2);
     CHECK(*points.column("name") == std::vector<std::string>{"a", "f"});
     REQUIRE(points.warnings.size() == 4);
-    CHECK_THAT(points.warnings[0], Contains("f.csv: line 3, column 2 \"lat\""));
-    CHECK_THAT(points.warnings[1], Contains("f.csv: line 4, column 1: unexpected character after a closing quote"));
-    CHECK_THAT(points.warnings[2], Contains("f.csv: line 5, column 2 \"lat\": expected a number (latitude), got "
-                                            "\"multi\nline\""));
-    CHECK_THAT(points.warnings[3], Contains("f.csv: line 8, column 3: unterminated quoted field"));
+    CHECK_THAT(points.warnings[0], Contains("f.csv:3: column 2 \"lat\""));
+    CHECK_THAT(points.warnings[1], Contains("f.csv:4: column 1: unexpected character after a closing quote"));
+    CHECK_THAT(points.warnings[2], Contains("f.csv:5: column 2 \"lat\": expected a finite number (latitude), got "
+                                            "\"multi\\nline\"")); // quoted as JSON writes it: one line
+    CHECK_THAT(points.warnings[3], Contains("f.csv:8: column 3: unterminated quoted field"));
 }

@@ -15,6 +15,7 @@ using namespace orbis;
 using namespace orbis::world;
 using Catch::Matchers::Contains;
 using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -154,17 +155,18 @@ TEST_CASE("parseGeoJson accepts a single Feature or a bare geometry at top level
     CHECK(bare.features[0].properties.empty());
 }
 
-TEST_CASE("GeoJSON errors name the file, the feature, its name, the JSON path and the problem", "[world][geojson]")
+TEST_CASE("GeoJSON errors name the file, line and column, the feature, its name, the JSON path and the problem",
+          "[world][geojson]")
 {
     const test::TempDirectory directory;
     const std::string bad = R"({"type": "Polygon", "coordinates": [[[177, -17], [178, -17], [178, -16], [177, 95], [177, -17]]]})";
     const auto path = directory.write("countries.geojson", collection({feature("Tonga", kSquare), feature("Fiji", bad)}));
     CHECK_THAT(test::errorMessage([&] { loadGeoJson(path); }),
-               Equals(path.string() +
-                      ": feature 1 (name \"Fiji\"): geometry.coordinates[0][3]: latitude 95 out of range [-90, 90]"));
+               Equals(path.string() + ":3:138: feature 1 (name \"Fiji\"): geometry.coordinates[0][3]: latitude 95 out "
+                                      "of range [-90, 90]")); // the third line holds Fiji; [177, 95] starts at 138
 }
 
-TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[world][geojson]")
+TEST_CASE("GeoJSON syntax errors name the file, line and column, as scene files' do", "[world][geojson]")
 {
     const test::TempDirectory directory;
     const std::string whole = collection({feature("a", kSquare), feature("b", kSquare)});
@@ -174,27 +176,26 @@ TEST_CASE("GeoJSON syntax errors name the file, line, column and byte", "[world]
     // The error is at the end of the text: its last line, one past its last byte.
     const auto lines = std::count(half.begin(), half.end(), '\n') + 1;
     const auto lastLineLength = half.size() - half.rfind('\n') - 1;
-    CHECK_THAT(message, Contains(truncated.string() + ": JSON syntax error at line " + std::to_string(lines) +
-                                 ", column " + std::to_string(lastLineLength + 1) + " (byte " +
-                                 std::to_string(half.size()) + ")"));
+    CHECK_THAT(message, Contains(truncated.string() + ":" + std::to_string(lines) + ":" +
+                                 std::to_string(lastLineLength + 1) + ": invalid JSON: "));
     CHECK_THAT(message, Contains("unexpected end of input"));
 
     const auto comma = directory.write("comma.geojson", "{\"type\": \"Point\",\n \"coordinates\": [1, 2],, }");
     CHECK_THAT(test::errorMessage([&] { loadGeoJson(comma); }),
-               Contains(comma.string() + ": JSON syntax error at line 2, column 24 (byte 41)"));
+               Contains(comma.string() + ":2:24: invalid JSON: "));
 
     // A number too large for a double is caught by the JSON reader, before any feature is read.
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("{\"type\": \"Point\",\n\"coordinates\": [1, 1e999]}", "big.json"); }),
-               Equals("big.json: JSON number out of range at line 2, column 20 (byte 37): 1e999"));
+               Equals("big.json:2:20: invalid JSON: 1e999 is too large for a double"));
 
     // Nesting deep enough to exhaust the stack is refused before parsing; brackets in strings do not count.
     const std::string deep = R"({"type": "Feature", "geometry": null, "properties": {"s": "[[[[", "a": )" +
                              std::string(100000, '[') + std::string(100000, ']') + "}}";
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(deep, "deep.json"); }),
-               Equals("deep.json: JSON nested deeper than 256 levels at line 1, column 326 (byte 325)"));
+               Equals("deep.json:1:326: invalid JSON: nested deeper than 256 levels"));
 
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("", "empty.json"); }),
-               Contains("empty.json: JSON syntax error at line 1, column 1 (byte 0)"));
+               Equals("empty.json: the file is empty; expected a JSON object"));
 }
 
 TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected with a path", "[world][geojson]")
@@ -205,16 +206,16 @@ TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected
     };
     const Case cases[] = {
         {R"({"type": "Point", "coordinates": ["NaN", 1]})",
-         R"(geometry.coordinates[0]: expected a number (longitude), got string "NaN")"},
+         R"(geometry.coordinates[0]: expected a number (longitude), got "NaN")"},
         {R"({"type": "Point", "coordinates": [1, "Infinity"]})",
-         R"(geometry.coordinates[1]: expected a number (latitude), got string "Infinity")"},
+         R"(geometry.coordinates[1]: expected a number (latitude), got "Infinity")"},
         {R"({"type": "Point", "coordinates": [1]})",
-         "geometry.coordinates: a position needs longitude and latitude, got array of 1"},
+         "geometry.coordinates: a position needs longitude and latitude, got an array of 1 element"},
         {R"({"type": "Point"})", "geometry: missing \"coordinates\" for a Point"},
         {R"({"type": "Polygon", "coordinates": "none"})",
-         "geometry.coordinates: expected an array of rings, got string \"none\""},
+         "geometry.coordinates: expected an array of rings, got \"none\""},
         {R"({"type": "MultiPolygon", "coordinates": [[[[0, 0], [1, 0], [1, 1], [0, 0]]], 5]})",
-         "geometry.coordinates[1]: expected an array of rings, got number 5"},
+         "geometry.coordinates[1]: expected an array of rings, got 5"},
         {R"({"type": "LineString", "coordinates": [[0, 0]]})",
          "geometry.coordinates: a LineString needs at least 2 positions, got 1"},
         {R"({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [0, 0]]]})",
@@ -223,36 +224,39 @@ TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected
          "geometry.coordinates[0][1]: longitude 200 out of range [-180, 180]"},
         {R"({"type": "Circle", "coordinates": [0, 0]})", "geometry.type: unknown geometry type \"Circle\""},
         {R"({"coordinates": [0, 0]})", "geometry: missing \"type\""},
-        {R"([0, 0])", "geometry: expected a geometry object, got array of 2"},
+        {R"([0, 0])", "geometry: expected a geometry object, got an array of 2 elements"},
         {R"({"type": "GeometryCollection", "geometries": [{"type": "Point", "coordinates": [0, true]}]})",
          "geometry.geometries[0].coordinates[1]: expected a number (latitude), got true"},
     };
     for (const Case& c : cases) {
         INFO(c.geometry);
         CHECK_THAT(test::errorMessage([&] { parseGeoJson(collection({feature("x", c.geometry)}), "f.json"); }),
-                   Contains("f.json: feature 0 (name \"x\"): " + c.expected));
+                   Contains(": feature 0 (name \"x\"): " + c.expected));
+        // On the feature's line, at the value at fault.
+        CHECK_THAT(test::errorMessage([&] { parseGeoJson(collection({feature("x", c.geometry)}), "f.json"); }),
+                   StartsWith("f.json:2:"));
     }
 
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(collection({R"({"type": "Feature", "properties": {}})"}), "f"); }),
-               Equals("f: feature 0: missing \"geometry\" (use null for a feature without one)"));
+               Equals("f:2:1: feature 0: missing \"geometry\" (use null for a feature without one)"));
     CHECK_THAT(test::errorMessage([&] {
                    parseGeoJson(collection({R"({"type": "Feature", "properties": 3, "geometry": null})"}), "f");
                }),
-               Equals("f: feature 0: properties: expected an object or null, got number 3"));
+               Equals("f:2:35: feature 0: properties: expected an object or null, got 3"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(collection({"42"}), "f"); }),
-               Equals("f: feature 0: expected a Feature object, got number 42"));
+               Equals("f:2:1: feature 0: expected a Feature object, got 42"));
     CHECK_THAT(test::errorMessage([&] {
                    parseGeoJson(collection({R"({"type": "Feature", "id": "a1", "geometry": {"type": "Point"}})"}), "f");
                }),
-               Equals("f: feature 0 (id \"a1\"): geometry: missing \"coordinates\" for a Point"));
+               Equals("f:2:45: feature 0 (id \"a1\"): geometry: missing \"coordinates\" for a Point"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(R"({"type": "FeatureCollection"})", "f"); }),
                Equals("f: features: expected an array of features, got nothing"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(R"({"type": "Topology"})", "f"); }),
-               Contains("f: type: unknown GeoJSON type \"Topology\""));
+               Contains("f:1:10: type: unknown GeoJSON type \"Topology\""));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("[1, 2]", "f"); }),
-               Equals("f: expected a GeoJSON object at top level, got array of 2"));
+               Equals("f:1:1: expected a GeoJSON object at top level, got an array of 2 elements"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(R"({"type": "Point", "coordinates": [0, -91]})", "f"); }),
-               Equals("f: coordinates: latitude -91 out of range [-90, 90]"));
+               Equals("f:1:34: coordinates: latitude -91 out of range [-90, 90]"));
 }
 
 TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and warns", "[world][geojson]")
@@ -260,8 +264,8 @@ TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and w
     const std::string open = collection(
         {feature("open", R"({"type": "Polygon", "coordinates": [[[0, 0], [1, 0], [1, 1], [0, 1]]]})")});
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(open, "open.geojson"); }),
-               Equals("open.geojson: feature 0 (name \"open\"): geometry.coordinates[0]: ring is not closed: first "
-                      "position (0, 0) differs from the last (0, 1)"));
+               Equals("open.geojson:2:101: feature 0 (name \"open\"): geometry.coordinates[0]: ring is not closed: "
+                      "first position (0, 0) differs from the last (0, 1)"));
 
     GeoJsonOptions options;
     options.closeOpenRings = true;
@@ -271,8 +275,8 @@ TEST_CASE("An open ring is an error unless closeOpenRings, which closes it and w
     REQUIRE(ring.size() == 5);
     CHECK(ring.front() == ring.back());
     REQUIRE(closed.warnings.size() == 1);
-    CHECK_THAT(closed.warnings[0], Contains("open.geojson: feature 0 (name \"open\"): geometry.coordinates[0]: closed "
-                                            "an open ring"));
+    CHECK_THAT(closed.warnings[0], Contains("open.geojson:2:101: feature 0 (name \"open\"): geometry.coordinates[0]: "
+                                            "closed an open ring"));
 
     // Closing cannot rescue a ring with too few corners.
     const std::string twoCorners =
@@ -298,8 +302,8 @@ TEST_CASE("skipInvalidFeatures keeps the valid features and reports each bad one
     CHECK(result.features[1].index == 3);
     CHECK(result.features[1].stringProperty("name") == "also good");
     REQUIRE(result.warnings.size() == 2);
-    CHECK_THAT(result.warnings[0], Contains(path.string() + ": feature 1 (name \"bad\"): geometry.coordinates[1]"));
-    CHECK_THAT(result.warnings[1], Contains(path.string() + ": feature 2 (name \"open\")"));
+    CHECK_THAT(result.warnings[0], Contains(path.string() + ":3:") && Contains(": feature 1 (name \"bad\"): geometry.coordinates[1]"));
+    CHECK_THAT(result.warnings[1], Contains(path.string() + ":4:") && Contains(": feature 2 (name \"open\")"));
 
     // Errors outside any feature still throw.
     CHECK_THROWS_AS(parseGeoJson("{\"type\": ", "f", options), Error);
@@ -308,5 +312,5 @@ TEST_CASE("skipInvalidFeatures keeps the valid features and reports each bad one
 TEST_CASE("loadGeoJson names the path of a missing file", "[world][geojson]")
 {
     CHECK_THAT(test::errorMessage([] { loadGeoJson("/nonexistent/countries.geojson"); }),
-               Contains("/nonexistent/countries.geojson: cannot open GeoJSON file"));
+               Contains("/nonexistent/countries.geojson: GeoJSON file: no such file"));
 }

@@ -106,17 +106,19 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
 {
     REQUIRE(defaultSceneText() == readText(kScenes / "default.json"));
-    const SceneDescription builtIn = parseDefaultScene();
+    const SceneDescription builtIn = parseDefaultScene(kScenes);
     REQUIRE(builtIn == parseSceneFile(kScenes / "default.json"));
 
-    // The default Earth: day and night on a ray-cast globe, the Sun from a fixed time, 20,000 km up.
+    // The default view: the Himalaya from 350 km, looking north, the Blue Marble streamed at its
+    // deepest level, lit by the Sun of a fixed time.
     REQUIRE(builtIn.globe.has_value());
-    REQUIRE(builtIn.globe->method == GlobeMethod::RayCast);
-    REQUIRE(builtIn.globe->texture == GlobeTexture{"/usr/share/xplanet/images/earth.jpg", GlobeTexture::Kind::Image});
-    REQUIRE(builtIn.globe->nightTexture == fs::path("/usr/share/xplanet/images/night.jpg"));
+    REQUIRE(builtIn.globe->imagery.size() == 1);
+    REQUIRE(fs::path(builtIn.globe->imagery[0].source) == (kScenes / "../imagery/BlueMarble").lexically_normal());
+    REQUIRE_FALSE(builtIn.globe->texture);
+    REQUIRE(builtIn.globe->maximumScreenSpaceError == 2.0);
     REQUIRE(builtIn.sun.source == SunSource::Time);
     REQUIRE(builtIn.depth == DepthStrategy::Automatic);
-    REQUIRE_THAT(builtIn.camera.position.height, WithinAbs(20'000'000.0, 0.0));
+    REQUIRE_THAT(builtIn.camera.position.height, WithinAbs(350'000.0, 0.0));
     REQUIRE(builtIn.layers.empty());
 }
 
@@ -463,7 +465,7 @@ TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[wo
             "test.json:1:14: invalid JSON: syntax error while parsing object - unexpected end of input; expected '}'");
     CHECK(errorOf(" \n ") == "test.json: the file is empty; expected a JSON object");
     CHECK(errorOf(std::string(100, '[') + std::string(100, ']')) ==
-            "test.json: invalid scene: nested deeper than 64 levels");
+            "test.json:1:65: invalid JSON: nested deeper than 64 levels");
 }
 
 TEST_CASE("A key given twice is an error at the second", "[world][scenefile][errors]")
@@ -498,11 +500,12 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "cities.csv"})"), true, base) ==
             R"(test.json:1:56: /layers/0/source: "cities.csv" has no longitude column (one of "lon", "lng", "long", "longitude"); its columns are "name", "x", "y")");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "wide.csv"})"), true, base) ==
-          R"(test.json:1:56: /layers/0/source: "wide.csv" has a first line longer than 64 KiB; expected a header row)");
+          "test.json:1:56: /layers/0/source: " + (base / "wide.csv").string() +
+              ":1: has a first line longer than 64 KiB; expected a header row");
     CHECK(errorOf(R"({"version": 1, "globe": {"texture": "/dev/null"}})", true, base) ==
           R"(test.json:1:37: /globe/texture: "/dev/null" is not a regular file)");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "blank.csv"})"), true, base) ==
-            R"(test.json:1:56: /layers/0/source: "blank.csv" has no header row)");
+            "test.json:1:56: /layers/0/source: " + (base / "blank.csv").string() + ": has no header row");
     // A byte-order mark, quotes, blanks and CRLF around column names are fine; a misspelt field is not.
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "places.csv", "label": {"field": "name"}})"), true, base) ==
             "no error");
@@ -526,4 +529,62 @@ TEST_CASE("parseSceneFile names files it cannot read", "[world][scenefile][error
     } catch (const SceneFileError& error) {
         REQUIRE(std::string(error.what()) == folder.path().string() + ": is a folder; expected a scene file");
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every fault of a file in one run (orbis validate)
+
+TEST_CASE("Collecting faults lists every fault of a file, each at its line and column", "[world][scenefile][errors]")
+{
+    const fs::path file = kSourceDirectory / "tests" / "world" / "scenes" / "seven-faults.json";
+    DiagnosticList faults;
+    SceneParseOptions options;
+    options.diagnostics = &faults;
+    const SceneDescription scene = parseSceneFile(file, options);
+    const std::string origin = file.string();
+    const std::vector<std::string> expected = {
+        origin + ":3:3: /widht: unknown key \"widht\" (did you mean \"width\"?)",
+        origin + ":4:13: /height: expected a positive integer, got \"tall\"",
+        origin + ":5:17: /background: expected a color \"#rrggbb\" or \"#rrggbbaa\", got \"#12345\"",
+        origin + ":6:36: /camera/position/lon: 200 is out of range [-180, 180]",
+        origin + ":7:12: /depth: unknown value \"logarithmc\" (did you mean \"logarithmic\"?)",
+        origin + ":8:43: /globe/grid: expected true or false, got \"yes\"",
+        origin + ":10:69: /layers/0/width: -2 is out of range (0, 1024]",
+    };
+    std::vector<std::string> found;
+    for (const Diagnostic& fault : faults.entries()) {
+        found.push_back(fault.text());
+    }
+    CHECK(found == expected);
+    REQUIRE(faults.size() == 7);
+    CHECK(faults.entries()[3].line == 6);
+    CHECK(faults.entries()[3].column == 36);
+    CHECK(faults.entries()[3].where == "/camera/position/lon");
+    // What could be read is kept: the globe's method, the layer's positions.
+    REQUIRE(scene.globe);
+    CHECK(scene.globe->method == GlobeMethod::RayCast);
+    REQUIRE(scene.layers.size() == 1);
+    CHECK(std::get<PolylineLayer>(scene.layers[0]).positions.size() == 2);
+
+    // Without collecting, the first of them is thrown, word for word.
+    try {
+        parseSceneFile(file);
+        FAIL("no error");
+    } catch (const SceneFileError& error) {
+        CHECK(error.what() == expected.front());
+    }
+}
+
+TEST_CASE("Collecting faults of text that is not JSON gives the one syntax fault", "[world][scenefile][errors]")
+{
+    DiagnosticList faults;
+    SceneParseOptions options;
+    options.diagnostics = &faults;
+    parseSceneText("{\n  \"version\": 1,\n  \"width\": 640,,\n}", "bad.json", kScenes, options);
+    REQUIRE(faults.size() == 1);
+    CHECK_THAT(faults.entries()[0].text(), Catch::Matchers::StartsWith("bad.json:3:16: invalid JSON: "));
+    faults = {};
+    parseSceneFile("/nonexistent/scene.json", options);
+    REQUIRE(faults.size() == 1);
+    CHECK(faults.entries()[0].text() == "/nonexistent/scene.json: no such file");
 }

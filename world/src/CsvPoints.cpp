@@ -1,14 +1,14 @@
 #include "orbis/world/CsvPoints.h"
 
 #include "orbis/core/Error.h"
-
-#include "ReadFile.h"
+#include "orbis/world/Diagnostics.h"
+#include "orbis/world/FileAccess.h"
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <span>
 
 namespace orbis::world {
@@ -25,9 +25,10 @@ const std::vector<std::string>* CsvPoints::column(std::string_view name) const n
 
 namespace {
 
-/// A bad row: the message after "file: line N".
+/// A bad row: where in it (a column, or empty for the whole row) and what is wrong.
 struct BadRow {
-    std::string message;
+    std::string where;
+    std::string what;
 };
 
 /// The file ends inside a quoted field.
@@ -64,7 +65,7 @@ public:
         _recordLine = _line;
         _inRecord = true;
         for (;;) {
-            fields.push_back(_position < _text.size() && _text[_position] == '"' ? quoted(fields.size()) : unquoted());
+            fields.push_back(quotedAhead() ? quoted(fields.size()) : unquoted());
             if (_position >= _text.size()) {
                 _inRecord = false;
                 return true;
@@ -101,6 +102,21 @@ public:
     }
 
 private:
+    /// Whether the field starting here is quoted, blanks before its quote allowed (`a, "b"`);
+    /// moves to the quote when it is.
+    bool quotedAhead()
+    {
+        std::size_t at = _position;
+        while (at < _text.size() && (_text[at] == ' ' || _text[at] == '\t')) {
+            ++at;
+        }
+        if (at < _text.size() && _text[at] == '"') {
+            _position = at;
+            return true;
+        }
+        return false;
+    }
+
     std::string_view unquoted()
     {
         const std::size_t begin = _position;
@@ -141,11 +157,14 @@ private:
             read = quote + 1;
             break;
         }
+        // Blanks after the closing quote are allowed too.
+        while (read < size && (data[read] == ' ' || data[read] == '\t') && data[read] != _delimiter) {
+            ++read;
+        }
         _position = read;
         if (read < size && data[read] != _delimiter && data[read] != '\n' && data[read] != '\r') {
-            throw BadRow{", column " + std::to_string(fieldIndex + 1) +
-                         ": unexpected character after a closing quote (a quote inside a quoted field must be "
-                         "doubled)"};
+            throw BadRow{"column " + std::to_string(fieldIndex + 1),
+                         "unexpected character after a closing quote (a quote inside a quoted field must be doubled)"};
         }
         return {data + begin, write - begin};
     }
@@ -169,43 +188,26 @@ std::string_view trim(std::string_view s)
     return s;
 }
 
-std::string quote(std::string_view s)
-{
-    if (s.size() > 40) {
-        return "\"" + std::string(s.substr(0, 40)) + "...\"";
-    }
-    return "\"" + std::string(s) + "\"";
-}
-
-std::string formatNumber(double value)
-{
-    char buffer[32];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
-
 struct ColumnRef {
     std::size_t index; ///< from 0
     std::string_view name;
 
-    std::string describe() const { return ", column " + std::to_string(index + 1) + " " + quote(name); }
+    std::string describe() const { return "column " + std::to_string(index + 1) + " " + quote(name); }
 };
 
 double readNumber(std::string_view field, const ColumnRef& column, const char* what)
 {
-    std::string_view s = trim(field);
-    if (!s.empty() && s.front() == '+') {
-        s.remove_prefix(1);
+    const std::optional<double> value = parseNumber(field);
+    if (!value) {
+        throw BadRow{column.describe(), std::string("expected a finite number (") + what + "), got " + quote(field)};
     }
-    double value = 0.0;
-    const auto result = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (s.empty() || result.ec == std::errc::invalid_argument || result.ptr != s.data() + s.size()) {
-        throw BadRow{column.describe() + ": expected a number (" + what + "), got " + quote(field)};
-    }
-    if (result.ec == std::errc::result_out_of_range || !std::isfinite(value)) {
-        throw BadRow{column.describe() + ": " + what + " " + quote(field) + " is not a finite number"};
-    }
-    return value;
+    return *value;
+}
+
+/// A fault at a line of the file, as every reader states one.
+std::string faultAt(const std::string& source, std::size_t line, std::string where, std::string what)
+{
+    return Diagnostic{source, line, 0, std::move(where), std::move(what)}.text();
 }
 
 } // namespace
@@ -218,20 +220,20 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
     CsvPoints result;
 
     auto unterminated = [&](const Unterminated& u) {
-        return source + ": line " + std::to_string(u.line) + ", column " + std::to_string(u.column) +
-               ": unterminated quoted field (the closing quote is missing before the end of the file)";
+        return faultAt(source, u.line, "column " + std::to_string(u.column),
+                       "unterminated quoted field (the closing quote is missing before the end of the file)");
     };
 
     // The header.
     std::vector<std::string> header;
     try {
         if (!reader.next(fields)) {
-            throw Error(source + ": empty CSV file (expected a header row)");
+            throw Error(faultAt(source, 0, "", "the file is empty; expected a header row"));
         }
     } catch (const Unterminated& u) {
         throw Error(unterminated(u));
     } catch (const BadRow& bad) {
-        throw Error(source + ": line " + std::to_string(reader.recordLine()) + bad.message);
+        throw Error(faultAt(source, reader.recordLine(), bad.where, bad.what));
     }
     for (std::string_view field : fields) {
         header.emplace_back(trim(field));
@@ -239,15 +241,16 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
     auto listColumns = [&] {
         std::string list;
         for (const std::string& name : header) {
-            list += (list.empty() ? "" : ", ") + name;
+            list += (list.empty() ? "" : ", ") + quote(name);
         }
         return list;
     };
     auto find = [&](const std::string& name, const char* role) -> std::size_t {
         const auto it = std::find(header.begin(), header.end(), name);
         if (it == header.end()) {
-            throw Error(source + ": line " + std::to_string(reader.recordLine()) + ": no " + role + " column " +
-                        quote(name) + " in the header (columns: " + listColumns() + ")");
+            throw Error(faultAt(source, reader.recordLine(), "",
+                                std::string("no ") + role + " column " + quote(name) + " in the header (columns: " +
+                                    listColumns() + ")"));
         }
         return static_cast<std::size_t>(it - header.begin());
     };
@@ -301,27 +304,25 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
                 break;
             }
             if (fields.size() != header.size()) {
-                throw BadRow{": expected " + std::to_string(header.size()) + " fields as in the header, got " +
-                             std::to_string(fields.size())};
+                throw BadRow{"", "expected " + std::to_string(header.size()) + " fields as in the header, got " +
+                                     std::to_string(fields.size())};
             }
             const double longitude = readNumber(fields[longitudeIndex], longitudeColumn, "longitude");
             const double latitude = readNumber(fields[latitudeIndex], latitudeColumn, "latitude");
             const double height =
                 heightIndex == kNone ? 0.0 : readNumber(fields[heightIndex], {heightIndex, header[heightIndex]}, "height");
             if (longitude < -180.0 || longitude > 180.0) {
-                throw BadRow{longitudeColumn.describe() + ": longitude " + formatNumber(longitude) +
-                             " out of range [-180, 180]"};
+                throw BadRow{longitudeColumn.describe(), "longitude " + formatNumber(longitude) + " out of range [-180, 180]"};
             }
             if (latitude < -90.0 || latitude > 90.0) {
-                throw BadRow{latitudeColumn.describe() + ": latitude " + formatNumber(latitude) +
-                             " out of range [-90, 90]"};
+                throw BadRow{latitudeColumn.describe(), "latitude " + formatNumber(latitude) + " out of range [-90, 90]"};
             }
             result.positions.push_back(Geodetic3D::fromDegrees(longitude, latitude, height));
             for (std::size_t k = 0; k < propertyIndices.size(); ++k) {
                 result.properties[k].emplace_back(fields[propertyIndices[k]]);
             }
         } catch (const BadRow& bad) {
-            const std::string message = source + ": line " + std::to_string(reader.recordLine()) + bad.message;
+            const std::string message = faultAt(source, reader.recordLine(), bad.where, bad.what);
             if (!options.skipInvalidRows) {
                 throw Error(message);
             }
@@ -340,7 +341,43 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
 
 CsvPoints loadCsvPoints(const std::filesystem::path& path, const CsvPointsOptions& options)
 {
-    return parseCsvPoints(readTextFile(path, "CSV"), path.string(), options);
+    const std::vector<std::uint8_t> bytes = readFileBytes(path, "CSV file");
+    return parseCsvPoints(std::string(bytes.begin(), bytes.end()), path.string(), options);
+}
+
+std::vector<std::string> readCsvHeader(const std::filesystem::path& path, char delimiter)
+{
+    // Only the first line is needed: a longer one is not a header.
+    constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
+    const std::string source = path.string();
+    std::ifstream file(path, std::ios::binary);
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error) || !file) {
+        throw Error(faultAt(source, 0, "", "cannot be opened as a CSV file"));
+    }
+    std::string text(kMaxHeaderBytes + 1, '\0');
+    file.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(file.gcount()));
+    if (text.size() > kMaxHeaderBytes && text.find('\n') == std::string::npos) {
+        throw Error(faultAt(source, 1, "", "has a first line longer than 64 KiB; expected a header row"));
+    }
+    text.erase(std::min(text.find('\n'), text.size())); // the rest may end inside a record
+    CsvReader reader(text, delimiter);
+    std::vector<std::string_view> fields;
+    try {
+        if (!reader.next(fields) || (fields.size() == 1 && trim(fields[0]).empty())) {
+            throw Error(faultAt(source, 0, "", "has no header row"));
+        }
+    } catch (const Unterminated& u) {
+        throw Error(faultAt(source, u.line, "column " + std::to_string(u.column), "unterminated quoted field"));
+    } catch (const BadRow& bad) {
+        throw Error(faultAt(source, 1, bad.where, bad.what));
+    }
+    std::vector<std::string> columns;
+    for (std::string_view field : fields) {
+        columns.emplace_back(trim(field));
+    }
+    return columns;
 }
 
 } // namespace orbis::world

@@ -172,17 +172,4 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view tex
     writeFileAtomically(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
-std::string cutForMessage(std::string_view value, std::size_t maximumCharacters)
-{
-    if (value.size() <= maximumCharacters) {
-        return std::string(value);
-    }
-    // Do not cut a UTF-8 sequence in two.
-    std::size_t end = maximumCharacters;
-    while (end > 0 && (static_cast<unsigned char>(value[end]) & 0xC0) == 0x80) {
-        --end;
-    }
-    return std::string(value.substr(0, end)) + "... (" + std::to_string(value.size()) + " bytes)";
-}
-
 } // namespace orbis::world

@@ -2,8 +2,10 @@
 
 #include "orbis/core/Error.h"
 #include "orbis/core/Math.h"
+#include "orbis/world/Diagnostics.h"
+#include "orbis/world/FileAccess.h"
 
-#include "ReadFile.h"
+#include "JsonText.h"
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +17,7 @@
 namespace orbis::world {
 
 using Json = nlohmann::json;
+using detail::describeJson;
 
 const PropertyValue* Feature::property(std::string_view name) const
 {
@@ -73,56 +76,39 @@ std::string render(const PathNode* node)
     return text;
 }
 
-/// What is wrong inside one feature (or a top-level geometry), before the feature prefix is added.
+/// The JSON pointer of a path, relative to the feature (or top-level geometry).
+std::string pointerOf(const PathNode* node)
+{
+    std::string pointer;
+    for (; node && (node->parent || !node->key.empty()); node = node->parent) {
+        // Appended rather than "/" + to_string: GCC 12 -O3 warns falsely (-Wrestrict) on that.
+        std::string step = "/";
+        if (node->key.empty()) {
+            step.append(std::to_string(node->index));
+        } else {
+            step = detail::appendToPointer("", node->key);
+        }
+        pointer.insert(0, step);
+    }
+    return pointer;
+}
+
+/// What is wrong inside one feature (or a top-level geometry), before the feature is named.
 struct Invalid {
-    std::string path;
+    std::string path;    ///< "geometry.coordinates[0][3]"
+    std::string pointer; ///< "/geometry/coordinates/0/3", to find it in the text
     std::string message;
 };
 
 [[noreturn]] void fail(const PathNode& at, std::string message)
 {
-    throw Invalid{render(&at), std::move(message)};
-}
-
-std::string formatNumber(double value)
-{
-    std::array<char, 32> buffer{};
-    const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-    return std::string(buffer.data(), result.ptr);
-}
-
-/// A short description of a JSON value for messages: `string "NaN"`, `array of 3`, `null`, ...
-std::string describe(const Json& j)
-{
-    switch (j.type()) {
-    case Json::value_t::null:
-        return "null";
-    case Json::value_t::boolean:
-        return j.get<bool>() ? "true" : "false";
-    case Json::value_t::string: {
-        std::string text = j.get_ref<const std::string&>();
-        if (text.size() > 40) {
-            text = text.substr(0, 40) + "...";
-        }
-        return "string \"" + text + "\"";
-    }
-    case Json::value_t::array:
-        return "array of " + std::to_string(j.size());
-    case Json::value_t::object:
-        return "object";
-    case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned:
-    case Json::value_t::number_float:
-        return "number " + formatNumber(j.get<double>());
-    default:
-        return "unreadable value";
-    }
+    throw Invalid{render(&at), pointerOf(&at), std::move(message)};
 }
 
 const Json& requireArray(const Json& j, const PathNode& at, const char* what)
 {
     if (!j.is_array()) {
-        fail(at, std::string("expected ") + what + ", got " + describe(j));
+        fail(at, std::string("expected ") + what + ", got " + describeJson(j));
     }
     return j;
 }
@@ -130,7 +116,7 @@ const Json& requireArray(const Json& j, const PathNode& at, const char* what)
 double readNumber(const Json& j, const PathNode& at, const char* what)
 {
     if (!j.is_number()) {
-        fail(at, std::string("expected a number (") + what + "), got " + describe(j));
+        fail(at, std::string("expected a number (") + what + "), got " + describeJson(j));
     }
     const double value = j.get<double>();
     if (!std::isfinite(value)) {
@@ -151,10 +137,10 @@ struct PositionDegrees {
 PositionDegrees readPosition(const Json& j, const PathNode& at)
 {
     if (!j.is_array()) {
-        fail(at, "expected a position [longitude, latitude], got " + describe(j));
+        fail(at, "expected a position [longitude, latitude], got " + describeJson(j));
     }
     if (j.size() < 2) {
-        fail(at, "a position needs longitude and latitude, got " + describe(j));
+        fail(at, "a position needs longitude and latitude, got " + describeJson(j));
     }
     PositionDegrees p{readNumber(j[0], at.element(0), "longitude"), readNumber(j[1], at.element(1), "latitude"),
                       j.size() > 2 ? readNumber(j[2], at.element(2), "height") : 0.0};
@@ -174,14 +160,14 @@ public:
     Geometry read(const Json& j, const PathNode& at)
     {
         if (!j.is_object()) {
-            fail(at, "expected a geometry object, got " + describe(j));
+            fail(at, "expected a geometry object, got " + describeJson(j));
         }
         const auto type = j.find("type");
         if (type == j.end()) {
             fail(at, "missing \"type\"");
         }
         if (!type->is_string()) {
-            fail(at.member("type"), "expected a geometry type name, got " + describe(*type));
+            fail(at.member("type"), "expected a geometry type name, got " + describeJson(*type));
         }
         const std::string& name = type->get_ref<const std::string&>();
         if (name == "GeometryCollection") {
@@ -286,7 +272,7 @@ private:
                 fail(at, "ring is not closed: " + where);
             }
             ring.push_back(ring.front());
-            _notes.push_back({render(&at), "closed an open ring: " + where});
+            _notes.push_back({render(&at), pointerOf(&at), "closed an open ring: " + where});
         }
         if (ring.size() < 4) {
             fail(at, "a ring needs at least 4 positions (3 corners and the first repeated), got " +
@@ -332,21 +318,24 @@ PropertyValue toPropertyValue(const Json& j)
 /// Reads features and formats their errors with the file, the feature index and its name.
 class FeatureReader {
 public:
-    FeatureReader(std::string_view source, const GeoJsonOptions& options, FeatureCollection& result)
-        : _source(source), _options(options), _result(result)
+    FeatureReader(std::string_view text, std::string_view source, const GeoJsonOptions& options,
+                  FeatureCollection& result)
+        : _text(text), _source(source), _options(options), _result(result)
     {
     }
 
-    /// Reads one Feature object; with skipInvalidFeatures, a bad one becomes a warning.
-    void readFeature(const Json& j, std::size_t index)
+    /// Reads one Feature object (at `pointer` in the text); with skipInvalidFeatures, a bad one
+    /// becomes a warning.
+    void readFeature(const Json& j, std::size_t index, std::string pointer)
     {
+        _pointer = std::move(pointer);
         Feature feature;
         feature.index = index;
         std::vector<Invalid> notes;
         const PathNode root;
         try {
             if (!j.is_object()) {
-                fail(root, "expected a Feature object, got " + describe(j));
+                fail(root, "expected a Feature object, got " + describeJson(j));
             }
             readIdAndProperties(j, root, feature);
             const auto type = j.find("type");
@@ -354,7 +343,7 @@ public:
                 fail(root, "missing \"type\" (expected \"Feature\")");
             }
             if (!type->is_string() || type->get_ref<const std::string&>() != "Feature") {
-                fail(root.member("type"), "expected \"Feature\", got " + describe(*type));
+                fail(root.member("type"), "expected \"Feature\", got " + describeJson(*type));
             }
             const auto geometry = j.find("geometry");
             if (geometry == j.end()) {
@@ -364,11 +353,11 @@ public:
                 feature.geometry = GeometryReader(_options, notes).read(*geometry, root.member("geometry"));
             }
         } catch (const Invalid& invalid) {
-            report(invalid, feature);
+            report(fault(featureName(feature), invalid));
             return;
         }
         for (const Invalid& note : notes) {
-            _result.warnings.push_back(prefix(feature) + note.path + ": " + note.message);
+            _result.warnings.push_back(fault(featureName(feature), note));
         }
         _result.features.push_back(std::move(feature));
     }
@@ -378,10 +367,11 @@ public:
     {
         Feature feature;
         std::vector<Invalid> notes;
+        _pointer.clear();
         try {
             feature.geometry = GeometryReader(_options, notes).read(j, PathNode{});
         } catch (const Invalid& invalid) {
-            const std::string message = std::string(_source) + ": " + joinPath(invalid);
+            const std::string message = fault("", invalid);
             if (!_options.skipInvalidFeatures) {
                 throw Error(message);
             }
@@ -389,15 +379,22 @@ public:
             return;
         }
         for (const Invalid& note : notes) {
-            _result.warnings.push_back(std::string(_source) + ": " + joinPath(note));
+            _result.warnings.push_back(fault("", note));
         }
         _result.features.push_back(std::move(feature));
     }
 
 private:
-    static std::string joinPath(const Invalid& invalid)
+    /// As every reader states a fault: the file, the line and column of the value at fault, the
+    /// feature and the path inside it, and what is wrong.
+    std::string fault(const std::string& feature, const Invalid& invalid) const
     {
-        return invalid.path.empty() ? invalid.message : invalid.path + ": " + invalid.message;
+        const detail::TextPosition position = detail::positionOf(_text, _pointer + invalid.pointer, false);
+        std::string where = feature;
+        if (!invalid.path.empty()) {
+            where += (where.empty() ? "" : ": ") + invalid.path;
+        }
+        return Diagnostic{std::string(_source), position.line, position.column, where, invalid.message}.text();
     }
 
     void readIdAndProperties(const Json& j, const PathNode& root, Feature& feature)
@@ -408,7 +405,7 @@ private:
             } else if (id->is_number()) {
                 feature.id = id->dump();
             } else {
-                fail(root.member("id"), "expected a string or a number, got " + describe(*id));
+                fail(root.member("id"), "expected a string or a number, got " + describeJson(*id));
             }
         }
         const auto properties = j.find("properties");
@@ -416,80 +413,51 @@ private:
             return;
         }
         if (!properties->is_object()) {
-            fail(root.member("properties"), "expected an object or null, got " + describe(*properties));
+            fail(root.member("properties"), "expected an object or null, got " + describeJson(*properties));
         }
         for (const auto& [key, value] : properties->items()) {
             feature.properties.emplace(key, toPropertyValue(value));
         }
     }
 
-    /// `file: feature 12 (name "Fiji"): `
-    std::string prefix(const Feature& feature) const
+    /// `feature 12 (name "Fiji")`
+    static std::string featureName(const Feature& feature)
     {
-        std::string text = std::string(_source) + ": feature " + std::to_string(feature.index);
+        const std::string text = "feature " + std::to_string(feature.index);
         static constexpr std::string_view kNameKeys[] = {"name", "NAME", "Name", "name_en", "NAME_EN",
                                                          "admin", "ADMIN", "title"};
         for (std::string_view key : kNameKeys) {
             if (auto name = feature.stringProperty(key)) {
-                return text + " (" + std::string(key) + " \"" + *name + "\"): ";
+                return text + " (" + std::string(key) + " " + quote(*name) + ")";
             }
         }
         if (feature.id) {
-            return text + " (id \"" + *feature.id + "\"): ";
+            return text + " (id " + quote(*feature.id) + ")";
         }
-        return text + ": ";
+        return text;
     }
 
-    void report(const Invalid& invalid, const Feature& feature)
+    void report(const std::string& message)
     {
-        const std::string message = prefix(feature) + joinPath(invalid);
         if (!_options.skipInvalidFeatures) {
             throw Error(message);
         }
         _result.warnings.push_back("skipped " + message);
     }
 
+    std::string_view _text;
     std::string_view _source;
+    std::string _pointer; ///< of the feature being read
     const GeoJsonOptions& _options;
     FeatureCollection& _result;
 };
 
-/// Line and column (both from 1) of a byte offset (from 0) in `text`.
-std::pair<std::size_t, std::size_t> lineAndColumn(std::string_view text, std::size_t offset)
+/// A fault of the document as a whole, at the value a pointer names.
+[[noreturn]] void failDocument(std::string_view text, const std::string& source, const std::string& pointer,
+                               std::string where, std::string what)
 {
-    offset = std::min(offset, text.size());
-    const std::string_view before = text.substr(0, offset);
-    const std::size_t line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
-    const std::size_t lastNewline = before.rfind('\n');
-    const std::size_t column = lastNewline == std::string_view::npos ? offset + 1 : offset - lastNewline;
-    return {line, column};
-}
-
-/// Byte offset of the first bracket nested deeper than `limit`, or npos. Parsing, reading and
-/// freeing a JSON document recurse once per level, so a hostile file could exhaust the stack.
-std::size_t tooDeep(std::string_view text, std::size_t limit)
-{
-    std::size_t depth = 0;
-    bool inString = false;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (inString) {
-            if (c == '\\') {
-                ++i;
-            } else if (c == '"') {
-                inString = false;
-            }
-        } else if (c == '"') {
-            inString = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > limit) {
-                return i;
-            }
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return std::string_view::npos;
+    const detail::TextPosition position = detail::positionOf(text, pointer, false);
+    throw Error(Diagnostic{source, position.line, position.column, std::move(where), std::move(what)}.text());
 }
 
 } // namespace
@@ -498,77 +466,51 @@ FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceNam
 {
     const std::string source(sourceName);
     constexpr std::size_t kMaxDepth = 256;
-    if (const std::size_t offset = tooDeep(text, kMaxDepth); offset != std::string_view::npos) {
-        const auto [line, column] = lineAndColumn(text, offset);
-        throw Error(source + ": JSON nested deeper than " + std::to_string(kMaxDepth) + " levels at line " +
-                    std::to_string(line) + ", column " + std::to_string(column) + " (byte " + std::to_string(offset) +
-                    ")");
+    std::variant<Json, Diagnostic> parsed = detail::parseJson<Json>(text, source, kMaxDepth);
+    if (const auto* fault = std::get_if<Diagnostic>(&parsed)) {
+        throw Error(fault->text());
     }
-    Json document;
-    try {
-        document = Json::parse(text.begin(), text.end());
-    } catch (const Json::parse_error& error) {
-        // nlohmann counts the bytes read, so the offending byte is the one before.
-        const std::size_t offset = error.byte > 0 ? error.byte - 1 : 0;
-        const auto [line, column] = lineAndColumn(text, offset);
-        std::string detail = error.what();
-        if (const std::size_t colon = detail.find(": "); colon != std::string::npos) {
-            detail = detail.substr(colon + 2);
-        }
-        throw Error(source + ": JSON syntax error at line " + std::to_string(line) + ", column " +
-                    std::to_string(column) + " (byte " + std::to_string(offset) + "): " + detail);
-    } catch (const Json::out_of_range& error) {
-        // "number overflow parsing '1e999'": nlohmann gives no offset, so find the number's text.
-        const std::string detail = error.what();
-        const std::size_t open = detail.find('\'');
-        const std::size_t close = detail.rfind('\'');
-        const std::string number =
-            open == std::string::npos || close <= open ? std::string() : detail.substr(open + 1, close - open - 1);
-        const std::size_t offset = number.empty() ? std::string_view::npos : text.find(number);
-        if (offset == std::string_view::npos) {
-            throw Error(source + ": JSON number out of range: " + detail);
-        }
-        const auto [line, column] = lineAndColumn(text, offset);
-        throw Error(source + ": JSON number out of range at line " + std::to_string(line) + ", column " +
-                    std::to_string(column) + " (byte " + std::to_string(offset) + "): " + number);
-    }
+    const Json& document = std::get<Json>(parsed);
 
     FeatureCollection result;
-    FeatureReader reader(source, options, result);
+    FeatureReader reader(text, source, options, result);
     if (!document.is_object()) {
-        throw Error(source + ": expected a GeoJSON object at top level, got " + describe(document));
+        failDocument(text, source, "", "", "expected a GeoJSON object at top level, got " + describeJson(document));
     }
     const auto type = document.find("type");
     if (type == document.end() || !type->is_string()) {
-        throw Error(source + ": the top-level object has no \"type\" string (expected FeatureCollection, "
-                             "Feature or a geometry)");
+        failDocument(text, source, "", "",
+                     "the top-level object has no \"type\" string (expected FeatureCollection, Feature or a geometry)");
     }
     const std::string& name = type->get_ref<const std::string&>();
     if (name == "FeatureCollection") {
         const auto features = document.find("features");
         if (features == document.end() || !features->is_array()) {
-            throw Error(source + ": features: expected an array of features, got " +
-                        (features == document.end() ? std::string("nothing") : describe(*features)));
+            failDocument(text, source, "/features", "features",
+                         "expected an array of features, got " +
+                             (features == document.end() ? std::string("nothing") : describeJson(*features)));
         }
         result.features.reserve(features->size());
         for (std::size_t i = 0; i < features->size(); ++i) {
-            reader.readFeature((*features)[i], i);
+            reader.readFeature((*features)[i], i, "/features/" + std::to_string(i));
         }
     } else if (name == "Feature") {
-        reader.readFeature(document, 0);
+        reader.readFeature(document, 0, "");
     } else if (name == "Point" || name == "MultiPoint" || name == "LineString" || name == "MultiLineString" ||
                name == "Polygon" || name == "MultiPolygon" || name == "GeometryCollection") {
         reader.readTopLevelGeometry(document);
     } else {
-        throw Error(source + ": type: unknown GeoJSON type \"" + name +
-                    "\" (expected FeatureCollection, Feature or a geometry type)");
+        failDocument(text, source, "/type", "type",
+                     "unknown GeoJSON type " + quote(name) + " (expected FeatureCollection, Feature or a geometry type)");
     }
     return result;
 }
 
 FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOptions& options)
 {
-    return parseGeoJson(readTextFile(path, "GeoJSON"), path.string(), options);
+    const std::vector<std::uint8_t> bytes = readFileBytes(path, "GeoJSON file");
+    return parseGeoJson(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string(),
+                        options);
 }
 
 } // namespace orbis::world

@@ -2,7 +2,7 @@
 
 #include "orbis/world/CsvPoints.h"
 
-#include "JsonLocator.h"
+#include "JsonText.h"
 
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/SunPosition.h>
@@ -44,17 +44,14 @@ SceneFileError::SceneFileError(std::string origin, std::string pointer, std::siz
 namespace {
 
 using Json = nlohmann::ordered_json;
+using detail::describeJson;
 namespace fs = std::filesystem;
 using Keys = std::span<const std::string_view>;
 
 /// No scene file needs more; deeper documents are refused before they cost memory.
-constexpr int kMaxDepth = 64;
-/// A CSV header longer than this is not a header.
-constexpr std::size_t kMaxCsvHeaderBytes = 64 * 1024;
+constexpr std::size_t kMaxDepth = 64;
 /// Sizes in pixels beyond this are typing errors.
 constexpr double kMaxPixels = 1024.0;
-
-struct DepthExceeded {};
 
 // ---------------------------------------------------------------------------------------------
 // Text helpers
@@ -65,121 +62,6 @@ std::string lowercase(std::string_view s)
     std::transform(out.begin(), out.end(), out.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return out;
-}
-
-/// Whole numbers below 1e15 in full ("1000000", not "1e+06"), others as short as they round-trip.
-std::string formatNumber(double value)
-{
-    std::array<char, 64> buffer{};
-    const bool whole = std::abs(value) < 1e15 && std::trunc(value) == value;
-    const auto result = whole ? std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
-                                              std::chars_format::fixed, 0)
-                              : std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-    return std::string(buffer.data(), result.ptr);
-}
-
-/// A string as JSON would write it, cut after 60 bytes.
-std::string quote(std::string_view s)
-{
-    constexpr std::size_t kMaxBytes = 60;
-    const bool cut = s.size() > kMaxBytes;
-    std::string quoted = Json(std::string(s.substr(0, kMaxBytes))).dump(-1, ' ', false, Json::error_handler_t::replace);
-    if (cut) {
-        quoted.insert(quoted.size() - 1, "...");
-    }
-    return quoted;
-}
-
-std::string quoteList(Keys words)
-{
-    std::string list;
-    for (std::size_t i = 0; i < words.size(); ++i) {
-        list += (i == 0 ? "" : ", ") + quote(words[i]);
-    }
-    return list;
-}
-
-/// What a value is, for "expected X, got Y".
-std::string describe(const Json& value)
-{
-    switch (value.type()) {
-    case Json::value_t::null: return "null";
-    case Json::value_t::boolean: return value.get<bool>() ? "true" : "false";
-    case Json::value_t::string: return quote(value.get_ref<const std::string&>());
-    case Json::value_t::number_integer: return std::to_string(value.get<std::int64_t>());
-    case Json::value_t::number_unsigned: return std::to_string(value.get<std::uint64_t>());
-    case Json::value_t::number_float: {
-        const double number = value.get<double>();
-        if (!std::isfinite(number)) {
-            return "a number too large for a double";
-        }
-        // A whole number written with a fraction stays recognisable as one: "1.0", not "1".
-        const std::string text = formatNumber(number);
-        return text.find_first_of(".e") == std::string::npos ? text + ".0" : text;
-    }
-    case Json::value_t::array:
-        return value.empty() ? "an empty array"
-                             : "an array of " + std::to_string(value.size()) + (value.size() == 1 ? " element" : " elements");
-    case Json::value_t::object: return value.empty() ? "an empty object" : "an object";
-    default: return "an unsupported value";
-    }
-}
-
-/// Optimal string alignment distance: edits, with swapping two neighbours counted as one.
-std::size_t editDistance(std::string_view a, std::string_view b)
-{
-    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-    for (std::size_t i = 0; i <= a.size(); ++i) {
-        d[i][0] = i;
-    }
-    for (std::size_t j = 0; j <= b.size(); ++j) {
-        d[0][j] = j;
-    }
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
-                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-            }
-        }
-    }
-    return d[a.size()][b.size()];
-}
-
-/// The candidate closest to word (ignoring case) when it is within two edits and shorter than
-/// both words, so "x" suggests nothing.
-std::optional<std::string_view> closestWord(std::string_view word, Keys candidates)
-{
-    // Longer words than any key are not misspellings of one; skip the quadratic table for them.
-    constexpr std::size_t kMaxCompared = 64;
-    if (word.size() > kMaxCompared) {
-        return std::nullopt;
-    }
-    const std::string lowerWord = lowercase(word);
-    std::optional<std::string_view> best;
-    std::size_t bestDistance = 3;
-    for (const std::string_view candidate : candidates) {
-        // The distance is at least the difference in length.
-        if (candidate.size() > word.size() + 2 || word.size() > candidate.size() + 2) {
-            continue;
-        }
-        const std::size_t distance = editDistance(lowerWord, lowercase(candidate));
-        if (distance < bestDistance && distance < std::min(word.size(), candidate.size())) {
-            best = candidate;
-            bestDistance = distance;
-        }
-    }
-    return best;
-}
-
-/// " (did you mean "color"?)", or "; expected one of ..." when nothing is close.
-std::string suggestion(std::string_view word, Keys candidates)
-{
-    if (const auto closest = closestWord(word, candidates)) {
-        return " (did you mean " + quote(*closest) + "?)";
-    }
-    return "; expected " + std::string(candidates.size() == 1 ? "" : "one of ") + quoteList(candidates);
 }
 
 /// The first columns, quoted, for a message.
@@ -194,62 +76,6 @@ std::string joinColumns(const std::vector<std::string>& columns)
         list += " and " + std::to_string(columns.size() - kMaxListed) + " more";
     }
     return list;
-}
-
-// ---------------------------------------------------------------------------------------------
-// CSV header
-
-/// The columns of a CSV file's first line (quotes and a byte-order mark removed, blanks trimmed);
-/// an error message instead when the file cannot be read or has no header.
-std::variant<std::vector<std::string>, std::string> readCsvHeader(const fs::path& path)
-{
-    std::ifstream file(path, std::ios::binary);
-    if (!file) {
-        return std::string("cannot be opened");
-    }
-    std::string line;
-    char c = 0;
-    bool ended = false;
-    while (line.size() < kMaxCsvHeaderBytes && file.get(c)) {
-        if (c == '\n') {
-            ended = true;
-            break;
-        }
-        line += c;
-    }
-    if (!ended && line.size() >= kMaxCsvHeaderBytes) {
-        return std::string("has a first line longer than 64 KiB; expected a header row");
-    }
-    if (line.starts_with("\xEF\xBB\xBF")) {
-        line.erase(0, 3);
-    }
-    if (!line.empty() && line.back() == '\r') {
-        line.pop_back();
-    }
-    if (line.find_first_not_of(" \t") == std::string::npos) {
-        return std::string("has no header row");
-    }
-    std::vector<std::string> columns;
-    std::string column;
-    bool quoted = false;
-    for (std::size_t i = 0; i <= line.size(); ++i) {
-        if (i == line.size() || (line[i] == ',' && !quoted)) {
-            const std::size_t first = column.find_first_not_of(" \t");
-            const std::size_t last = column.find_last_not_of(" \t");
-            columns.push_back(first == std::string::npos ? std::string() : column.substr(first, last - first + 1));
-            column.clear();
-        } else if (line[i] == '"') {
-            if (quoted && i + 1 < line.size() && line[i + 1] == '"') {
-                column += '"';
-                ++i;
-            } else {
-                quoted = !quoted;
-            }
-        } else {
-            column += line[i];
-        }
-    }
-    return columns;
 }
 
 constexpr auto kLongitudeColumns = kLongitudeColumnNames;
@@ -384,37 +210,38 @@ public:
     SceneDescription read(const Json& root) const
     {
         if (!root.is_object()) {
-            fail("", "expected a JSON object at the top of the file, got " + describe(root));
+            fail("", "expected a JSON object at the top of the file, got " + describeJson(root));
         }
         SceneDescription scene;
-        scene.version = readVersion(root);
+        // Each part read on its own, so that when faults are collected one does not hide the next.
+        attempt([&] { scene.version = readVersion(root); });
         checkKeys(root, "", kRootKeys);
-
         if (const Json* width = member(root, "width")) {
-            scene.width = readInteger(*width, "/width", 1, 16384, "a positive integer");
+            attempt([&] { scene.width = readInteger(*width, "/width", 1, 16384, "a positive integer"); });
         }
         if (const Json* height = member(root, "height")) {
-            scene.height = readInteger(*height, "/height", 1, 16384, "a positive integer");
+            attempt([&] { scene.height = readInteger(*height, "/height", 1, 16384, "a positive integer"); });
         }
         if (const Json* background = member(root, "background")) {
-            scene.background = readColor(*background, "/background");
+            attempt([&] { scene.background = readColor(*background, "/background"); });
         }
         if (const Json* camera = member(root, "camera")) {
-            scene.camera = readCamera(*camera, "/camera");
+            attempt([&] { scene.camera = readCamera(*camera, "/camera"); });
         }
-        scene.sun = readSun(root, scene.camera);
+        attempt([&] { scene.sun = readSun(root, scene.camera); });
         if (const Json* depth = member(root, "depth")) {
-            scene.depth = readEnum(*depth, "/depth", kDepthStrategies);
+            attempt([&] { scene.depth = readEnum(*depth, "/depth", kDepthStrategies); });
         }
         if (const Json* globe = member(root, "globe")) {
-            scene.globe = readGlobe(*globe, "/globe");
+            attempt([&] { scene.globe = readGlobe(*globe, "/globe"); });
         }
         if (const Json* layers = member(root, "layers")) {
             if (!layers->is_array()) {
-                fail("/layers", "expected an array of layers, got " + describe(*layers));
+                fail("/layers", "expected an array of layers, got " + describeJson(*layers));
             }
             for (std::size_t i = 0; i < layers->size(); ++i) {
-                scene.layers.push_back(readLayer((*layers)[i], "/layers/" + std::to_string(i)));
+                const std::string pointer = "/layers/" + std::to_string(i);
+                attempt([&] { scene.layers.push_back(readLayer((*layers)[i], pointer)); });
             }
         }
         return scene;
@@ -423,13 +250,13 @@ public:
     std::vector<CameraKeyframe> readCameraPath(const Json& root) const
     {
         if (!root.is_object()) {
-            fail("", "expected a JSON object at the top of the file, got " + describe(root));
+            fail("", "expected a JSON object at the top of the file, got " + describeJson(root));
         }
         readVersion(root);
         checkKeys(root, "", kCameraPathKeys);
         const Json& keyframes = required(root, "", "keyframes");
         if (!keyframes.is_array() || keyframes.size() < 2) {
-            fail("/keyframes", "expected an array of at least two keyframes, got " + describe(keyframes));
+            fail("/keyframes", "expected an array of at least two keyframes, got " + describeJson(keyframes));
         }
         std::vector<CameraKeyframe> path;
         for (std::size_t i = 0; i < keyframes.size(); ++i) {
@@ -448,20 +275,41 @@ public:
         return path;
     }
 
+    /// Thrown by fail() when faults are collected: the value being read is given up, and the
+    /// nearest attempt() goes on with the next.
+    struct Abandoned {};
+
+    /// Runs one step of reading; when faults are collected, a fault in it ends only that step.
+    template <class Read>
+    void attempt(Read&& read) const
+    {
+        try {
+            read();
+        } catch (const Abandoned&) {
+        }
+    }
+
 private:
     enum class At { Value, Key };
 
+    /// Reports a fault and gives up the value being read.
     [[noreturn]] void fail(const std::string& pointer, std::string reason, At at = At::Value) const
     {
-        std::size_t line = 0;
-        std::size_t column = 0;
-        if (const auto offset = detail::locateInJson(_text, pointer, at == At::Key)) {
-            const detail::TextPosition position = detail::textPositionOf(_text, *offset);
-            line = position.line;
-            column = position.column;
-        }
-        throw SceneFileError(_origin, pointer, line, column, std::move(reason));
+        report(pointer, std::move(reason), at);
+        throw Abandoned{};
     }
+
+    /// Records a fault when they are collected (SceneParseOptions::diagnostics) and goes on;
+    /// otherwise throws it as a SceneFileError.
+    void report(const std::string& pointer, std::string reason, At at = At::Value) const
+    {
+        const detail::TextPosition position = detail::positionOf(_text, pointer, at == At::Key);
+        if (!_options.diagnostics) {
+            throw SceneFileError(_origin, pointer, position.line, position.column, std::move(reason));
+        }
+        _options.diagnostics->add({_origin, position.line, position.column, pointer, std::move(reason)});
+    }
+
 
     static const Json* member(const Json& object, std::string_view key)
     {
@@ -481,17 +329,17 @@ private:
     void expectObject(const Json& value, const std::string& pointer) const
     {
         if (!value.is_object()) {
-            fail(pointer, "expected an object, got " + describe(value));
+            fail(pointer, "expected an object, got " + describeJson(value));
         }
     }
 
-    /// Fails on the first key (in file order) that is not one of known.
+    /// Reports every key (in file order) that is not one of known.
     void checkKeys(const Json& object, const std::string& pointer, Keys known) const
     {
         for (const auto& item : object.items()) {
             if (std::find(known.begin(), known.end(), item.key()) == known.end()) {
-                fail(detail::appendToPointer(pointer, item.key()),
-                     "unknown key " + quote(item.key()) + suggestion(item.key(), known), At::Key);
+                report(detail::appendToPointer(pointer, item.key()),
+                       "unknown key " + quote(item.key()) + suggestion(item.key(), known), At::Key);
             }
         }
     }
@@ -500,16 +348,16 @@ private:
     {
         const Json& version = required(root, "", "version", " (this orbis reads version 1)");
         if (!version.is_number_integer()) {
-            fail("/version", "expected an integer, got " + describe(version));
+            fail("/version", "expected an integer, got " + describeJson(version));
         }
         constexpr auto kNewest = static_cast<std::int64_t>(kSceneFileVersion);
         if (version.is_number_unsigned() ? version.get<std::uint64_t>() > static_cast<std::uint64_t>(kNewest)
                                          : version.get<std::int64_t>() > kNewest) {
-            fail("/version", "version " + describe(version) + " is newer than this orbis understands (it reads version " +
+            fail("/version", "version " + describeJson(version) + " is newer than this orbis understands (it reads version " +
                                  std::to_string(kSceneFileVersion) + ")");
         }
         if (version.get<std::int64_t>() < 1) {
-            fail("/version", describe(version) + " is not a version; versions start at 1");
+            fail("/version", describeJson(version) + " is not a version; versions start at 1");
         }
         return static_cast<int>(version.get<std::int64_t>());
     }
@@ -518,7 +366,7 @@ private:
                     std::string_view expected) const
     {
         if (!value.is_number_integer()) {
-            fail(pointer, "expected " + std::string(expected) + ", got " + describe(value));
+            fail(pointer, "expected " + std::string(expected) + ", got " + describeJson(value));
         }
         // nlohmann reads non-negative integers as unsigned, and those beyond int64 only as unsigned.
         bool inRange = false;
@@ -531,7 +379,7 @@ private:
             inRange = number >= minimum && number <= maximum;
         }
         if (!inRange) {
-            fail(pointer, describe(value) + " is out of range [" + std::to_string(minimum) + ", " +
+            fail(pointer, describeJson(value) + " is out of range [" + std::to_string(minimum) + ", " +
                               std::to_string(maximum) + "]");
         }
         return static_cast<int>(value.get<std::int64_t>());
@@ -540,14 +388,14 @@ private:
     double readNumber(const Json& value, const std::string& pointer, const Range& range = {}) const
     {
         if (!value.is_number()) {
-            fail(pointer, "expected a number, got " + describe(value));
+            fail(pointer, "expected a number, got " + describeJson(value));
         }
         const double number = value.get<double>();
         if (!std::isfinite(number)) {
-            fail(pointer, "expected a finite number, got " + describe(value));
+            fail(pointer, "expected a finite number, got " + describeJson(value));
         }
         if (!range.contains(number)) {
-            fail(pointer, describe(value) + " is out of range " + range.text());
+            fail(pointer, describeJson(value) + " is out of range " + range.text());
         }
         return number;
     }
@@ -560,7 +408,7 @@ private:
     bool readBoolean(const Json& value, const std::string& pointer) const
     {
         if (!value.is_boolean()) {
-            fail(pointer, "expected true or false, got " + describe(value));
+            fail(pointer, "expected true or false, got " + describeJson(value));
         }
         return value.get<bool>();
     }
@@ -568,7 +416,7 @@ private:
     const std::string& readString(const Json& value, const std::string& pointer, std::string_view expected) const
     {
         if (!value.is_string()) {
-            fail(pointer, "expected " + std::string(expected) + ", got " + describe(value));
+            fail(pointer, "expected " + std::string(expected) + ", got " + describeJson(value));
         }
         return value.get_ref<const std::string&>();
     }
@@ -610,7 +458,7 @@ private:
     glm::dvec2 readPixelOffset(const Json& value, const std::string& pointer) const
     {
         if (!value.is_array() || value.size() != 2) {
-            fail(pointer, "expected [x, y] in pixels, got " + describe(value));
+            fail(pointer, "expected [x, y] in pixels, got " + describeJson(value));
         }
         return {readNumber(value[0], pointer + "/0", kPixelOffsetRange),
                 readNumber(value[1], pointer + "/1", kPixelOffsetRange)};
@@ -699,7 +547,7 @@ private:
         checkKeys(value, pointer, kCameraKeys);
         CameraDescription camera;
         if (const Json* position = member(value, "position")) {
-            camera.position = readPosition(*position, pointer + "/position");
+            attempt([&] { camera.position = readPosition(*position, pointer + "/position"); });
         }
         const Json* target = member(value, "target");
         const bool hasOrientation = member(value, "heading") || member(value, "pitch") || member(value, "roll");
@@ -719,7 +567,9 @@ private:
             camera.aim = readOrientation(value, pointer, HeadingPitchRoll{0.0, -kHalfPi, 0.0});
         }
         if (const Json* fieldOfView = member(value, "fovY")) {
-            camera.fieldOfViewY = readDegrees(*fieldOfView, pointer + "/fovY", Range{0.0, 180.0, true, true});
+            attempt([&] {
+                camera.fieldOfViewY = readDegrees(*fieldOfView, pointer + "/fovY", Range{0.0, 180.0, true, true});
+            });
         }
         return camera;
     }
@@ -786,38 +636,44 @@ private:
         checkKeys(value, pointer, kGlobeKeys);
         GlobeDescription globe;
         if (const Json* method = member(value, "method")) {
-            globe.method = readEnum(*method, pointer + "/method", kGlobeMethods);
+            attempt([&] { globe.method = readEnum(*method, pointer + "/method", kGlobeMethods); });
         }
         if (const Json* texture = member(value, "texture")) {
-            globe.texture = readGlobeTexture(*texture, pointer + "/texture");
+            attempt([&] { globe.texture = readGlobeTexture(*texture, pointer + "/texture"); });
         }
         if (const Json* night = member(value, "nightTexture")) {
-            const fs::path path = readPath(*night, pointer + "/nightTexture");
-            requireFile(*night, pointer + "/nightTexture", path);
-            globe.nightTexture = path;
+            attempt([&] {
+                const fs::path path = readPath(*night, pointer + "/nightTexture");
+                requireFile(*night, pointer + "/nightTexture", path);
+                globe.nightTexture = path;
+            });
         }
         if (const Json* grid = member(value, "grid")) {
-            globe.grid = readBoolean(*grid, pointer + "/grid");
+            attempt([&] { globe.grid = readBoolean(*grid, pointer + "/grid"); });
         }
         if (const Json* imagery = member(value, "imagery")) {
             const std::string imageryPointer = pointer + "/imagery";
             if (!imagery->is_array() || imagery->empty()) {
-                fail(imageryPointer, "expected an array of imagery layers, got " + describe(*imagery));
+                fail(imageryPointer, "expected an array of imagery layers, got " + describeJson(*imagery));
             }
             if (globe.texture || globe.nightTexture) {
                 fail(imageryPointer, "a globe of tiled imagery has no \"texture\" or \"nightTexture\": give one or the "
                                      "other");
             }
             for (std::size_t i = 0; i < imagery->size(); ++i) {
-                globe.imagery.push_back(readImageryLayer((*imagery)[i], imageryPointer + "/" + std::to_string(i)));
+                attempt([&] {
+                    globe.imagery.push_back(readImageryLayer((*imagery)[i], imageryPointer + "/" + std::to_string(i)));
+                });
             }
         }
         if (const Json* error = member(value, "maximumScreenSpaceError")) {
-            globe.maximumScreenSpaceError =
-                readNumber(*error, pointer + "/maximumScreenSpaceError", kScreenSpaceErrorRange);
+            attempt([&] {
+                globe.maximumScreenSpaceError =
+                    readNumber(*error, pointer + "/maximumScreenSpaceError", kScreenSpaceErrorRange);
+            });
         }
         if (const Json* cache = member(value, "cacheMegabytes")) {
-            globe.cacheMegabytes = readNumber(*cache, pointer + "/cacheMegabytes", kCacheMegabytesRange);
+            attempt([&] { globe.cacheMegabytes = readNumber(*cache, pointer + "/cacheMegabytes", kCacheMegabytesRange); });
         }
         return globe;
     }
@@ -946,21 +802,23 @@ private:
                          "a .geojson or .json file");
         requireFile(source, pointer + "/source", layer.source);
         if (const Json* stroke = member(value, "stroke")) {
-            layer.stroke = readStroke(*stroke, pointer + "/stroke");
+            attempt([&] { layer.stroke = readStroke(*stroke, pointer + "/stroke"); });
         }
         if (const Json* fill = member(value, "fill")) {
-            const std::string fillPointer = pointer + "/fill";
-            expectObject(*fill, fillPointer);
-            checkKeys(*fill, fillPointer, kFillKeys);
-            layer.fill = FillStyle{};
-            if (const Json* color = member(*fill, "color")) {
-                layer.fill->color = readColor(*color, fillPointer + "/color");
-            }
+            attempt([&] {
+                const std::string fillPointer = pointer + "/fill";
+                expectObject(*fill, fillPointer);
+                checkKeys(*fill, fillPointer, kFillKeys);
+                layer.fill = FillStyle{};
+                if (const Json* color = member(*fill, "color")) {
+                    layer.fill->color = readColor(*color, fillPointer + "/color");
+                }
+            });
         }
         if (!layer.stroke && !layer.fill) {
             layer.stroke = StrokeStyle{};
         }
-        layer.path = readLinePath(value, pointer);
+        attempt([&] { layer.path = readLinePath(value, pointer); });
         return layer;
     }
 
@@ -997,10 +855,10 @@ private:
                                                                                : PointsLayer::Format::GeoJson;
         requireFile(source, sourcePointer, layer.source);
         if (const Json* billboard = member(value, "billboard")) {
-            layer.billboard = readBillboard(*billboard, pointer + "/billboard");
+            attempt([&] { layer.billboard = readBillboard(*billboard, pointer + "/billboard"); });
         }
         if (const Json* label = member(value, "label")) {
-            layer.label = readLabel(*label, pointer + "/label");
+            attempt([&] { layer.label = readLabel(*label, pointer + "/label"); });
         }
         if (_options.checkFiles && layer.format == PointsLayer::Format::Csv) {
             checkCsvColumns(source, sourcePointer, layer, pointer + "/label/field");
@@ -1013,11 +871,12 @@ private:
                          const std::string& fieldPointer) const
     {
         const std::string written = quote(source.get_ref<const std::string&>());
-        auto header = readCsvHeader(layer.source);
-        if (const auto* problem = std::get_if<std::string>(&header)) {
-            fail(sourcePointer, written + " " + *problem);
+        std::vector<std::string> columns;
+        try {
+            columns = readCsvHeader(layer.source);
+        } catch (const Error& error) {
+            fail(sourcePointer, error.what());
         }
-        const auto& columns = std::get<std::vector<std::string>>(header);
         if (!hasColumn(columns, kLongitudeColumns)) {
             fail(sourcePointer, written + " has no longitude column (one of " + quoteList(kLongitudeColumns) +
                                     "); its columns are " + joinColumns(columns));
@@ -1095,13 +954,13 @@ private:
         const Json& positions = required(value, pointer, "positions");
         if (!positions.is_array() || positions.size() < 2) {
             fail(positionsPointer, "expected an array of at least two [lon, lat] or [lon, lat, height], got " +
-                                       describe(positions));
+                                       describeJson(positions));
         }
         for (std::size_t i = 0; i < positions.size(); ++i) {
             const Json& position = positions[i];
             const std::string positionPointer = positionsPointer + "/" + std::to_string(i);
             if (!position.is_array() || position.size() < 2 || position.size() > 3) {
-                fail(positionPointer, "expected [lon, lat] or [lon, lat, height], got " + describe(position));
+                fail(positionPointer, "expected [lon, lat] or [lon, lat, height], got " + describeJson(position));
             }
             Geodetic3D geodetic;
             geodetic.longitude = readDegrees(position[0], positionPointer + "/0", kLongitudeRange);
@@ -1112,12 +971,12 @@ private:
             layer.positions.push_back(geodetic);
         }
         if (const Json* width = member(value, "width")) {
-            layer.widthPixels = readNumber(*width, pointer + "/width", kPositivePixels);
+            attempt([&] { layer.widthPixels = readNumber(*width, pointer + "/width", kPositivePixels); });
         }
         if (const Json* color = member(value, "color")) {
-            layer.color = readColor(*color, pointer + "/color");
+            attempt([&] { layer.color = readColor(*color, pointer + "/color"); });
         }
-        layer.path = readLinePath(value, pointer);
+        attempt([&] { layer.path = readLinePath(value, pointer); });
         return layer;
     }
 
@@ -1145,11 +1004,13 @@ private:
         layer.format = lowercase(layer.source.extension().string()) == ".glb" ? ModelLayer::Format::Glb
                                                                                : ModelLayer::Format::Gltf;
         requireFile(source, pointer + "/source", layer.source);
-        layer.position = readPosition(required(value, pointer, "position"), pointer + "/position");
+        attempt([&] { layer.position = readPosition(required(value, pointer, "position"), pointer + "/position"); });
         if (const Json* scale = member(value, "scale")) {
-            layer.scale = readNumber(*scale, pointer + "/scale", Range{0.0, std::numeric_limits<double>::infinity(), true});
+            attempt([&] {
+                layer.scale = readNumber(*scale, pointer + "/scale", Range{0.0, std::numeric_limits<double>::infinity(), true});
+            });
         }
-        layer.orientation = readOrientation(value, pointer, HeadingPitchRoll{});
+        attempt([&] { layer.orientation = readOrientation(value, pointer, HeadingPitchRoll{}); });
         return layer;
     }
 
@@ -1158,84 +1019,6 @@ private:
     fs::path _baseDirectory;
     SceneParseOptions _options;
 };
-
-// ---------------------------------------------------------------------------------------------
-// Syntax errors
-
-/// nlohmann's reason without its "[json.exception.parse_error.101] parse error at line 1,
-/// column 2: " prefix (our own location replaces it).
-std::string syntaxReason(const std::string& what)
-{
-    const std::size_t parseError = what.find("parse error");
-    const std::size_t colon = parseError == std::string::npos ? std::string::npos : what.find(": ", parseError);
-    return colon == std::string::npos ? what : what.substr(colon + 2);
-}
-
-/// A hint for the mistakes JSON does not forgive, looking at the text around the error.
-std::string syntaxHint(std::string_view text, std::size_t offset)
-{
-    if (offset >= text.size()) {
-        return {};
-    }
-    std::size_t start = offset;
-    const auto isWordCharacter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '-' || c == '+'; };
-    while (start > 0 && isWordCharacter(text[start - 1])) {
-        --start;
-    }
-    std::size_t end = offset;
-    while (end < text.size() && isWordCharacter(text[end])) {
-        ++end;
-    }
-    std::string word = lowercase(text.substr(start, end - start));
-    while (!word.empty() && (word.front() == '-' || word.front() == '+')) {
-        word.erase(0, 1);
-    }
-    if (word.starts_with("nan") || word.starts_with("inf")) {
-        return " (JSON has no NaN or Infinity; write a finite number)";
-    }
-    if (text[offset] == '/' || text[offset] == '#') {
-        return " (JSON has no comments)";
-    }
-    if (text[offset] == '\'') {
-        return " (JSON strings take double quotes)";
-    }
-    std::size_t previous = offset;
-    while (previous > 0 && std::isspace(static_cast<unsigned char>(text[previous - 1]))) {
-        --previous;
-    }
-    if ((text[offset] == '}' || text[offset] == ']') && previous > 0 && text[previous - 1] == ',') {
-        return " (a comma before a closing bracket?)";
-    }
-    return {};
-}
-
-[[noreturn]] void throwSyntaxError(std::string_view text, const std::string& origin, const Json::parse_error& error)
-{
-    if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
-        throw SceneFileError(origin, "", 0, 0, "the file is empty; expected a JSON object");
-    }
-    const std::size_t offset = error.byte > 0 ? std::min<std::size_t>(error.byte - 1, text.size()) : text.size();
-    const detail::TextPosition position = detail::textPositionOf(text, offset);
-    throw SceneFileError(origin, "", position.line, position.column,
-                         "invalid JSON: " + syntaxReason(error.what()) + syntaxHint(text, offset));
-}
-
-/// nlohmann refuses numbers beyond double's range ("number overflow parsing '1e999'") without
-/// a position; the number's first occurrence in the text stands in for it.
-[[noreturn]] void throwNumberOverflow(std::string_view text, const std::string& origin, const Json::out_of_range& error)
-{
-    const std::string what = error.what();
-    const std::size_t open = what.find('\'');
-    const std::size_t close = open == std::string::npos ? std::string::npos : what.find('\'', open + 1);
-    const std::string number = close == std::string::npos ? std::string() : what.substr(open + 1, close - open - 1);
-    const std::size_t offset = number.empty() ? std::string_view::npos : text.find(number);
-    if (offset == std::string_view::npos) {
-        throw SceneFileError(origin, "", 0, 0, "invalid JSON: a number too large for a double");
-    }
-    const detail::TextPosition position = detail::textPositionOf(text, offset);
-    throw SceneFileError(origin, "", position.line, position.column,
-                         "invalid JSON: " + number + " is too large for a double");
-}
 
 fs::path absoluteDirectory(const fs::path& directory)
 {
@@ -1251,55 +1034,59 @@ fs::path absoluteDirectory(const fs::path& directory)
 
 namespace {
 
-/// Parses JSON text (bounded nesting, no duplicate keys), throwing SceneFileError with the origin,
-/// line and column for what is not JSON.
-Json parseJsonDocument(std::string_view text, const std::string& origin)
+/// A fault that ends reading: thrown as a SceneFileError, or recorded when faults are collected.
+/// Returns false for the latter, so that the caller gives up on the file.
+bool stop(Diagnostic fault, DiagnosticList* collected)
 {
-    Json root;
-    try {
-        const Json::parser_callback_t limitDepth = [](int depth, Json::parse_event_t, Json&) {
-            if (depth > kMaxDepth) {
-                throw DepthExceeded{};
-            }
-            return true;
-        };
-        root = Json::parse(text.begin(), text.end(), limitDepth);
-    } catch (const Json::parse_error& error) {
-        throwSyntaxError(text, origin, error);
-    } catch (const Json::out_of_range& error) {
-        throwNumberOverflow(text, origin, error);
-    } catch (const DepthExceeded&) {
-        throw SceneFileError(origin, "", 0, 0,
-                             "invalid scene: nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    if (!collected) {
+        throw SceneFileError(fault.file, fault.where, fault.line, fault.column, fault.what);
+    }
+    collected->add(std::move(fault));
+    return false;
+}
+
+/// Parses JSON text (bounded nesting, no duplicate keys); empty when it is not JSON, the fault
+/// thrown or collected.
+std::optional<Json> parseJsonDocument(std::string_view text, const std::string& origin, DiagnosticList* collected)
+{
+    std::variant<Json, Diagnostic> parsed = detail::parseJson<Json>(text, origin, kMaxDepth);
+    if (auto* fault = std::get_if<Diagnostic>(&parsed)) {
+        stop(std::move(*fault), collected);
+        return std::nullopt;
     }
     if (const auto duplicate = detail::findDuplicateKey(text)) {
         const detail::TextPosition position = detail::textPositionOf(text, duplicate->offset);
         const detail::TextPosition first = detail::textPositionOf(text, duplicate->firstOffset);
         const std::vector<std::string> tokens = detail::splitPointer(duplicate->pointer);
-        throw SceneFileError(origin, duplicate->pointer, position.line, position.column,
-                             "duplicate key " + quote(tokens.empty() ? std::string() : tokens.back()) +
-                                 " (first given at line " + std::to_string(first.line) + ")");
+        // The document is read on (its value is the last given) when faults are collected.
+        const Diagnostic fault{origin, position.line, position.column, duplicate->pointer,
+                               "duplicate key " + quote(tokens.empty() ? std::string() : tokens.back()) +
+                                   " (first given at line " + std::to_string(first.line) + ")"};
+        stop(fault, collected);
     }
-    return root;
+    return std::move(std::get<Json>(parsed));
 }
 
-/// The text of a file, or a SceneFileError naming it.
-std::string readDocument(const fs::path& path, std::string_view what)
+/// The text of a file; empty when it cannot be read, the fault thrown or collected.
+std::optional<std::string> readDocument(const fs::path& path, std::string_view what, DiagnosticList* collected)
 {
     const std::string origin = path.string();
     std::error_code error;
     if (fs::is_directory(path, error)) {
-        throw SceneFileError(origin, "", 0, 0, "is a folder; expected " + std::string(what));
+        stop({origin, 0, 0, "", "is a folder; expected " + std::string(what)}, collected);
+        return std::nullopt;
     }
     std::ifstream file(path, std::ios::binary);
     if (!file) {
         const bool missing = !fs::exists(path, error);
-        throw SceneFileError(origin, "", 0, 0, missing ? "no such file" : "cannot be opened");
+        stop({origin, 0, 0, "", missing ? "no such file" : "cannot be opened"}, collected);
+        return std::nullopt;
     }
     std::ostringstream contents;
     contents << file.rdbuf();
     if (file.bad()) {
-        throw SceneFileError(origin, "", 0, 0, "cannot be read");
+        stop({origin, 0, 0, "", "cannot be read"}, collected);
+        return std::nullopt;
     }
     return contents.str();
 }
@@ -1310,27 +1097,37 @@ SceneDescription parseSceneText(std::string_view text, std::string_view originNa
                                 const SceneParseOptions& options)
 {
     const std::string origin(originName);
-    const Json root = parseJsonDocument(text, origin);
-    return SceneReader(text, origin, absoluteDirectory(baseDirectory), options).read(root);
+    const std::optional<Json> root = parseJsonDocument(text, origin, options.diagnostics);
+    SceneDescription scene;
+    if (root) {
+        const SceneReader reader(text, origin, absoluteDirectory(baseDirectory), options);
+        reader.attempt([&] { scene = reader.read(*root); });
+    }
+    return scene;
 }
 
 std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::string_view originName)
 {
     const std::string origin(originName);
-    const Json root = parseJsonDocument(text, origin);
-    return SceneReader(text, origin, fs::path("."), SceneParseOptions{false}).readCameraPath(root);
+    const Json root = *parseJsonDocument(text, origin, nullptr);
+    SceneParseOptions options;
+    options.checkFiles = false;
+    return SceneReader(text, origin, fs::path("."), options).readCameraPath(root);
 }
 
 std::vector<CameraKeyframe> parseCameraPathFile(const fs::path& path)
 {
-    return parseCameraPathText(readDocument(path, "a camera path file"), path.string());
+    return parseCameraPathText(*readDocument(path, "a camera path file", nullptr), path.string());
 }
 
 SceneDescription parseSceneFile(const fs::path& path, const SceneParseOptions& options)
 {
-    const std::string text = readDocument(path, "a scene file");
+    const std::optional<std::string> text = readDocument(path, "a scene file", options.diagnostics);
+    if (!text) {
+        return {};
+    }
     const fs::path parent = path.parent_path();
-    return parseSceneText(text, path.string(), parent.empty() ? fs::path(".") : parent, options);
+    return parseSceneText(*text, path.string(), parent.empty() ? fs::path(".") : parent, options);
 }
 
 } // namespace orbis::world

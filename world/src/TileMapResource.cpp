@@ -274,7 +274,7 @@ private:
     XmlDocument _document;
 };
 
-std::string formatNumber(double value)
+std::string xmlNumber(double value)
 {
     char text[64];
     std::snprintf(text, sizeof text, "%.14f", value);
@@ -323,17 +323,17 @@ std::string formatTileMapResource(const TileMapResource& resource)
         xml += "  <Attribution><Title>" + escapeXml(resource.attribution) + "</Title></Attribution>\n";
     }
     xml += std::string("  <SRS>") + (mercator ? "EPSG:3857" : "EPSG:4326") + "</SRS>\n";
-    xml += "  <BoundingBox minx=\"" + formatNumber(x(resource.extent.west)) + "\" miny=\"" +
-           formatNumber(y(resource.extent.south)) + "\" maxx=\"" + formatNumber(x(resource.extent.east)) +
-           "\" maxy=\"" + formatNumber(y(resource.extent.north)) + "\"/>\n";
+    xml += "  <BoundingBox minx=\"" + xmlNumber(x(resource.extent.west)) + "\" miny=\"" +
+           xmlNumber(y(resource.extent.south)) + "\" maxx=\"" + xmlNumber(x(resource.extent.east)) +
+           "\" maxy=\"" + xmlNumber(y(resource.extent.north)) + "\"/>\n";
     const double origin = mercator ? -kMercatorHalfWidth : -180.0;
-    xml += "  <Origin x=\"" + formatNumber(origin) + "\" y=\"" + formatNumber(mercator ? origin : -90.0) + "\"/>\n";
+    xml += "  <Origin x=\"" + xmlNumber(origin) + "\" y=\"" + xmlNumber(mercator ? origin : -90.0) + "\"/>\n";
     xml += "  <TileFormat width=\"" + std::to_string(resource.tileWidth) + "\" height=\"" +
            std::to_string(resource.tileHeight) + "\" mime-type=\"" + escapeXml(resource.mimeType) + "\" extension=\"" +
            escapeXml(resource.extension) + "\"/>\n";
     xml += std::string("  <TileSets profile=\"") + (mercator ? "mercator" : "geodetic") + "\">\n";
     for (const TileMapResource::TileSet& set : resource.tileSets) {
-        xml += "    <TileSet href=\"" + escapeXml(set.href) + "\" units-per-pixel=\"" + formatNumber(set.unitsPerPixel) +
+        xml += "    <TileSet href=\"" + escapeXml(set.href) + "\" units-per-pixel=\"" + xmlNumber(set.unitsPerPixel) +
                "\" order=\"" + std::to_string(set.level) + "\"/>\n";
     }
     xml += "  </TileSets>\n</TileMap>\n";

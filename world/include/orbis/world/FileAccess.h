@@ -1,5 +1,7 @@
 #pragma once
 
+#include "orbis/world/Diagnostics.h" // cutForMessage, which these messages use
+
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -32,9 +34,5 @@ std::optional<std::vector<std::uint8_t>> readFileBytesIfExists(const std::filesy
 /// orbis::Error naming the path on failure, leaving no temporary file behind.
 void writeFileAtomically(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 void writeFileAtomically(const std::filesystem::path& path, std::string_view text);
-
-/// `value` for a message: as is when short, else its first `maximumCharacters` characters and
-/// "... (N bytes)", so that a hostile name or URL cannot make a message megabytes long.
-std::string cutForMessage(std::string_view value, std::size_t maximumCharacters = 300);
 
 } // namespace orbis::world

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "orbis/world/CameraKeyframe.h"
+#include "orbis/world/Diagnostics.h"
 #include "orbis/world/SceneDescription.h"
 
 #include <orbis/core/Error.h>
@@ -48,6 +49,10 @@ struct SceneParseOptions {
     /// columns). Off: paths are only resolved, and a texture is a TMS folder when the path has
     /// no extension.
     bool checkFiles = true;
+    /// Where faults go when the caller wants every one: set, parsing records each fault here and
+    /// reads on past it (the description returned holds what could be read) instead of throwing
+    /// at the first. Not owned.
+    DiagnosticList* diagnostics = nullptr;
 };
 
 /// Reads and validates a scene file; relative paths in it resolve against the file's folder.
@@ -68,8 +73,11 @@ std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::stri
 /// The text of data/scenes/default.json, embedded in the library at build time.
 std::string_view defaultSceneText() noexcept;
 
-/// The built-in default scene (defaultSceneText parsed, origin "<default scene>", relative paths
-/// against the current directory). Throws SceneFileError when a file it names is missing.
-SceneDescription parseDefaultScene(const SceneParseOptions& options = {});
+/// The built-in default scene (defaultSceneText parsed, origin "<default scene>"). Its relative
+/// paths resolve against scenesDirectory, as data/scenes/default.json's own do against its folder:
+/// pass the scenes/ folder of the data the program uses (the source tree's data/, or the
+/// installed one). Throws SceneFileError when a file it names is missing.
+SceneDescription parseDefaultScene(const std::filesystem::path& scenesDirectory,
+                                   const SceneParseOptions& options = {});
 
 } // namespace orbis::world

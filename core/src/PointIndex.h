@@ -1,0 +1,158 @@
+#pragma once
+
+// The points of a set that lie in a box, as points are removed one by one: the ear clipper's way to
+// find what may lie inside an ear without looking at every vertex. Internal to orbis::core.
+
+#include <glm/vec2.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace orbis::detail {
+
+/// Points in Z order (Morton order of their coordinates quantised to 16 bits over the set's
+/// bounding box), linked so that removal is O(1). A point of a box has a key between those of the
+/// box's corners, so walking from a point near the box, both ways along the order, finds every
+/// point of the box; that is a few steps for a small box, but can be most of the set for a box
+/// across a major boundary of the order, so a walk longer than a few dozen steps gives way to a
+/// k-d tree (built the first time one is needed, from the points then present), whose query takes
+/// O(sqrt(n) + k) whatever the box.
+class PointIndex {
+public:
+    /// Indexes points[id] for each id in present (ids index points, which must outlive the index).
+    PointIndex(std::span<const glm::dvec2> points, std::span<const int> present);
+    ~PointIndex();
+    PointIndex(const PointIndex&) = delete;
+    PointIndex& operator=(const PointIndex&) = delete;
+
+    /// Removes the point id; nothing if it is not present.
+    void remove(int id) noexcept;
+
+    /// Calls visit(id) for points present with lo <= p <= hi, in no particular order and maybe a
+    /// point twice, until visit returns true; returns whether it did. near must be a point present
+    /// at or next to the box (the walk starts there).
+    template <typename Visit>
+    bool findIn(const glm::dvec2& lo, const glm::dvec2& hi, int near, Visit&& visit)
+    {
+        const std::uint32_t low = key(lo);
+        const std::uint32_t high = key(hi);
+        int steps = 0;
+        for (int i = near; i >= 0 && _key[static_cast<std::size_t>(i)] >= low; i = _previous[static_cast<std::size_t>(i)]) {
+            if (++steps > kWalkLimit) {
+                return findInTree(lo, hi, visit);
+            }
+            if (inBox(i, lo, hi) && visit(i)) {
+                return true;
+            }
+        }
+        for (int i = _next[static_cast<std::size_t>(near)]; i >= 0 && _key[static_cast<std::size_t>(i)] <= high;
+             i = _next[static_cast<std::size_t>(i)]) {
+            if (++steps > 2 * kWalkLimit) {
+                return findInTree(lo, hi, visit);
+            }
+            if (inBox(i, lo, hi) && visit(i)) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    static constexpr int kWalkLimit = 48;
+
+    /// A static k-d tree over points, with removal; see findIn.
+    class Tree {
+    public:
+        Tree(std::span<const glm::dvec2> points, std::span<const int> present);
+        void remove(int id) noexcept;
+
+        template <typename Visit>
+        bool findIn(const glm::dvec2& lo, const glm::dvec2& hi, Visit&& visit) const
+        {
+            struct Range {
+                int first, last, axis;
+            };
+            Range stack[96]; // the depth is at most log2(n) + 1
+            int top = 0;
+            if (!_ids.empty()) {
+                stack[top++] = {0, static_cast<int>(_ids.size()) - 1, 0};
+            }
+            while (top > 0) {
+                const Range range = stack[--top];
+                if (range.last - range.first < kLeafSize) {
+                    if (_count[static_cast<std::size_t>(range.first)] == 0) {
+                        continue;
+                    }
+                    for (int slot = range.first; slot <= range.last; ++slot) {
+                        if (present(slot) && inBox(slot, lo, hi) && visit(_ids[static_cast<std::size_t>(slot)])) {
+                            return true;
+                        }
+                    }
+                    continue;
+                }
+                const int middle = range.first + (range.last - range.first) / 2;
+                if (_count[static_cast<std::size_t>(middle)] == 0) {
+                    continue;
+                }
+                if (present(middle) && inBox(middle, lo, hi) && visit(_ids[static_cast<std::size_t>(middle)])) {
+                    return true;
+                }
+                const double split = _points[static_cast<std::size_t>(middle)][range.axis];
+                if (lo[range.axis] <= split) {
+                    stack[top++] = {range.first, middle - 1, 1 - range.axis};
+                }
+                if (hi[range.axis] >= split) {
+                    stack[top++] = {middle + 1, range.last, 1 - range.axis};
+                }
+            }
+            return false;
+        }
+
+    private:
+        static constexpr int kLeafSize = 8;
+        bool present(int slot) const noexcept { return _present[static_cast<std::size_t>(slot)] != 0; }
+        bool inBox(int slot, const glm::dvec2& lo, const glm::dvec2& hi) const noexcept
+        {
+            const glm::dvec2& p = _points[static_cast<std::size_t>(slot)];
+            return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
+        }
+
+        std::vector<glm::dvec2> _points; // in tree order: each subtree's median at its middle slot
+        std::vector<int> _ids;           // in tree order
+        std::vector<std::uint8_t> _present;
+        // Points present per subtree: at its middle slot, or at its first slot for a leaf (no
+        // inner subtree has that slot as its middle).
+        std::vector<std::int32_t> _count;
+        std::vector<int> _slotOf; // by id; -1 for ids not in the tree
+    };
+
+    template <typename Visit>
+    bool findInTree(const glm::dvec2& lo, const glm::dvec2& hi, Visit&& visit)
+    {
+        if (!_tree) {
+            buildTree();
+        }
+        return _tree->findIn(lo, hi, visit);
+    }
+    void buildTree();
+
+    std::uint32_t key(const glm::dvec2& p) const noexcept;
+    bool inBox(int id, const glm::dvec2& lo, const glm::dvec2& hi) const noexcept
+    {
+        const glm::dvec2& p = _points[static_cast<std::size_t>(id)];
+        return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
+    }
+
+    std::span<const glm::dvec2> _points;
+    glm::dvec2 _origin{0.0};
+    glm::dvec2 _scale{0.0};
+    std::vector<std::uint32_t> _key; // by id
+    std::vector<int> _previous;      // by id: the point before in Z order, -1 for none
+    std::vector<int> _next;
+    std::vector<std::uint8_t> _present; // by id
+    std::unique_ptr<Tree> _tree;
+};
+
+} // namespace orbis::detail

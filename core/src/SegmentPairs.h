@@ -1,0 +1,181 @@
+#pragma once
+
+// Which segments of a set may meet, without comparing every pair: the polygon code's test for
+// crossing and touching edges. Internal to orbis::core.
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace orbis::detail {
+
+/// A uniform grid of square cells, sized from the segments: twice the median segment length, or
+/// the bounding box's side over sqrt(n) if smaller (rings whose edges are long next to the ring),
+/// or larger where the segments would otherwise pass through more than 8 n cells in all. Cells are
+/// named by a 64-bit number, and hashed.
+class SegmentGrid {
+public:
+    SegmentGrid(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to) : _from(from), _to(to)
+    {
+        glm::dvec2 lo(INFINITY);
+        glm::dvec2 hi(-INFINITY);
+        std::vector<double> lengths(from.size());
+        double total = 0.0;
+        for (std::size_t k = 0; k < from.size(); ++k) {
+            lo = glm::min(lo, glm::min(from[k], to[k]));
+            hi = glm::max(hi, glm::max(from[k], to[k]));
+            const glm::dvec2 d = glm::abs(to[k] - from[k]);
+            lengths[k] = std::max(d.x, d.y); // the cells a segment passes along its longer axis
+            total += lengths[k];
+        }
+        _lo = lo;
+        const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+        if (!(extent > 0.0) || !std::isfinite(extent) || !std::isfinite(total)) {
+            return; // one cell
+        }
+        const auto count = static_cast<double>(from.size());
+        std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+        double side = std::min(2.0 * lengths[lengths.size() / 2], extent / std::sqrt(count));
+        side = std::max({side, total / (8.0 * count), extent / double{1 << 30}});
+        _scale = 1.0 / side;
+        _cells = static_cast<std::int64_t>(std::floor(extent * _scale)) + 1;
+    }
+
+    /// Calls emit(cell) for each cell segment k passes through (with a margin for rounding), or
+    /// every cell of its bounding box when that is at most 2 x 2.
+    template <typename Emit>
+    void cellsOf(std::size_t k, Emit&& emit) const
+    {
+        const glm::dvec2& a = _from[k];
+        const glm::dvec2& b = _to[k];
+        const std::int64_t x0 = cellOn(0, std::min(a.x, b.x));
+        const std::int64_t x1 = cellOn(0, std::max(a.x, b.x));
+        const std::int64_t y0 = cellOn(1, std::min(a.y, b.y));
+        const std::int64_t y1 = cellOn(1, std::max(a.y, b.y));
+        if (x1 - x0 <= 1 && y1 - y0 <= 1) {
+            for (std::int64_t x = x0; x <= x1; ++x) {
+                for (std::int64_t y = y0; y <= y1; ++y) {
+                    emit(index(x, y));
+                }
+            }
+            return;
+        }
+        // Along the axis the segment runs more along, one slab of cells at a time; across it, the
+        // cells between where the segment enters and leaves the slab.
+        const int along = std::abs(b.x - a.x) >= std::abs(b.y - a.y) ? 0 : 1;
+        const int across = 1 - along;
+        const glm::dvec2& p = a[along] <= b[along] ? a : b;
+        const glm::dvec2& q = a[along] <= b[along] ? b : a;
+        const double slope = q[along] > p[along] ? (q[across] - p[across]) / (q[along] - p[along]) : 0.0;
+        // Rounding moves u and v (below) by a few units in the last place of the coordinates, and
+        // along the slab's edges by as much (the slope is at most 1).
+        const double margin = 1e-9 * (std::abs(p[across]) + std::abs(q[across]) + std::abs(p[along]) + std::abs(q[along]));
+        const std::int64_t first = cellOn(along, p[along]);
+        const std::int64_t last = cellOn(along, q[along]);
+        for (std::int64_t slab = first; slab <= last; ++slab) {
+            const double start = std::max(p[along], _lo[along] + static_cast<double>(slab) / _scale);
+            const double end = std::min(q[along], _lo[along] + static_cast<double>(slab + 1) / _scale);
+            const double u = p[across] + slope * (start - p[along]);
+            const double v = p[across] + slope * (std::max(start, end) - p[along]);
+            const std::int64_t lowCell = cellOn(across, std::min(u, v) - margin);
+            const std::int64_t highCell = cellOn(across, std::max(u, v) + margin);
+            for (std::int64_t cell = lowCell; cell <= highCell; ++cell) {
+                emit(along == 0 ? index(slab, cell) : index(cell, slab));
+            }
+        }
+    }
+
+private:
+    std::int64_t cellOn(int axis, double value) const noexcept
+    {
+        const double scaled = std::floor((value - _lo[axis]) * _scale);
+        return static_cast<std::int64_t>(std::clamp(scaled, 0.0, static_cast<double>(_cells - 1)));
+    }
+    std::uint64_t index(std::int64_t x, std::int64_t y) const noexcept
+    {
+        return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(_cells) + static_cast<std::uint64_t>(x);
+    }
+
+    std::span<const glm::dvec2> _from;
+    std::span<const glm::dvec2> _to;
+    glm::dvec2 _lo{0.0};
+    double _scale = 0.0;     // cells per unit
+    std::int64_t _cells = 1; // per axis
+};
+
+/// Calls visit(i, j), i < j, once for every pair of the segments from[k] -> to[k] that share a
+/// point, and for some pairs that come close; stops when visit returns true, and returns whether it
+/// did. The segments go into a SegmentGrid, each into the cells it passes through, so the work is
+/// about the number of segments plus, per cell, the square of the segments in it: linear for rings
+/// whose edges are about equally long, whatever the shape.
+template <typename Visit>
+bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to, Visit&& visit)
+{
+    const std::size_t count = from.size();
+    if (count < 2) {
+        return false;
+    }
+    const SegmentGrid grid(from, to);
+    // Segments by cell, through a hash of the cell into 2^k buckets (a bucket may hold several
+    // cells: only more pairs to look at), counted and placed; and each segment's buckets.
+    std::vector<std::uint32_t> buckets; // per segment, in order
+    std::vector<std::uint32_t> bucketsStart(count + 1, 0);
+    buckets.reserve(2 * count);
+    std::size_t bucketCount = 1;
+    while (bucketCount < 2 * count) {
+        bucketCount *= 2;
+    }
+    const auto bucketOf = [&](std::uint64_t cell) {
+        return static_cast<std::uint32_t>(((cell * 0x9e3779b97f4a7c15ull) >> 32) & (bucketCount - 1));
+    };
+    for (std::size_t k = 0; k < count; ++k) {
+        grid.cellsOf(k, [&](std::uint64_t cell) { buckets.push_back(bucketOf(cell)); });
+        bucketsStart[k + 1] = static_cast<std::uint32_t>(buckets.size());
+    }
+    std::vector<std::uint32_t> start(bucketCount + 1, 0); // per bucket, into segments
+    for (const std::uint32_t bucket : buckets) {
+        ++start[bucket + 1];
+    }
+    for (std::size_t bucket = 1; bucket <= bucketCount; ++bucket) {
+        start[bucket] += start[bucket - 1];
+    }
+    std::vector<std::uint32_t> segments(buckets.size());
+    {
+        std::vector<std::uint32_t> filled(start.begin(), start.end() - 1);
+        for (std::size_t k = 0; k < count; ++k) {
+            for (std::uint32_t b = bucketsStart[k]; b < bucketsStart[k + 1]; ++b) {
+                segments[filled[buckets[b]]++] = static_cast<std::uint32_t>(k);
+            }
+        }
+    }
+
+    // Each pair once: the last segment i that met j is remembered.
+    std::vector<std::size_t> metLast(count, static_cast<std::size_t>(-1));
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec2 lo = glm::min(from[i], to[i]);
+        const glm::dvec2 hi = glm::max(from[i], to[i]);
+        for (std::uint32_t b = bucketsStart[i]; b < bucketsStart[i + 1]; ++b) {
+            for (std::uint32_t s = start[buckets[b]]; s < start[buckets[b] + 1]; ++s) {
+                const std::size_t j = segments[s];
+                if (j <= i || metLast[j] == i) {
+                    continue;
+                }
+                metLast[j] = i;
+                const glm::dvec2 otherLo = glm::min(from[j], to[j]);
+                const glm::dvec2 otherHi = glm::max(from[j], to[j]);
+                if (otherLo.x <= hi.x && otherHi.x >= lo.x && otherLo.y <= hi.y && otherHi.y >= lo.y && visit(i, j)) {
+                    return true;
+                }
+            }
+        }
+    }
+    return false;
+}
+
+} // namespace orbis::detail
