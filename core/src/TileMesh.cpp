@@ -32,7 +32,53 @@ std::uint32_t edgeVertex(Edge edge, int size, int w, int inset)
     return static_cast<std::uint32_t>(j * size + i);
 }
 
+/// One vertex's floats: position high and low, u, v, height.
+void writeVertex(float* v, const glm::dvec3& position, int i, int j, int size, double height)
+{
+    const EmulatedDVec3 split = EmulatedDVec3::fromDVec3(position);
+    v[0] = split.high.x;
+    v[1] = split.high.y;
+    v[2] = split.high.z;
+    v[3] = split.low.x;
+    v[4] = split.low.y;
+    v[5] = split.low.z;
+    v[6] = static_cast<float>(static_cast<double>(i) / (size - 1));
+    v[7] = static_cast<float>(1.0 - static_cast<double>(j) / (size - 1));
+    v[8] = static_cast<float>(height);
+}
+
 } // namespace
+
+// The sample lines are the edges of level + k: the same doubles in every tile that has them.
+double TileMesh::latticeLongitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int column) noexcept
+{
+    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
+    const double longitude = scheme.edgeLongitude(fineLevel, (key.x << samplesLog2) + static_cast<std::uint32_t>(column));
+    // 180 degrees east is the same meridian as 180 west, whose sine has the other sign in its last
+    // bit: one of them, so tiles on both sides of the antimeridian meet exactly.
+    return longitude == kPi ? -kPi : longitude;
+}
+
+double TileMesh::latticeLatitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int row) noexcept
+{
+    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
+    const std::uint32_t northRow = (key.y + 1) << samplesLog2; // geographic rows count from the south
+    return scheme.edgeLatitude(fineLevel, northRow - static_cast<std::uint32_t>(row));
+}
+
+void TileMesh::setVertexHeight(const Ellipsoid& ellipsoid, const TilingScheme& scheme, int i, int j, double height)
+{
+    const GeodeticGrid point(ellipsoid, {latticeLongitude(scheme, key, samplesLog2, i)},
+                             {latticeLatitude(scheme, key, samplesLog2, j)});
+    const glm::dvec3 n = point.normal(0, 0);
+    writeVertex(&vertices[static_cast<std::size_t>(j * size() + i) * kFloatsPerVertex], point.surface(n) + height * n, i,
+                j, size(), height);
+}
+
+void TileMesh::setVertexPosition(int i, int j, const glm::dvec3& position, double height)
+{
+    writeVertex(&vertices[static_cast<std::size_t>(j * size() + i) * kFloatsPerVertex], position, i, j, size(), height);
+}
 
 glm::dvec3 TileMesh::position(std::size_t vertex) const noexcept
 {
@@ -52,20 +98,11 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     const int size = mesh.size();
     assert(heights.empty() || heights.size() == static_cast<std::size_t>(size) * size);
 
-    // The sample lines are the edges of level + k: the same doubles in every tile that has them.
-    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
-    const std::uint32_t firstColumn = key.x << samplesLog2;
-    const std::uint32_t northRow = (key.y + 1) << samplesLog2; // geographic rows count from the south
     std::vector<double> longitudes(size);
     std::vector<double> latitudes(size);
     for (int k = 0; k < size; ++k) {
-        longitudes[k] = scheme.edgeLongitude(fineLevel, firstColumn + static_cast<std::uint32_t>(k));
-        // 180 degrees east is the same meridian as 180 west, whose sine has the other sign in its
-        // last bit: one of them, so tiles on both sides of the antimeridian meet exactly.
-        if (longitudes[k] == kPi) {
-            longitudes[k] = -kPi;
-        }
-        latitudes[k] = scheme.edgeLatitude(fineLevel, northRow - static_cast<std::uint32_t>(k));
+        longitudes[k] = latticeLongitude(scheme, key, samplesLog2, k);
+        latitudes[k] = latticeLatitude(scheme, key, samplesLog2, k);
     }
     const GeodeticGrid grid(ellipsoid, longitudes, latitudes);
 
@@ -75,17 +112,7 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     double lowest = std::numeric_limits<double>::infinity();
     double highest = -std::numeric_limits<double>::infinity();
     auto write = [&](std::size_t index, const glm::dvec3& p, int i, int j, double height) {
-        const EmulatedDVec3 split = EmulatedDVec3::fromDVec3(p);
-        float* v = &mesh.vertices[index * kFloatsPerVertex];
-        v[0] = split.high.x;
-        v[1] = split.high.y;
-        v[2] = split.high.z;
-        v[3] = split.low.x;
-        v[4] = split.low.y;
-        v[5] = split.low.z;
-        v[6] = static_cast<float>(static_cast<double>(i) / (size - 1));
-        v[7] = static_cast<float>(1.0 - static_cast<double>(j) / (size - 1));
-        v[8] = static_cast<float>(height);
+        writeVertex(&mesh.vertices[index * kFloatsPerVertex], p, i, j, size, height);
     };
     for (int j = 0; j < size; ++j) {
         for (int i = 0; i < size; ++i) {
