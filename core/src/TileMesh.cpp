@@ -143,6 +143,45 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     return mesh;
 }
 
+std::vector<float> TileMesh::normals() const
+{
+    const TileMesh& mesh = *this;
+    const int size = mesh.size();
+    std::vector<float> normals(mesh.vertexCount() * 3);
+    const std::size_t grid = static_cast<std::size_t>(size) * size;
+    std::vector<glm::dvec3> positions(grid);
+    for (std::size_t v = 0; v < grid; ++v) {
+        positions[v] = mesh.position(v);
+    }
+    auto at = [&](int i, int j) -> const glm::dvec3& { return positions[static_cast<std::size_t>(j * size + i)]; };
+    for (int j = 0; j < size; ++j) {
+        for (int i = 0; i < size; ++i) {
+            const glm::dvec3 east = at(std::min(i + 1, size - 1), j) - at(std::max(i - 1, 0), j);
+            const glm::dvec3 north = at(i, std::max(j - 1, 0)) - at(i, std::min(j + 1, size - 1));
+            glm::dvec3 n = glm::cross(east, north);
+            const double length = glm::length(n);
+            // A pole's row collapses to a point: its normal is the axis.
+            n = length > 0.0 ? n / length : glm::normalize(at(i, j));
+            const std::size_t index = static_cast<std::size_t>(j * size + i);
+            normals[3 * index] = static_cast<float>(n.x);
+            normals[3 * index + 1] = static_cast<float>(n.y);
+            normals[3 * index + 2] = static_cast<float>(n.z);
+        }
+    }
+    // Skirt vertices copy the normal of the edge vertex above them, in TileMesh's order: the north
+    // edge west to east, the east edge north to south, the south edge east to west, the west edge
+    // south to north.
+    std::size_t out = grid;
+    for (int edge = 0; edge < 4 && out < mesh.vertexCount(); ++edge) {
+        for (int w = 0; w < size; ++w, ++out) {
+            const int i = edge == 0 ? w : edge == 1 ? size - 1 : edge == 2 ? size - 1 - w : 0;
+            const int j = edge == 0 ? 0 : edge == 1 ? w : edge == 2 ? size - 1 : size - 1 - w;
+            std::copy_n(&normals[3 * static_cast<std::size_t>(j * size + i)], 3, &normals[3 * out]);
+        }
+    }
+    return normals;
+}
+
 std::vector<std::uint32_t> TileMesh::indices(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt)
 {
     assert(samplesLog2 >= 1 && samplesLog2 <= 8);

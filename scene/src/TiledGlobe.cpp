@@ -5,7 +5,7 @@
 #include "orbis/scene/ImageryCoverage.h"
 #include "orbis/scene/MercatorReprojection.h"
 
-#include "TerrainSampling.h"
+#include "orbis/scene/TerrainSampler.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
@@ -121,41 +121,6 @@ private:
     std::map<TileKey, std::pair<std::shared_ptr<const TerrainSampler>, std::list<TileKey>::iterator>> _samplers;
 };
 
-/// Unit normals of a terrain mesh's grid (and skirt) vertices from its positions: the cross
-/// product of the east-west and north-south differences (one-sided at the edges).
-std::vector<float> terrainNormals(const TileMesh& mesh)
-{
-    const int size = mesh.size();
-    std::vector<float> normals(mesh.vertexCount() * 3);
-    auto at = [&](int i, int j) { return mesh.position(static_cast<std::size_t>(j * size + i)); };
-    const std::size_t grid = static_cast<std::size_t>(size) * size;
-    for (int j = 0; j < size; ++j) {
-        for (int i = 0; i < size; ++i) {
-            const glm::dvec3 east = at(std::min(i + 1, size - 1), j) - at(std::max(i - 1, 0), j);
-            const glm::dvec3 north = at(i, std::max(j - 1, 0)) - at(i, std::min(j + 1, size - 1));
-            glm::dvec3 n = glm::cross(east, north);
-            const double length = glm::length(n);
-            // A pole's row collapses to a point: its normal is the axis.
-            n = length > 0.0 ? n / length : glm::normalize(at(i, j));
-            const std::size_t index = static_cast<std::size_t>(j * size + i);
-            normals[3 * index] = static_cast<float>(n.x);
-            normals[3 * index + 1] = static_cast<float>(n.y);
-            normals[3 * index + 2] = static_cast<float>(n.z);
-        }
-    }
-    // Skirt vertices copy the normal of the edge vertex above them, in TileMesh's order: the north
-    // edge west to east, the east edge north to south, the south edge east to west, the west edge
-    // south to north.
-    std::size_t out = grid;
-    for (int edge = 0; edge < 4 && out < mesh.vertexCount(); ++edge) {
-        for (int w = 0; w < size; ++w, ++out) {
-            const int i = edge == 0 ? w : edge == 1 ? size - 1 : edge == 2 ? size - 1 - w : 0;
-            const int j = edge == 0 ? 0 : edge == 1 ? w : edge == 2 ? size - 1 : size - 1 - w;
-            std::copy_n(&normals[3 * static_cast<std::size_t>(j * size + i)], 3, &normals[3 * out]);
-        }
-    }
-    return normals;
-}
 
 /// A decoded imagery tile, with its mipmap levels made on the worker (empty for Web Mercator tiles,
 /// whose levels are made after their reprojection).
@@ -608,7 +573,7 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
                 }
             }
             TileMesh mesh = TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, heights, skirtDepth);
-            std::vector<float> normals = heightsFrom ? terrainNormals(mesh) : std::vector<float>{};
+            std::vector<float> normals = heightsFrom ? mesh.normals() : std::vector<float>{};
             return std::make_unique<MeshContent>(std::move(mesh), std::move(normals));
         };
     }

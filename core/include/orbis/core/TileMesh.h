@@ -74,6 +74,11 @@ struct TileMesh {
     /// Puts grid vertex (i, j) at a position (on a coarser neighbour's edge between its vertices).
     void setVertexPosition(int i, int j, const glm::dvec3& position, double height);
 
+    /// Unit normals of the surface, three floats per vertex: the cross product of the east-west
+    /// and north-south differences of the grid's positions (one-sided at the edges, the axis at a
+    /// pole's collapsed row); skirt vertices take their edge vertex's.
+    std::vector<float> normals() const;
+
     /// The counter-clockwise triangles (seen from above) of a mesh of 2^samplesLog2 + 1 samples a
     /// side: the inner grid as quads, and a ring of triangles zipping each edge's vertices (every
     /// 2^coarsening-th one; clamped to the side) to the row inside it. One list serves every tile

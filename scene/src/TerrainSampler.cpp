@@ -1,4 +1,4 @@
-#include "TerrainSampling.h"
+#include "orbis/scene/TerrainSampler.h"
 
 #include <algorithm>
 #include <cmath>
