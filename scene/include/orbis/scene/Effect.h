@@ -21,7 +21,8 @@ enum class Effect : std::uint32_t {
     Polygons = 1u << 8,
     Models = 1u << 9,
     TiledImagery = 1u << 10, ///< the globe's surface streamed as tiles with imagery layers
-    VirtualTexture = 1u << 11, ///< the globe's surface reading one virtual texture (and its feedback pass)
+    Terrain = 1u << 11,      ///< heights on the streamed tiles
+    VirtualTexture = 1u << 12, ///< the globe's surface reading one virtual texture (and its feedback pass)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept
