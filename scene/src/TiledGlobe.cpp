@@ -290,6 +290,17 @@ struct TiledGlobe::Impl {
     std::vector<std::vector<TextureUse>> drawnTextures; ///< parallel to selection.drawn
     std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
     std::map<std::array<int, 4>, renderer::IndexBuffer> indexBuffers;
+    /// The triangles of each coarsening without skirts, for heights and tests, made on first use.
+    mutable std::map<std::array<int, 4>, std::vector<std::uint32_t>> surfaceIndices;
+    const std::vector<std::uint32_t>& surfaceTriangles(const EdgeCoarsening& coarsening) const
+    {
+        const std::array<int, 4> name{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
+        auto found = surfaceIndices.find(name);
+        if (found == surfaceIndices.end()) {
+            found = surfaceIndices.emplace(name, TileMesh::indices(options->samplesLog2, coarsening, false)).first;
+        }
+        return found->second;
+    }
     std::optional<renderer::Sampler> sampler;
     std::optional<MercatorReprojection> reprojection;
 };
@@ -1268,8 +1279,7 @@ std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
     const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile->key, position), 0.0, 1.0);
     const double column = uv.x * (size - 1);
     const double row = (1.0 - uv.y) * (size - 1);
-    const std::vector<std::uint32_t> indices =
-        TileMesh::indices(mesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false);
+    const std::vector<std::uint32_t>& indices = impl.surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}));
     auto heightOn = [&](std::size_t first) -> std::optional<double> {
         std::array<glm::dvec2, 3> corner;
         std::array<double, 3> height{};
@@ -1317,8 +1327,7 @@ std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const
     std::vector<glm::dvec3> points;
     for (const QuadtreeTile* tile : _impl->selection.drawn) {
         const SurfaceTile& surface = surfaceOf(*tile);
-        for (const std::uint32_t vertex :
-             TileMesh::indices(surface.drawnMesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false)) {
+        for (const std::uint32_t vertex : _impl->surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}))) {
             points.push_back(surface.drawnMesh.position(vertex));
         }
     }
