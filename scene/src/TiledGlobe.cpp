@@ -358,6 +358,16 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
 
 namespace {
 
+/// Eight colours, told apart at a glance, for tiles shown by their level.
+glm::vec4 levelColor(std::uint32_t level)
+{
+    static constexpr std::array<glm::vec4, 8> kPalette{{{0.90f, 0.30f, 0.25f, 1.0f}, {0.95f, 0.65f, 0.20f, 1.0f},
+                                                         {0.90f, 0.90f, 0.30f, 1.0f}, {0.40f, 0.80f, 0.35f, 1.0f},
+                                                         {0.30f, 0.75f, 0.85f, 1.0f}, {0.30f, 0.45f, 0.90f, 1.0f},
+                                                         {0.65f, 0.40f, 0.85f, 1.0f}, {0.90f, 0.45f, 0.70f, 1.0f}}};
+    return kPalette[level % kPalette.size()];
+}
+
 enum EdgeSide { NorthEdge, EastEdge, SouthEdge, WestEdge };
 
 /// The tile of the same level across an edge (geographic rows count from the south); none at a pole.
@@ -1221,7 +1231,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.vertexArray = &*surface.vertexArray;
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
-        command.draw.uniforms.set("u_baseColor", _options.baseColor);
+        command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
         if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
         }

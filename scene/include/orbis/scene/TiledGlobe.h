@@ -67,6 +67,9 @@ struct TiledGlobeOptions {
     bool skirts = false;
     bool lighting = true;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
+    /// Each tile's base colour from its level (a palette of eight), to show the levels of detail
+    /// the selection chose (book chapter 12's figures); imagery layers are blended over it.
+    bool colorByLevel = false;
     /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
     /// the standard error stream.
     std::function<void(const std::string&)> onWarning;
