@@ -56,10 +56,14 @@ enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed 
 
 /// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    MeshContent(TileMesh mesh_, std::vector<float> normals_) : mesh(std::move(mesh_)), normals(std::move(normals_)) {}
+    MeshContent(TileMesh mesh_, std::vector<float> normals_, std::uint32_t generation_)
+        : mesh(std::move(mesh_)), normals(std::move(normals_)), generation(generation_)
+    {
+    }
     std::size_t byteSize() const noexcept override { return mesh.byteSize() + normals.size() * sizeof(float); }
     TileMesh mesh;
     std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
+    std::uint32_t generation;   ///< of the exaggeration it was made with
 };
 
 /// The terrain tiles the loader's workers cut surface tiles from, shared by all of them: a child
@@ -238,6 +242,8 @@ struct TiledGlobe::Impl {
     /// Forgets a load's result unuploaded; the view asks for it again if it comes back.
     void drop(PendingUpload pending);
     bool makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics);
+    /// Drops a surface tile's mesh (GPU and CPU); it is loaded again when the view wants it.
+    void evictSurface(QuadtreeTile& tile);
     std::shared_ptr<renderer::Texture2D> reproject(FrameState& frameState, const Layer& layer, const TileKey& key,
                                                    const Image& image);
     renderer::ShaderProgram& program(FrameState& frameState, int textureCount);
@@ -270,6 +276,7 @@ struct TiledGlobe::Impl {
     const TiledGlobeOptions* options = nullptr;
     std::vector<Layer> layers;
     std::shared_ptr<TerrainCache> terrain; ///< with TiledGlobeOptions::terrain
+    std::uint32_t meshGeneration = 0;      ///< counts the exaggeration's changes
     TileQuadtree quadtree;
     world::TileLoader loader;
     std::map<std::pair<int, TileKey>, std::uint64_t> tickets;
@@ -581,7 +588,9 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         const double skirtDepth = options->skirts ? quadtree.geometricErrorOf(key.level) : 0.0;
         const std::shared_ptr<TerrainCache> heightsFrom = terrain;
         const double exaggeration = options->terrainExaggeration;
-        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration]() -> std::unique_ptr<world::TileContent> {
+        const std::uint32_t generation = meshGeneration;
+        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration,
+                generation]() -> std::unique_ptr<world::TileContent> {
             std::vector<float> heights;
             if (heightsFrom) {
                 if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
@@ -595,7 +604,7 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
             }
             TileMesh mesh = TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, heights, skirtDepth);
             std::vector<float> normals = heightsFrom ? mesh.normals() : std::vector<float>{};
-            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals));
+            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), generation);
         };
     }
     const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
@@ -676,6 +685,24 @@ std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcep
     return bytes;
 }
 
+void TiledGlobe::Impl::evictSurface(QuadtreeTile& tile)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    gpuBytes -= surface.bytes;
+    cpuBytes -= surface.cpuBytes;
+    surface.vertexArray.reset();
+    surface.vertexBuffer.reset();
+    surface.normalBuffer.reset();
+    surface.coarsening.reset();
+    surface.drawnMesh = TileMesh{};
+    surface.heights = {};
+    surface.bytes = 0;
+    surface.cpuBytes = 0; // its bounds stay: they still hold
+    surface.mesh = LoadState::Unloaded;
+    tile.renderable = false;
+    residentTiles.erase(std::find(residentTiles.begin(), residentTiles.end(), &tile));
+}
+
 bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics)
 {
     if (residentBytes() + bytes <= options->cacheBytes) {
@@ -722,20 +749,7 @@ bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStat
             break;
         }
         if (candidate.layer < 0) {
-            SurfaceTile& surface = surfaceOf(*candidate.tile);
-            gpuBytes -= surface.bytes;
-            cpuBytes -= surface.cpuBytes;
-            surface.vertexArray.reset();
-            surface.vertexBuffer.reset();
-            surface.normalBuffer.reset();
-            surface.coarsening.reset();
-            surface.drawnMesh = TileMesh{};
-            surface.heights = {};
-            surface.bytes = 0;
-            surface.cpuBytes = 0; // its bounds stay: they still hold
-            surface.mesh = LoadState::Unloaded;
-            candidate.tile->renderable = false;
-            residentTiles.erase(std::find(residentTiles.begin(), residentTiles.end(), candidate.tile));
+            evictSurface(*candidate.tile);
         } else {
             auto& tiles = layers[static_cast<std::size_t>(candidate.layer)].tiles;
             gpuBytes -= tiles[candidate.key].bytes;
@@ -793,6 +807,10 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
     if (target.layer < 0) {
         SurfaceTile& surface = surfaceOf(*target.tile);
         MeshContent& content = static_cast<MeshContent&>(*pending.content);
+        if (content.generation != meshGeneration) {
+            surface.mesh = LoadState::Unloaded; // made with another exaggeration: asked for again
+            return;
+        }
         const TileMesh& mesh = content.mesh;
         const std::span<const std::byte> bytes = std::as_bytes(std::span(mesh.vertices));
         const std::span<const std::byte> normalBytes = std::as_bytes(std::span(content.normals));
@@ -1264,6 +1282,62 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
             command.tags = command.tags | Effect::Lighting;
         }
         commands.push_back(std::move(command));
+    }
+}
+
+void TiledGlobe::setTerrainExaggeration(double exaggeration)
+{
+    if (!(std::isfinite(exaggeration) && exaggeration >= 0.0)) {
+        throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
+    }
+    Impl& impl = *_impl;
+    const double before = _options.terrainExaggeration;
+    if (!impl.terrain || exaggeration == before) {
+        _options.terrainExaggeration = exaggeration;
+        return;
+    }
+    _options.terrainExaggeration = exaggeration;
+    ++impl.meshGeneration; // loads under way were made with the old one
+    const TilingScheme& scheme = impl.quadtree.scheme();
+    std::vector<QuadtreeTile*> resident = impl.residentTiles;
+    for (QuadtreeTile* tile : resident) {
+        SurfaceTile& surface = surfaceOf(*tile);
+        if (before == 0.0) {
+            impl.evictSurface(*tile); // flat tiles keep no heights to scale: loaded again (the roots at once)
+            continue;
+        }
+        for (float& height : surface.heights) {
+            height = static_cast<float>(static_cast<double>(height) * (exaggeration / before));
+        }
+        const double skirtDepth = _options.skirts ? impl.quadtree.geometricErrorOf(tile->key.level) : 0.0;
+        surface.drawnMesh = TileMesh::build(impl.ellipsoid, scheme, tile->key, surface.drawnMesh.samplesLog2,
+                                            surface.heights, skirtDepth);
+        const std::vector<float> normals = surface.drawnMesh.normals();
+        surface.vertexBuffer->copyFromSystemMemory(std::as_bytes(std::span(surface.drawnMesh.vertices)));
+        surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
+        tile->region = impl.quadtree.regionOf(tile->key, surface.drawnMesh.minimumHeight, surface.drawnMesh.maximumHeight);
+        surface.edgesFrom = {};
+        ++surface.meshVersion;
+    }
+    // Tiles bounded by an ancestor's heights take the new ones at their next visit.
+    std::vector<QuadtreeTile*> stack;
+    for (auto& root : impl.quadtree.roots()) {
+        stack.push_back(root.get());
+    }
+    while (!stack.empty()) {
+        QuadtreeTile* tile = stack.back();
+        stack.pop_back();
+        SurfaceTile& surface = surfaceOf(*tile);
+        surface.boundsFromLevel = ~0u;
+        surface.heightsKnown = surface.heightsKnown && surface.mesh == LoadState::Ready;
+        for (auto& child : tile->children) {
+            if (child) {
+                stack.push_back(child.get());
+            }
+        }
+    }
+    if (before == 0.0) {
+        impl.rootsLoaded = false;
     }
 }
 

@@ -100,6 +100,11 @@ public:
     /// Every drawn tile at the level its error asks for with its own imagery, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }
 
+    /// Changes the terrain's exaggeration: the resident tiles are rebuilt from their heights at
+    /// once (their bounds and horizon points follow), loads under way are made again. From 0, the
+    /// tiles are loaded again. Throws orbis::Error for a value below 0 or not finite.
+    void setTerrainExaggeration(double exaggeration);
+
     /// The terrain's height (metres, exaggeration taken out) of the surface drawn at a point in
     /// the last frame: on the triangle drawn there, so that a point on an edge or a corner shared
     /// by tiles gets the same height from each. Empty before the first frame, and where no tile
