@@ -1,6 +1,7 @@
 // The scene layer's costs: culling and binning many commands, and the globe's geometric error
 // against its frame time, with the fill floor (a full-screen textured quad) measured in the same run.
 
+#include "GlMeasurements.h"
 #include "Report.h"
 
 #include <orbis/core/EllipsoidalOccluder.h>
@@ -107,51 +108,6 @@ struct GlobeConfiguration {
     std::string name;
     GlobeOptions options;
 };
-
-/// Average milliseconds per frame over `frames` frames after one warm-up frame.
-double millisecondsPerFrame(Scene& scene, Context& context, int frames)
-{
-    scene.render(context);
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < frames; ++i) {
-        scene.render(context);
-    }
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
-}
-
-/// A full-screen quad with the day texture, drawn `frames` times: the fill floor.
-double fillFloorMilliseconds(Device& device, Context& context, int frames)
-{
-    ShaderProgramDescription description;
-    description.name = "fill floor";
-    description.vertex = ShaderSource::embedded("bench/textured_quad.vert.glsl");
-    description.fragment = ShaderSource::embedded("bench/textured_quad.frag.glsl");
-    ShaderProgram program = device.createShaderProgram(description);
-    Mesh quad;
-    quad.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-    quad.indices = {0, 1, 2, 0, 2, 3};
-    VertexArray vertexArray = context.createVertexArray(quad, program);
-    Texture2D texture = device.createTexture2D(readImage("/usr/share/xplanet/images/earth.jpg", 3), true);
-    SamplerDescription samplerDescription;
-    samplerDescription.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
-    Sampler sampler = device.createSampler(samplerDescription);
-    DrawCommand command;
-    command.vertexArray = &vertexArray;
-    command.shaderProgram = &program;
-    command.textures.push_back({0, &texture, &sampler});
-    command.renderState.depthTest.enabled = false;
-    auto frame = [&] {
-        context.clear(ClearState{});
-        context.draw(command);
-        context.finish();
-    };
-    frame();
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < frames; ++i) {
-        frame();
-    }
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
-}
 
 std::vector<Table> globeTables(const Options& options)
 {

@@ -4,6 +4,7 @@
 #include "GeodeticGrid.h"
 #include "orbis/core/Transforms.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -70,6 +71,8 @@ BoundingRegion::BoundingRegion(const Ellipsoid& ellipsoid, const GeodeticExtent&
     const glm::dvec3 half = 0.5 * (high - low);
     _box.centre = origin + axes * middle;
     _box.halfAxes = glm::dmat3(axes[0] * half.x, axes[1] * half.y, axes[2] * half.z);
+    _unitAxes = axes;
+    _halfLengths = half;
     _sphere = _box.boundingSphere();
 
     // Against the ellipsoid that can hide what reaches below the surface.
@@ -80,7 +83,11 @@ BoundingRegion::BoundingRegion(const Ellipsoid& ellipsoid, const GeodeticExtent&
 
 double BoundingRegion::distanceTo(const glm::dvec3& p) const noexcept
 {
-    return std::sqrt(_box.distanceSquaredTo(p));
+    // The box's distance, with its axes' directions and lengths kept from construction: selection
+    // asks this of every tile it visits.
+    const glm::dvec3 local = glm::transpose(_unitAxes) * (p - _box.centre);
+    const glm::dvec3 outside = glm::max(glm::abs(local) - _halfLengths, glm::dvec3(0.0));
+    return glm::length(outside);
 }
 
 } // namespace orbis

@@ -248,7 +248,8 @@ int runRender(Arguments arguments)
 
     try {
         const orbis::world::SceneDescription description =
-            scenePath ? orbis::world::parseSceneFile(*scenePath) : orbis::world::parseDefaultScene();
+            scenePath ? orbis::world::parseSceneFile(*scenePath)
+                      : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
         std::optional<orbis::scene::CameraPath> flight;
         if (cameraPath) {
             flight.emplace(orbis::Ellipsoid::wgs84());
@@ -347,7 +348,8 @@ int runView(Arguments arguments)
     }
     try {
         const orbis::world::SceneDescription description =
-            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath) : orbis::world::parseDefaultScene();
+            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath)
+                             : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
         orbis::examples::ViewerOptions options;
         options.width = parsed.width.value_or(description.width);
         options.height = parsed.height.value_or(description.height);

@@ -177,6 +177,29 @@ Texture2D Device::createTexture2D(const Image& image, bool mipmaps)
     return texture;
 }
 
+Texture2D Device::createTexture2D(const Image& image, std::span<const Image> mipmapLevels)
+{
+    if (mipmapLevels.empty()) {
+        return createTexture2D(image, false);
+    }
+    if (image.channels != 4 && image.channels != 3) {
+        throw Error("Device::createTexture2D: an image of " + std::to_string(image.channels) +
+                    " channels; 3 (RGB8) or 4 (RGBA8) are supported");
+    }
+    Texture2D mipmapped = createTexture2D(
+        {image.width, image.height, image.channels == 4 ? TextureFormat::RGBA8 : TextureFormat::RGB8, true});
+    if (static_cast<int>(mipmapLevels.size()) + 1 != mipmapped.levelCount()) {
+        throw Error("Device::createTexture2D: " + std::to_string(mipmapLevels.size()) + " mipmap levels given for a " +
+                    std::to_string(image.width) + " x " + std::to_string(image.height) + " image, which has " +
+                    std::to_string(mipmapped.levelCount() - 1));
+    }
+    mipmapped.copyFromImage(image, 0);
+    for (std::size_t level = 0; level < mipmapLevels.size(); ++level) {
+        mipmapped.copyFromImage(mipmapLevels[level], static_cast<int>(level) + 1);
+    }
+    return mipmapped;
+}
+
 void Texture2D::checkLevel(int level, const char* what) const
 {
     if (!_name) {
@@ -224,18 +247,21 @@ void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, const Pi
                              texels.data());
 }
 
-void Texture2D::copyFromImage(const Image& image)
+void Texture2D::copyFromImage(const Image& image, int level)
 {
+    checkLevel(level, "Texture2D::copyFromImage");
     const int channels = format() == TextureFormat::RGBA8 ? 4 : format() == TextureFormat::RGB8 ? 3 : 0;
-    if (channels == 0 || image.channels != channels || image.width != width() || image.height != height()) {
+    const int levelWidth = std::max(1, width() >> level);
+    const int levelHeight = std::max(1, height() >> level);
+    if (channels == 0 || image.channels != channels || image.width != levelWidth || image.height != levelHeight) {
         throw Error(std::string("Texture2D::copyFromImage: a ") + std::to_string(image.width) + " x " +
                     std::to_string(image.height) + " image of " + std::to_string(image.channels) +
-                    " channels does not fit a " + std::to_string(width()) + " x " + std::to_string(height()) + " " +
-                    textureFormatName(format()) + " texture");
+                    " channels does not fit level " + std::to_string(level) + " (" + std::to_string(levelWidth) +
+                    " x " + std::to_string(levelHeight) + ") of a " + textureFormatName(format()) + " texture");
     }
     std::vector<std::uint8_t> flipped = image.pixels;
     flipRows(flipped.data(), image.width * image.channels, image.height);
-    copyFromSystemMemory(std::as_bytes(std::span(flipped)));
+    copyFromSystemMemory(std::as_bytes(std::span(flipped)), level);
 }
 
 void Texture2D::generateMipmaps()

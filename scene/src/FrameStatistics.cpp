@@ -28,6 +28,7 @@ void TileStatistics::add(const TileStatistics& other) noexcept
     drawn += other.drawn;
     standIns += other.standIns;
     fallbackImagery += other.fallbackImagery;
+    imageryDrawn += other.imageryDrawn;
     requested += other.requested;
     loadedThisFrame += other.loadedThisFrame;
     pending += other.pending;
@@ -97,7 +98,8 @@ std::string FrameStatistics::toText() const
         const TileStatistics& t = *tiles;
         out << "tiles: " << t.visited << " visited, " << t.culledByFrustum << " culled by the frustum, "
             << t.culledByHorizon << " by the horizon, " << t.selected << " selected, " << t.drawn << " drawn ("
-            << t.standIns << " standing in for finer ones, " << t.fallbackImagery << " with an ancestor's imagery)\n"
+            << t.standIns << " standing in for finer ones, " << t.fallbackImagery << " with an ancestor's imagery; "
+            << t.imageryDrawn << " imagery tiles read)\n"
             << "  loads: " << t.requested << " started, " << t.loadedThisFrame << " arrived, " << t.pending
             << " pending, " << t.failed << " failed, " << t.missing << " missing, " << t.evicted << " evicted\n"
             << "  deepest level drawn " << t.deepestLevelDrawn << ", largest screen-space error "
@@ -152,7 +154,8 @@ std::string FrameStatistics::toJson() const
         out << ",\n  \"tiles\": {\"visited\": " << t.visited << ", \"culledByFrustum\": " << t.culledByFrustum
             << ", \"culledByHorizon\": " << t.culledByHorizon << ", \"selected\": " << t.selected
             << ", \"drawn\": " << t.drawn << ", \"standIns\": " << t.standIns
-            << ", \"fallbackImagery\": " << t.fallbackImagery << ", \"requested\": " << t.requested
+            << ", \"fallbackImagery\": " << t.fallbackImagery << ", \"imageryDrawn\": " << t.imageryDrawn
+            << ", \"requested\": " << t.requested
             << ", \"loadedThisFrame\": " << t.loadedThisFrame << ", \"pending\": " << t.pending
             << ", \"failed\": " << t.failed << ", \"missing\": " << t.missing << ", \"evicted\": " << t.evicted
             << ", \"residentBytesCpu\": " << t.residentBytesCpu << ", \"residentBytesGpu\": " << t.residentBytesGpu

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -74,22 +75,26 @@ void TileQuadtree::select(const TileView& view, const TileSelectionOptions& opti
 {
     selection = TileSelection{};
     _occluder.setCameraPosition(view.eye);
-    std::vector<QuadtreeTile*> order;
+    std::vector<std::pair<double, QuadtreeTile*>> order;
     for (const auto& root : _roots) {
-        order.push_back(root.get());
+        order.emplace_back(root->region.distanceTo(view.eye), root.get());
     }
-    std::stable_sort(order.begin(), order.end(), [&](const QuadtreeTile* a, const QuadtreeTile* b) {
-        return a->region.distanceTo(view.eye) < b->region.distanceTo(view.eye);
-    });
-    for (QuadtreeTile* root : order) {
-        visit(*root, view, options, frameNumber, selection, refresh);
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    // The screen-space error of book equation 12.1, its view part taken out of the traversal's loop.
+    const double halfHeight = std::tan(0.5 * std::clamp(view.fieldOfViewY, 1e-9, kPi - 1e-9));
+    Traversal traversal{view, options, frameNumber, selection, refresh, view.viewportHeightPixels / (2.0 * halfHeight)};
+    for (const auto& [distance, root] : order) {
+        visit(*root, distance, traversal);
     }
 }
 
-TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& view, const TileSelectionOptions& options,
-                                           std::uint64_t frameNumber, TileSelection& selection,
-                                           const TileVisited& refresh)
+TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, double distance, Traversal& traversal)
 {
+    const TileView& view = traversal.view;
+    const TileSelectionOptions& options = traversal.options;
+    TileSelection& selection = traversal.selection;
+    const std::uint64_t frameNumber = traversal.frameNumber;
+    const TileVisited& refresh = traversal.refresh;
     ++selection.visited;
     tile.lastVisitedFrame = frameNumber;
     if (refresh) {
@@ -105,12 +110,14 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
         return Coverage::Culled;
     }
 
-    const double distance = tile.region.distanceTo(view.eye);
-    const double error = orbis::screenSpaceError(tile.geometricError, distance, view.viewportHeightPixels, view.fieldOfViewY);
+    // As orbis::screenSpaceError, with the field of view's tangent taken once per traversal.
+    const double error = distance > 0.0 ? tile.geometricError * traversal.errorPerMeter / distance
+                                        : std::numeric_limits<double>::infinity();
     // A tile at the level asked for is drawn when it can be, and loads what it still lacks (its
-    // own imagery, say) while it is drawn; a stand-in only loads when it cannot be drawn at all.
-    auto drawOrRequest = [&](bool standIn) {
-        const bool wanted = tile.wantsLoad && (!standIn || !tile.renderable);
+    // own imagery, say) while it is drawn; a stand-in loads only when asked to (loadSelf) and it
+    // cannot be drawn at all.
+    auto drawOrRequest = [&](bool standIn, bool loadSelf) {
+        const bool wanted = tile.wantsLoad && (!standIn || (loadSelf && !tile.renderable));
         if (wanted) {
             selection.loads.push_back({&tile, loadPriority(tile, view, distance)});
         }
@@ -125,7 +132,7 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
     const bool refine = error > options.maximumScreenSpaceError && tile.refinable && tile.key.level < options.maximumLevel;
     if (!refine) {
         ++selection.selected;
-        return drawOrRequest(false);
+        return drawOrRequest(false, true);
     }
 
     if (!tile.hasChildren()) {
@@ -144,25 +151,28 @@ TileQuadtree::Coverage TileQuadtree::visit(QuadtreeTile& tile, const TileView& v
     const std::size_t loadsBefore = selection.loads.size();
     bool covered = true;
     for (const int i : order) {
-        covered = visit(*children[i], view, options, frameNumber, selection, refresh) != Coverage::Uncovered && covered;
+        covered = visit(*children[i], distances[i], traversal) != Coverage::Uncovered && covered;
     }
     if (covered) {
         return Coverage::Covered;
     }
 
     // A descendant cannot be drawn yet: this tile stands in for all of them (never a hole), while
-    // the most urgent of their loads go ahead.
+    // their loads go ahead, straight to the level the view asks for. Only when more of them wait
+    // than the limit (after a jump) does this tile load too, so that something finer than its
+    // drawn ancestor shows sooner; and only the most urgent of the descendants' loads go ahead.
     selection.drawn.resize(drawnBefore);
     selection.drawnScreenSpaceErrors.resize(drawnBefore);
     const auto firstLoad = selection.loads.begin() + static_cast<std::ptrdiff_t>(loadsBefore);
-    if (selection.loads.size() - loadsBefore > options.loadingDescendantLimit) {
+    const bool manyWaiting = selection.loads.size() - loadsBefore > options.loadingDescendantLimit;
+    if (manyWaiting) {
         const auto keep = firstLoad + static_cast<std::ptrdiff_t>(options.loadingDescendantLimit);
         std::nth_element(firstLoad, keep, selection.loads.end(), [](const TileLoadCandidate& a, const TileLoadCandidate& b) {
             return a.priority < b.priority;
         });
         selection.loads.erase(keep, selection.loads.end());
     }
-    const Coverage coverage = drawOrRequest(true);
+    const Coverage coverage = drawOrRequest(true, manyWaiting);
     if (coverage == Coverage::Covered) {
         ++selection.standIns;
     }

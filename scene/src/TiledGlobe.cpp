@@ -6,6 +6,7 @@
 #include "orbis/scene/MercatorReprojection.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/TileMesh.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
@@ -31,6 +32,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 namespace orbis::scene {
@@ -51,10 +53,20 @@ struct MeshContent final : world::TileContent {
     TileMesh mesh;
 };
 
+/// A decoded imagery tile, with its mipmap levels made on the worker (empty for Web Mercator tiles,
+/// whose levels are made after their reprojection).
 struct ImageContent final : world::TileContent {
-    explicit ImageContent(Image image_) : image(std::move(image_)) {}
-    std::size_t byteSize() const noexcept override { return image.pixels.size(); }
+    ImageContent(Image image_, std::vector<Image> mipmaps_) : image(std::move(image_)), mipmaps(std::move(mipmaps_)) {}
+    std::size_t byteSize() const noexcept override
+    {
+        std::size_t bytes = image.pixels.size();
+        for (const Image& level : mipmaps) {
+            bytes += level.pixels.size();
+        }
+        return bytes;
+    }
     Image image;
+    std::vector<Image> mipmaps;
 };
 
 /// One imagery tile of one layer, shared by every surface tile it covers.
@@ -125,8 +137,11 @@ struct TiledGlobe::Impl {
 
     void created(QuadtreeTile& tile);
     void refresh(QuadtreeTile& tile);
-    /// The texture to draw for an imagery key: its own or its nearest loaded ancestor; and whether
-    /// the key can still bring one (false once it and its ancestors are missing or failed).
+    /// The tile to load for a wanted imagery key: the key itself or, where it is missing or failed,
+    /// its nearest ancestor not known to be (the parent's imagery stays); empty when none is left.
+    std::optional<TileKey> sourceKey(const Layer& layer, const TileKey& key) const;
+    /// The texture to draw for an imagery key: its source key's (sourceKey) or the nearest loaded
+    /// ancestor's, in `used`; `waiting` when the source key's own is still to come.
     ImageryTile* bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting);
     std::uint64_t ticketFor(int layer, const TileKey& key);
     void request(const LoadTarget& target, double priority);
@@ -219,22 +234,35 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
     tile.refinable = tile.key.level < kMaximumTileLevel - static_cast<std::uint32_t>(options->samplesLog2);
 }
 
-ImageryTile* TiledGlobe::Impl::bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting)
+std::optional<TileKey> TiledGlobe::Impl::sourceKey(const Layer& layer, const TileKey& key) const
 {
-    waiting = false;
-    const auto own = layer.tiles.find(key);
-    const bool ownSettled = own != layer.tiles.end() &&
-                            (own->second.state == LoadState::Missing || own->second.state == LoadState::Failed);
     for (std::uint32_t level = key.level + 1; level-- > layer.tiling.minimumLevel;) {
         const TileKey candidate = key.ancestor(level);
         const auto found = layer.tiles.find(candidate);
+        if (found == layer.tiles.end() ||
+            (found->second.state != LoadState::Missing && found->second.state != LoadState::Failed)) {
+            return candidate;
+        }
+    }
+    return std::nullopt;
+}
+
+ImageryTile* TiledGlobe::Impl::bestImagery(Layer& layer, const TileKey& key, TileKey& used, bool& waiting)
+{
+    const std::optional<TileKey> source = sourceKey(layer, key);
+    waiting = source.has_value();
+    if (!source) {
+        return nullptr; // nothing of this layer covers the key: none will come
+    }
+    for (std::uint32_t level = source->level + 1; level-- > layer.tiling.minimumLevel;) {
+        const TileKey candidate = source->ancestor(level);
+        const auto found = layer.tiles.find(candidate);
         if (found != layer.tiles.end() && found->second.state == LoadState::Ready) {
             used = candidate;
-            waiting = candidate != key && !ownSettled;
+            waiting = candidate != *source;
             return &found->second;
         }
     }
-    waiting = !ownSettled;
     return nullptr;
 }
 
@@ -245,9 +273,10 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
     bool wants = surface.mesh == LoadState::Unloaded;
     for (std::size_t l = 0; l < layers.size(); ++l) {
         for (const TileKey& key : surface.imagery[l]) {
-            const auto found = layers[l].tiles.find(key);
-            const LoadState state = found == layers[l].tiles.end() ? LoadState::Unloaded : found->second.state;
-            wants = wants || state == LoadState::Unloaded;
+            if (const std::optional<TileKey> source = sourceKey(layers[l], key)) {
+                const auto found = layers[l].tiles.find(*source);
+                wants = wants || found == layers[l].tiles.end() || found->second.state == LoadState::Unloaded;
+            }
             TileKey used;
             bool waiting = false;
             const ImageryTile* texture = bestImagery(layers[l], key, used, waiting);
@@ -281,9 +310,11 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
                 TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, {}, skirtDepth));
         };
     }
-    std::shared_ptr<world::TileSource> source = layers[static_cast<std::size_t>(target.layer)].layer.source;
+    const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
+    std::shared_ptr<world::TileSource> source = layer.layer.source;
+    const bool mipmapsHere = layer.tiling.scheme.projection() == TilingProjection::Geographic;
     const TileKey key = target.key;
-    return [source, key]() -> std::unique_ptr<world::TileContent> {
+    return [source, key, mipmapsHere]() -> std::unique_ptr<world::TileContent> {
         world::TileFetch fetched = source->fetch(key);
         if (fetched.status == world::TileFetch::Status::Missing) {
             return nullptr;
@@ -291,7 +322,9 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         if (fetched.status == world::TileFetch::Status::Failed) {
             throw Error(fetched.message);
         }
-        return std::make_unique<ImageContent>(world::decodeImage(fetched.bytes, source->locate(key), 4));
+        Image image = world::decodeImage(fetched.bytes, source->locate(key), 4);
+        std::vector<Image> mipmaps = mipmapsHere ? mipmapChain(image) : std::vector<Image>{};
+        return std::make_unique<ImageContent>(std::move(image), std::move(mipmaps));
     };
 }
 
@@ -453,7 +486,8 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         return;
     }
     Layer& layer = layers[static_cast<std::size_t>(target.layer)];
-    const Image& image = static_cast<ImageContent&>(*pending.content).image;
+    const ImageContent& content = static_cast<ImageContent&>(*pending.content);
+    const Image& image = content.image;
     // RGBA with its mipmap chain: a third more.
     const std::size_t bytes = image.pixels.size() * 4 / 3;
     ImageryTile& imagery = layer.tiles[target.key];
@@ -462,9 +496,11 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         statistics.memoryLimited = true;
         return;
     }
-    imagery.texture = layer.tiling.scheme.projection() == TilingProjection::WebMercator
-                          ? reproject(frameState, layer, target.key, image)
-                          : std::make_shared<renderer::Texture2D>(device.createTexture2D(image, true));
+    if (layer.tiling.scheme.projection() == TilingProjection::WebMercator) {
+        imagery.texture = reproject(frameState, layer, target.key, image);
+    } else {
+        imagery.texture = std::make_shared<renderer::Texture2D>(device.createTexture2D(image, content.mipmaps));
+    }
     imagery.state = LoadState::Ready;
     imagery.bytes = bytes;
     imagery.lastUsedFrame = frameState.frameNumber;
@@ -686,10 +722,14 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
             }
             for (std::size_t l = 0; l < impl.layers.size(); ++l) {
                 for (const TileKey& key : surface.imagery[l]) {
-                    ImageryTile& imagery = impl.layers[l].tiles[key];
+                    const std::optional<TileKey> source = impl.sourceKey(impl.layers[l], key);
+                    if (!source) {
+                        continue;
+                    }
+                    ImageryTile& imagery = impl.layers[l].tiles[*source];
                     if (imagery.state == LoadState::Unloaded) {
                         imagery.state = LoadState::Loading;
-                        impl.request({static_cast<int>(l), key, nullptr}, candidate.priority);
+                        impl.request({static_cast<int>(l), *source, nullptr}, candidate.priority);
                     }
                 }
             }
@@ -719,9 +759,13 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
 
         // The textures each drawn tile uses, and what the frame leaves undone.
         impl.drawnTextures.clear();
+        std::unordered_set<const ImageryTile*> imageryRead;
         for (std::size_t i = 0; i < impl.selection.drawn.size(); ++i) {
             QuadtreeTile& tile = *impl.selection.drawn[i];
             impl.drawnTextures.push_back(impl.texturesFor(tile, frame));
+            for (const TextureUse& use : impl.drawnTextures.back()) {
+                imageryRead.insert(use.imagery);
+            }
             bool fallback = false;
             for (std::size_t l = 0; l < impl.layers.size(); ++l) {
                 for (const TileKey& key : surfaceOf(tile).imagery[l]) {
@@ -737,6 +781,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
                 std::max(statistics.largestScreenSpaceErrorDrawn, impl.selection.drawnScreenSpaceErrors[i]);
         }
         const TileSelection& selection = impl.selection;
+        statistics.imageryDrawn = imageryRead.size();
         statistics.visited = selection.visited;
         statistics.culledByFrustum = selection.culledByFrustum;
         statistics.culledByHorizon = selection.culledByHorizon;

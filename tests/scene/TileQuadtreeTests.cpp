@@ -59,8 +59,10 @@ std::optional<glm::dvec3> pick(const Camera& camera, const Ellipsoid& ellipsoid,
 {
     const double tanY = std::tan(0.5 * camera.fieldOfViewY());
     const double tanX = tanY * kWidth / kHeight;
-    const glm::dvec3 direction = glm::normalize(camera.direction() + camera.right() * ((2.0 * x / kWidth - 1.0) * tanX) +
-                                                camera.up() * ((2.0 * y / kHeight - 1.0) * tanY));
+    const glm::dvec3 right = camera.right();
+    const glm::dvec3 up = glm::cross(right, camera.direction()); // the camera's up need not be square to it
+    const glm::dvec3 direction = glm::normalize(camera.direction() + right * ((2.0 * x / kWidth - 1.0) * tanX) +
+                                                up * ((2.0 * y / kHeight - 1.0) * tanY));
     const auto hit = intersectRayEllipsoid(Ray{camera.eye(), direction}, ellipsoid);
     if (!hit || hit->nearDistance <= 0.0) {
         return std::nullopt;

@@ -106,17 +106,19 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
 {
     REQUIRE(defaultSceneText() == readText(kScenes / "default.json"));
-    const SceneDescription builtIn = parseDefaultScene();
+    const SceneDescription builtIn = parseDefaultScene(kScenes);
     REQUIRE(builtIn == parseSceneFile(kScenes / "default.json"));
 
-    // The default Earth: day and night on a ray-cast globe, the Sun from a fixed time, 20,000 km up.
+    // The default view: the Himalaya from 350 km, looking north, the Blue Marble streamed at its
+    // deepest level, lit by the Sun of a fixed time.
     REQUIRE(builtIn.globe.has_value());
-    REQUIRE(builtIn.globe->method == GlobeMethod::RayCast);
-    REQUIRE(builtIn.globe->texture == GlobeTexture{"/usr/share/xplanet/images/earth.jpg", GlobeTexture::Kind::Image});
-    REQUIRE(builtIn.globe->nightTexture == fs::path("/usr/share/xplanet/images/night.jpg"));
+    REQUIRE(builtIn.globe->imagery.size() == 1);
+    REQUIRE(fs::path(builtIn.globe->imagery[0].source) == (kScenes / "../imagery/BlueMarble").lexically_normal());
+    REQUIRE_FALSE(builtIn.globe->texture);
+    REQUIRE(builtIn.globe->maximumScreenSpaceError == 2.0);
     REQUIRE(builtIn.sun.source == SunSource::Time);
     REQUIRE(builtIn.depth == DepthStrategy::Automatic);
-    REQUIRE_THAT(builtIn.camera.position.height, WithinAbs(20'000'000.0, 0.0));
+    REQUIRE_THAT(builtIn.camera.position.height, WithinAbs(350'000.0, 0.0));
     REQUIRE(builtIn.layers.empty());
 }
 

@@ -2,10 +2,10 @@
 
 namespace orbis::world {
 
-SceneDescription parseDefaultScene(const SceneParseOptions& options)
+SceneDescription parseDefaultScene(const std::filesystem::path& scenesDirectory, const SceneParseOptions& options)
 {
     // Its text is generated from data/scenes/default.json (DefaultSceneText.cpp.in).
-    return parseSceneText(defaultSceneText(), "<default scene>", std::filesystem::path("."), options);
+    return parseSceneText(defaultSceneText(), "<default scene>", scenesDirectory, options);
 }
 
 } // namespace orbis::world

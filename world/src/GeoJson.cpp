@@ -81,8 +81,14 @@ std::string pointerOf(const PathNode* node)
 {
     std::string pointer;
     for (; node && (node->parent || !node->key.empty()); node = node->parent) {
-        pointer.insert(0, node->key.empty() ? "/" + std::to_string(node->index)
-                                            : detail::appendToPointer("", node->key));
+        // Appended rather than "/" + to_string: GCC 12 -O3 warns falsely (-Wrestrict) on that.
+        std::string step = "/";
+        if (node->key.empty()) {
+            step.append(std::to_string(node->index));
+        } else {
+            step = detail::appendToPointer("", node->key);
+        }
+        pointer.insert(0, step);
     }
     return pointer;
 }

@@ -5,6 +5,7 @@
 #include "orbis/core/GeodeticExtent.h"
 #include "orbis/core/OrientedBoundingBox.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include <optional>
@@ -61,6 +62,8 @@ private:
     double _maximumHeight;
     double _padding = 0.0;
     OrientedBoundingBox _box;
+    glm::dmat3 _unitAxes{1.0};     ///< the box's axes, unit length (columns)
+    glm::dvec3 _halfLengths{0.0};  ///< the box's half-axes' lengths
     BoundingSphere _sphere;
     std::optional<glm::dvec3> _horizonOcclusionPoint;
 };

@@ -118,8 +118,13 @@ public:
 
     /// Throws orbis::Error for a size outside 1..maxTextureSize.
     Texture2D createTexture2D(const TextureDescription& description);
-    /// An RGBA8 (4-channel image) or RGB8 (3-channel) texture holding the image, upright.
+    /// An RGBA8 (4-channel image) or RGB8 (3-channel) texture holding the image, upright; with
+    /// mipmaps, the driver makes them (glGenerateMipmap).
     Texture2D createTexture2D(const Image& image, bool mipmaps = false);
+    /// The same with mipmap levels made already (levels 1, 2, ... down to 1 x 1, as
+    /// orbis::mipmapChain makes them, e.g. on a loader's worker thread): a software rasteriser
+    /// takes ten times a JPEG's decoding to make them itself. Throws for a chain of the wrong sizes.
+    Texture2D createTexture2D(const Image& image, std::span<const Image> mipmapLevels);
     Sampler createSampler(const SamplerDescription& description = {});
     /// A fence after the commands issued so far in the context current on this thread.
     Fence createFence();

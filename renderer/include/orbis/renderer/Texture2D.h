@@ -61,9 +61,9 @@ public:
     void copyFromSystemMemory(std::span<const std::byte> texels, int level = 0);
     /// Replaces a rectangle of a level (origin and rows bottom to top). Throws when it leaves the level.
     void copyFromSystemMemory(std::span<const std::byte> texels, const PixelRectangle& region, int level = 0);
-    /// Replaces level 0 with an image (flipped to bottom-up). RGBA8 takes 4 channels, RGB8 3;
-    /// throws for other formats or sizes.
-    void copyFromImage(const Image& image);
+    /// Replaces a level with an image of that level's size (flipped to bottom-up). RGBA8 takes 4
+    /// channels, RGB8 3; throws for other formats, sizes or levels.
+    void copyFromImage(const Image& image, int level = 0);
     /// Recomputes levels 1.. from level 0. Throws when the texture has no mipmaps.
     void generateMipmaps();
 

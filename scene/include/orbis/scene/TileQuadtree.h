@@ -126,8 +126,17 @@ public:
 
 private:
     enum class Coverage { Culled, Covered, Uncovered };
-    Coverage visit(QuadtreeTile& tile, const TileView& view, const TileSelectionOptions& options,
-                   std::uint64_t frameNumber, TileSelection& selection, const TileVisited& refresh);
+    /// What one selection's traversal carries: the view and what follows from it.
+    struct Traversal {
+        const TileView& view;
+        const TileSelectionOptions& options;
+        std::uint64_t frameNumber;
+        TileSelection& selection;
+        const TileVisited& refresh;
+        double errorPerMeter; ///< viewport height / (2 tan(fov / 2)): pixels per metre at unit distance
+    };
+    /// distance: from the eye to the tile's box, computed by the caller (which sorts by it).
+    Coverage visit(QuadtreeTile& tile, double distance, Traversal& traversal);
     void createChildren(QuadtreeTile& tile);
     double loadPriority(const QuadtreeTile& tile, const TileView& view, double distance) const noexcept;
 

@@ -73,8 +73,11 @@ std::vector<CameraKeyframe> parseCameraPathText(std::string_view text, std::stri
 /// The text of data/scenes/default.json, embedded in the library at build time.
 std::string_view defaultSceneText() noexcept;
 
-/// The built-in default scene (defaultSceneText parsed, origin "<default scene>", relative paths
-/// against the current directory). Throws SceneFileError when a file it names is missing.
-SceneDescription parseDefaultScene(const SceneParseOptions& options = {});
+/// The built-in default scene (defaultSceneText parsed, origin "<default scene>"). Its relative
+/// paths resolve against scenesDirectory, as data/scenes/default.json's own do against its folder:
+/// pass the scenes/ folder of the data the program uses (the source tree's data/, or the
+/// installed one). Throws SceneFileError when a file it names is missing.
+SceneDescription parseDefaultScene(const std::filesystem::path& scenesDirectory,
+                                   const SceneParseOptions& options = {});
 
 } // namespace orbis::world
