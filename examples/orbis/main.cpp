@@ -12,6 +12,7 @@
 #include <orbis/core/TileKey.h>
 #include <orbis/world/AsyncPngWriter.h>
 #include <orbis/world/Diagnostics.h>
+#include <orbis/world/FileAccess.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
@@ -185,16 +186,42 @@ std::string resolveDataFile(const std::string& argument, const char* folder)
     return argument;
 }
 
-/// orbis validate SCENE.json...: reads each file, and the files it names, as `orbis render` would,
-/// renders nothing; lists every fault of a file (world::validateSceneFile).
+/// --sandbox FOLDER: every file read from now on must lie in FOLDER (symbolic links followed);
+/// false, with a message, when FOLDER is no folder.
+bool confineFiles(const std::string& folder)
+{
+    try {
+        orbis::world::setFileSandbox(std::filesystem::path(folder));
+        return true;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis: %s\n", error.what());
+        return false;
+    }
+}
+
+/// orbis validate [--sandbox FOLDER] SCENE.json...: reads each file, and the files it names, as
+/// `orbis render` would, renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
 {
-    if (arguments.empty()) {
+    constexpr std::string_view kOptions[] = {"--sandbox"};
+    std::vector<std::string> scenes;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        if (!argument.starts_with("--")) {
+            scenes.push_back(resolveDataFile(std::string(argument), "scenes"));
+        } else if (argument != "--sandbox") {
+            throw unknownOption(argument, kOptions);
+        } else if (i + 1 == arguments.size()) {
+            throw UsageError{"--sandbox needs a value"};
+        } else if (!confineFiles(arguments[++i])) {
+            return kExitFailed;
+        }
+    }
+    if (scenes.empty()) {
         throw UsageError{"give the scene files to check"};
     }
     int exitCode = kExitOk;
-    for (const char* argument : arguments) {
-        const std::string path = resolveDataFile(argument, "scenes");
+    for (const std::string& path : scenes) {
         orbis::world::SceneDescription scene;
         const orbis::world::DiagnosticList faults = orbis::world::validateSceneFile(path, &scene);
         if (faults.empty()) {
@@ -233,10 +260,11 @@ struct SceneArguments {
     std::optional<int> frames;
     std::optional<int> maxFrames;
     bool noWait = false;
+    std::optional<std::string> sandbox;
 };
 
-constexpr std::string_view kRenderOptions[] = {"--out",    "--width",  "--height",     "--stats",
-                                               "--frames", "--path",   "--max-frames", "--no-wait"};
+constexpr std::string_view kRenderOptions[] = {"--out",  "--width",      "--height",  "--stats",  "--frames",
+                                               "--path", "--max-frames", "--no-wait", "--sandbox"};
 constexpr std::string_view kViewOptions[] = {"--out", "--width", "--height", "--frames"};
 
 /// Reads the arguments of render or view, which take the `accepted` options; throws UsageError
@@ -272,6 +300,8 @@ SceneArguments parseSceneArguments(Arguments arguments, std::span<const std::str
             parsed.statisticsPath = std::string(value);
         } else if (argument == "--path") {
             parsed.cameraPath = resolveDataFile(std::string(value), "paths");
+        } else if (argument == "--sandbox") {
+            parsed.sandbox = std::string(value);
         } else if (argument == "--width") {
             parsed.width = count(16384);
         } else if (argument == "--height") {
@@ -323,8 +353,8 @@ int frameWriterThreads()
 /// next frames are drawn. Each PNG appears whole or not at all. docs/cli.md has the options.
 int runRender(Arguments arguments)
 {
-    const auto [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait] =
-        parseSceneArguments(arguments, kRenderOptions);
+    const auto [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait,
+                sandbox] = parseSceneArguments(arguments, kRenderOptions);
     const std::string output = outputOption.value_or("orbis.png");
     if (frames && !cameraPath) {
         throw UsageError{"--frames needs a camera path (--path PATH.json): a still picture is one frame"};
@@ -334,6 +364,9 @@ int runRender(Arguments arguments)
     }
     if (cameraPath && (noWait || maxFrames)) {
         throw UsageError{"--no-wait and --max-frames are for still pictures; a flight draws each frame once"};
+    }
+    if (sandbox && !confineFiles(*sandbox)) {
+        return kExitFailed;
     }
 
     try {
@@ -572,17 +605,18 @@ struct Subcommand {
 constexpr Subcommand kSubcommands[] = {
     {"render",
      "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N | --no-wait] "
-     "[--path PATH.json [--frames N]]",
+     "[--path PATH.json [--frames N]] [--sandbox FOLDER]",
      "render a scene file (the default Earth without one) to a PNG (orbis.png) once its tiles have converged "
      "(at most --max-frames frames, 600 by default; --no-wait: the first frame); with --path, a flight along "
-     "a camera path to numbered PNGs (PNG_0001.png ...), --frames of them (60 by default), headless",
+     "a camera path to numbered PNGs (PNG_0001.png ...), --frames of them (60 by default), headless; "
+     "--sandbox: refuse to read files outside FOLDER",
      runRender},
     {"view", "[SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]",
      "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
      "D, E Q), H to fly home, Escape to close; the title shows the tiles pending; --frames N stops after N "
      "frames, --out writes the last",
      runView},
-    {"validate", "SCENE.json...",
+    {"validate", "[--sandbox FOLDER] SCENE.json...",
      "check scene files and the files they name without rendering, listing every fault (see docs/scene-format.md)",
      runValidate},
     {"tile", "imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q] [--level L [--range X0:X1]] "

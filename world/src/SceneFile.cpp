@@ -1,6 +1,7 @@
 #include "orbis/world/SceneFile.h"
 
 #include "orbis/world/CsvPoints.h"
+#include "orbis/world/FileAccess.h"
 
 #include "JsonText.h"
 
@@ -506,12 +507,23 @@ private:
         return reason;
     }
 
+    /// Fails when a sandbox is set (setFileSandbox) and resolved lies outside it.
+    void requireInSandbox(const std::string& pointer, const fs::path& resolved) const
+    {
+        try {
+            resolveInSandbox(resolved, "file");
+        } catch (const Error& error) {
+            fail(pointer, error.what());
+        }
+    }
+
     /// Fails unless resolved is a regular file (when files are checked).
     void requireFile(const Json& value, const std::string& pointer, const fs::path& resolved) const
     {
         if (!_options.checkFiles) {
             return;
         }
+        requireInSandbox(pointer, resolved);
         std::error_code error;
         const fs::file_status status = fs::status(resolved, error);
         if (status.type() == fs::file_type::not_found) {
@@ -756,6 +768,7 @@ private:
             texture.kind = texture.path.has_extension() ? GlobeTexture::Kind::Image : GlobeTexture::Kind::TileMapService;
             return texture;
         }
+        requireInSandbox(pointer, texture.path);
         std::error_code error;
         if (fs::is_directory(texture.path, error)) {
             if (!fs::is_regular_file(texture.path / "tilemapresource.xml", error)) {
@@ -1071,6 +1084,12 @@ std::optional<Json> parseJsonDocument(std::string_view text, const std::string& 
 std::optional<std::string> readDocument(const fs::path& path, std::string_view what, DiagnosticList* collected)
 {
     const std::string origin = path.string();
+    try {
+        resolveInSandbox(path, what);
+    } catch (const Error& outside) {
+        stop(Diagnostic{origin, 0, 0, "", outside.what()}, collected);
+        return std::nullopt;
+    }
     std::error_code error;
     if (fs::is_directory(path, error)) {
         stop({origin, 0, 0, "", "is a folder; expected " + std::string(what)}, collected);
