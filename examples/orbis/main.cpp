@@ -17,10 +17,12 @@
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainTiler.h>
 
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
@@ -28,6 +30,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -508,79 +511,148 @@ int runInfo(Arguments arguments)
     return kExitOk;
 }
 
-/// orbis tile imagery INPUT --out FOLDER [options]: a TMS pyramid (geographic,
-/// tilemapresource.xml) cut from an image GDAL reads, on every core; docs/cli.md has the options.
-int runTile(Arguments arguments)
+/// `text` as a finite number, at least `minimum`; empty when it is anything else.
+std::optional<double> parseFinite(std::string_view text, double minimum)
 {
-    if (arguments.empty() || std::string_view(arguments[0]) != "imagery") {
-        throw UsageError{"the one kind of tiling is \"imagery\": orbis tile imagery INPUT --out FOLDER"};
+    double value = 0.0;
+    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || !std::isfinite(value) ||
+        value < minimum) {
+        return std::nullopt;
     }
-    constexpr std::string_view kOptions[] = {"--out",     "--levels",  "--level", "--range",      "--format",
-                                             "--quality", "--threads", "--title", "--attribution"};
+    return value;
+}
+
+/// The options both tilers take: INPUT --out FOLDER [--levels N] [--level L [--range X0:X1]]
+/// [--threads N] [--title TEXT] [--attribution TEXT].
+struct TilingArguments {
+    std::filesystem::path input;
+    std::filesystem::path output;
+    std::optional<std::uint32_t> levels;
+    std::optional<std::uint32_t> onlyLevel;
+    std::optional<std::pair<std::uint32_t, std::uint32_t>> columns;
+    int threads = 0;
+    std::string title;
+    std::string attribution;
+
+    static constexpr std::string_view kOptions[] = {"--out",     "--levels", "--level",      "--range",
+                                                    "--threads", "--title",  "--attribution"};
+
+    /// Reads the arguments; the tiler's own options (`ownOptions`, flags among them taking no value)
+    /// go to `own(option, value)`, which throws UsageError for a bad value. Throws UsageError naming
+    /// what is wrong.
+    template <class Own>
+    void parse(Arguments arguments, std::span<const std::string_view> ownOptions,
+               std::span<const std::string_view> ownFlags, Own&& own)
+    {
+        std::vector<std::string_view> accepted(std::begin(kOptions), std::end(kOptions));
+        accepted.insert(accepted.end(), ownOptions.begin(), ownOptions.end());
+        accepted.insert(accepted.end(), ownFlags.begin(), ownFlags.end());
+        for (std::size_t i = 0; i < arguments.size(); ++i) {
+            const std::string_view argument = arguments[i];
+            if (!argument.starts_with("--")) {
+                if (!input.empty()) {
+                    throw UsageError{format("one input at a time: %s and %s", orbis::world::quote(input.string()).c_str(),
+                                            orbis::world::quote(argument).c_str())};
+                }
+                input = std::string(argument);
+                continue;
+            }
+            if (std::find(accepted.begin(), accepted.end(), argument) == accepted.end()) {
+                throw unknownOption(argument, accepted);
+            }
+            if (std::find(ownFlags.begin(), ownFlags.end(), argument) != ownFlags.end()) {
+                own(argument, std::string_view());
+                continue;
+            }
+            if (i + 1 == arguments.size()) {
+                throw UsageError{format("%s needs a value", arguments[i])};
+            }
+            const std::string_view value = arguments[++i];
+            if (argument == "--out") {
+                output = std::string(value);
+            } else if (argument == "--levels") {
+                levels = countOption(argument, value, 1, orbis::kMaximumTileLevel + 1);
+            } else if (argument == "--level") {
+                onlyLevel = countOption(argument, value, 0, orbis::kMaximumTileLevel);
+            } else if (argument == "--range") {
+                const std::size_t colon = value.find(':');
+                const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
+                const auto last =
+                    colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
+                if (!first || !last) {
+                    throw UsageError{"--range: expected the first and last column as X0:X1, got " +
+                                     orbis::world::quote(value)};
+                }
+                columns = std::pair(*first, *last);
+            } else if (argument == "--threads") {
+                threads = static_cast<int>(countOption(argument, value, 1, 256));
+            } else if (argument == "--title") {
+                title = std::string(value);
+            } else if (argument == "--attribution") {
+                attribution = std::string(value);
+            } else {
+                own(argument, value);
+            }
+        }
+        if (input.empty() || output.empty()) {
+            throw UsageError{"give the input and --out FOLDER"};
+        }
+        if (columns && !onlyLevel) {
+            throw UsageError{"--range cuts columns of one level: give --level too"};
+        }
+    }
+
+    /// Copies the common options into a tiler's options.
+    template <class Options>
+    void apply(Options& options) const
+    {
+        options.input = input;
+        options.output = output;
+        options.levels = levels;
+        options.onlyLevel = onlyLevel;
+        options.columns = columns;
+        options.threads = threads;
+        options.title = title;
+        options.attribution = attribution;
+    }
+};
+
+/// A tiler's progress on a ProgressLine.
+std::function<void(const orbis::world::TilerProgress&)> tilingProgress()
+{
+    return [line = std::make_shared<ProgressLine>()](const orbis::world::TilerProgress& progress) {
+        const auto done = static_cast<double>(progress.done);
+        const auto total = static_cast<double>(progress.total);
+        const double rate = progress.seconds > 0.0 ? done / progress.seconds : 0.0;
+        const double left = rate > 0.0 ? (total - done) / rate : 0.0;
+        line->show(progress.done == progress.total,
+                   format("level %u: %zu/%zu tiles, all levels %zu/%zu (%.0f%%), %.1f tiles/s, %.0f s left",
+                          progress.level, progress.levelDone, progress.levelTotal, progress.done, progress.total,
+                          total > 0.0 ? 100.0 * done / total : 100.0, rate, left));
+    };
+}
+
+/// orbis tile imagery INPUT --out FOLDER [--format jpg|png|webp] [--quality Q] and the common
+/// options: a TMS pyramid (geographic, tilemapresource.xml) cut from an image GDAL reads.
+int runTileImagery(Arguments arguments)
+{
     orbis::world::ImageryTilerOptions options;
-    for (std::size_t i = 1; i < arguments.size(); ++i) {
-        const std::string_view argument = arguments[i];
-        if (!argument.starts_with("--")) {
-            if (!options.input.empty()) {
-                throw UsageError{format("one input image at a time: %s and %s", orbis::world::quote(options.input.string()).c_str(),
-                                        orbis::world::quote(argument).c_str())};
-            }
-            options.input = std::string(argument);
-            continue;
-        }
-        if (std::find(std::begin(kOptions), std::end(kOptions), argument) == std::end(kOptions)) {
-            throw unknownOption(argument, kOptions);
-        }
-        if (i + 1 == arguments.size()) {
-            throw UsageError{format("%s needs a value", arguments[i])};
-        }
-        const std::string_view value = arguments[++i];
-        if (argument == "--out") {
-            options.output = std::string(value);
-        } else if (argument == "--levels") {
-            options.levels = countOption(argument, value, 1, orbis::kMaximumTileLevel + 1);
-        } else if (argument == "--level") {
-            options.onlyLevel = countOption(argument, value, 0, orbis::kMaximumTileLevel);
-        } else if (argument == "--range") {
-            const std::size_t colon = value.find(':');
-            const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
-            const auto last = colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
-            if (!first || !last) {
-                throw UsageError{"--range: expected the first and last column as X0:X1, got " + orbis::world::quote(value)};
-            }
-            options.columns = std::pair(*first, *last);
-        } else if (argument == "--format") {
+    constexpr std::string_view kOwnOptions[] = {"--format", "--quality"};
+    TilingArguments common;
+    common.parse(arguments, kOwnOptions, {}, [&](std::string_view argument, std::string_view value) {
+        if (argument == "--format") {
             options.format = orbis::world::imageFormatFromName(value);
             if (options.format == orbis::world::ImageFormat::Unknown || value.find('/') != std::string_view::npos) {
                 throw UsageError{"--format: expected \"jpg\", \"png\" or \"webp\", got " + orbis::world::quote(value)};
             }
-        } else if (argument == "--quality") {
-            options.quality = static_cast<int>(countOption(argument, value, 0, 100));
-        } else if (argument == "--threads") {
-            options.threads = static_cast<int>(countOption(argument, value, 1, 256));
-        } else if (argument == "--title") {
-            options.title = std::string(value);
         } else {
-            options.attribution = std::string(value);
+            options.quality = static_cast<int>(countOption(argument, value, 0, 100));
         }
-    }
-    if (options.input.empty() || options.output.empty()) {
-        throw UsageError{"give the input image and --out FOLDER"};
-    }
-    if (options.columns && !options.onlyLevel) {
-        throw UsageError{"--range cuts columns of one level: give --level too"};
-    }
+    });
+    common.apply(options);
     try {
-        options.progress = [line = std::make_shared<ProgressLine>()](const orbis::world::TilerProgress& progress) {
-            const auto done = static_cast<double>(progress.done);
-            const auto total = static_cast<double>(progress.total);
-            const double rate = progress.seconds > 0.0 ? done / progress.seconds : 0.0;
-            const double left = rate > 0.0 ? (total - done) / rate : 0.0;
-            line->show(progress.done == progress.total,
-                       format("level %u: %zu/%zu tiles, all levels %zu/%zu (%.0f%%), %.1f tiles/s, %.0f s left",
-                              progress.level, progress.levelDone, progress.levelTotal, progress.done, progress.total,
-                              total > 0.0 ? 100.0 * done / total : 100.0, rate, left));
-        };
+        options.progress = tilingProgress();
         orbis::world::ImageryTiler tiler(options);
         const orbis::world::TilerSummary summary = tiler.run();
         std::printf("%s: %zu tiles written, %zu empty skipped, levels 0-%u, %.1f s (%.1f tiles/s)\n",
@@ -593,6 +665,87 @@ int runTile(Arguments arguments)
         std::fprintf(stderr, "orbis tile: %s\n", error.what());
         return kExitFailed;
     }
+}
+
+/// orbis tile terrain DEM --out FOLDER [--format quantized-mesh|heightmap] [--samples N]
+/// [--max-error METRES] [--no-normals] [--gzip LEVEL] [--nodata-height METRES] and the common
+/// options: a terrain tile set with layer.json cut from a DEM GDAL reads.
+int runTileTerrain(Arguments arguments)
+{
+    orbis::world::TerrainTilerOptions options;
+    constexpr std::string_view kOwnOptions[] = {"--format", "--samples", "--gzip", "--max-error", "--nodata-height"};
+    constexpr std::string_view kOwnFlags[] = {"--no-normals"};
+    TilingArguments common;
+    common.parse(arguments, kOwnOptions, kOwnFlags, [&](std::string_view argument, std::string_view value) {
+        if (argument == "--no-normals") {
+            options.normals = false;
+        } else if (argument == "--format") {
+            if (value == "quantized-mesh") {
+                options.format = orbis::world::TerrainTileFormat::QuantizedMesh;
+            } else if (value == "heightmap") {
+                options.format = orbis::world::TerrainTileFormat::Heightmap;
+            } else {
+                throw UsageError{"--format: expected \"quantized-mesh\" or \"heightmap\", got " +
+                                 orbis::world::quote(value)};
+            }
+        } else if (argument == "--samples") {
+            options.gridSize = static_cast<int>(countOption(argument, value, 5, 1025));
+        } else if (argument == "--gzip") {
+            options.gzipLevel = static_cast<int>(countOption(argument, value, 0, 9));
+        } else {
+            const bool error = argument == "--max-error";
+            const std::optional<double> metres = parseFinite(value, error ? 0.0 : -1e300);
+            if (!metres) {
+                throw UsageError{format("%.*s: expected a finite number of metres%s, got %s",
+                                        static_cast<int>(argument.size()), argument.data(), error ? ", 0 or more" : "",
+                                        orbis::world::quote(value).c_str())};
+            }
+            if (error) {
+                options.maximumError = *metres;
+            } else {
+                options.noDataHeight = *metres;
+            }
+        }
+    });
+    common.apply(options);
+    try {
+        options.progress = tilingProgress();
+        orbis::world::TerrainTiler tiler(options);
+        const orbis::world::TerrainTilerSummary summary = tiler.run();
+        std::string errors;
+        for (std::uint32_t level = 0; level < summary.levelCount; ++level) {
+            if (summary.maximumErrors[level] > 0.0 || !options.onlyLevel || *options.onlyLevel == level) {
+                char text[48];
+                std::snprintf(text, sizeof text, "%s%u: %.2f m", errors.empty() ? "" : ", ", level,
+                              summary.maximumErrors[level]);
+                errors += text;
+            }
+        }
+        std::printf("%s: %zu tiles written (%.1f MB), levels 0-%u, %.1f s (%.1f tiles/s, %.2f MB/s); largest error by "
+                    "level: %s\n",
+                    options.output.c_str(), summary.tilesWritten, static_cast<double>(summary.bytesWritten) / 1e6,
+                    summary.levelCount - 1, summary.seconds,
+                    summary.seconds > 0.0 ? static_cast<double>(summary.tilesWritten) / summary.seconds : 0.0,
+                    summary.seconds > 0.0 ? static_cast<double>(summary.bytesWritten) / 1e6 / summary.seconds : 0.0,
+                    errors.c_str());
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis tile: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
+/// orbis tile imagery|terrain ...
+int runTile(Arguments arguments)
+{
+    const std::string_view kind = arguments.empty() ? std::string_view() : std::string_view(arguments[0]);
+    if (kind == "imagery") {
+        return runTileImagery(arguments.subspan(1));
+    }
+    if (kind == "terrain") {
+        return runTileTerrain(arguments.subspan(1));
+    }
+    throw UsageError{"what to tile: \"imagery\" or \"terrain\", got " + (kind.empty() ? "nothing" : orbis::world::quote(kind))};
 }
 
 struct Subcommand {
@@ -623,6 +776,13 @@ constexpr Subcommand kSubcommands[] = {
              "[--threads N] [--title TEXT] [--attribution TEXT]",
      "cut an image GDAL reads (GeoTIFF in any CRS, or a plain whole-globe JPEG/PNG) into a geographic TMS "
      "pyramid; --level/--range cut one level's columns X0 to X1, for splitting a job across machines",
+     runTile},
+    {"tile", "terrain DEM --out FOLDER [--format quantized-mesh|heightmap] [--levels N] [--level L [--range X0:X1]] "
+             "[--samples N] [--max-error METRES] [--no-normals] [--gzip 0-9] [--nodata-height METRES] [--threads N] "
+             "[--title TEXT] [--attribution TEXT]",
+     "cut a DEM GDAL reads (GeoTIFF in any CRS, nodata, 0..360 longitudes) into quantized-mesh or heightmap-1.0 "
+     "tiles with layer.json (availability, each tile's measured geometric error); --max-error: the quantized-mesh "
+     "tolerance at level 0, halved per level (see docs/terrain.md)",
      runTile},
     {"info", "", "the Orbis version, the OpenGL driver, its limits and the capabilities the scene's strategies use",
      runInfo},
@@ -667,7 +827,11 @@ int usage(std::FILE* stream, int exitCode)
 int commandUsage(std::FILE* stream, const Subcommand& subcommand, int exitCode)
 {
     std::fprintf(stream, "usage:\n");
-    printUsageLine(stream, subcommand);
+    for (const Subcommand& form : kSubcommands) { // tile has two forms
+        if (form.name == subcommand.name) {
+            printUsageLine(stream, form);
+        }
+    }
     std::fprintf(stream, "(orbis help: every command; docs/cli.md: the options in full)\n");
     return exitCode;
 }
@@ -692,7 +856,9 @@ int unknownCommand(std::string_view name)
 {
     std::vector<std::string_view> names;
     for (const Subcommand& subcommand : kSubcommands) {
-        names.push_back(subcommand.name);
+        if (std::find(names.begin(), names.end(), subcommand.name) == names.end()) {
+            names.push_back(subcommand.name);
+        }
     }
     std::fprintf(stderr, "orbis: unknown command %s%s\n", orbis::world::quote(name).c_str(),
                  orbis::world::suggestion(name, names).c_str());
