@@ -21,7 +21,7 @@ namespace orbis::scene {
 struct TileStatistics;
 struct VirtualTextureStatistics;
 
-/// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
+/// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {
     renderer::Context& context;
     renderer::Device& device;
