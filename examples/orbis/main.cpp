@@ -5,14 +5,19 @@
 #include "../common/Viewer.h"
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/core/Error.h>
+#include <orbis/core/Math.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/core/TileKey.h>
+#include <orbis/world/CsvPoints.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainHeight.h>
+#include <orbis/world/TerrainSource.h>
 #include <orbis/world/TerrainTiler.h>
 
 #include <algorithm>
@@ -670,6 +675,86 @@ int runTile(Arguments arguments)
     return kExitUsage;
 }
 
+/// `text` as a finite number; empty when it is anything else.
+std::optional<double> parseNumber(std::string_view text)
+{
+    double value = 0.0;
+    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || !std::isfinite(value)) {
+        return std::nullopt;
+    }
+    return value;
+}
+
+/// orbis height TERRAIN (LON LAT ... | --points FILE.csv) [--format NAME]: the most-detailed height
+/// of each point (degrees), one line each in the input's order, in metres; "nodata" where the
+/// terrain has none (then exit status 1, after every line).
+int runHeight(Arguments arguments)
+{
+    std::string terrain;
+    std::vector<orbis::Geodetic2D> points;
+    std::optional<std::filesystem::path> csv;
+    orbis::world::TerrainSourceOptions options;
+    std::vector<double> numbers;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        if (argument == "--points" || argument == "--format") {
+            if (i + 1 == arguments.size()) {
+                return kExitUsage;
+            }
+            const std::string value = arguments[++i];
+            if (argument == "--points") {
+                csv = value;
+            } else {
+                options.format = value;
+            }
+        } else if (terrain.empty()) {
+            terrain = std::string(argument);
+        } else if (const auto number = parseNumber(argument)) {
+            numbers.push_back(*number);
+        } else {
+            return kExitUsage;
+        }
+    }
+    if (terrain.empty() || numbers.size() % 2 != 0 || numbers.empty() == !csv) {
+        return kExitUsage;
+    }
+    try {
+        if (csv) {
+            orbis::world::CsvPointsOptions columns;
+            columns.longitudeColumn.clear(); // the first column named lon, lng, long or longitude
+            columns.latitudeColumn.clear();
+            columns.propertyColumns = std::vector<std::string>();
+            for (const orbis::Geodetic3D& position : orbis::world::loadCsvPoints(*csv, columns).positions) {
+                points.push_back({position.longitude, position.latitude});
+            }
+        }
+        for (std::size_t i = 0; i < numbers.size(); i += 2) {
+            if (!(std::abs(numbers[i + 1]) <= 90.0)) {
+                std::fprintf(stderr, "orbis height: latitude %g is not within -90 to 90 degrees\n", numbers[i + 1]);
+                return kExitFailed;
+            }
+            points.push_back({orbis::toRadians(numbers[i]), orbis::toRadians(numbers[i + 1])});
+        }
+        const auto source = orbis::world::openTerrainSource(terrain, options);
+        orbis::world::TerrainHeightQuery query(*source);
+        int exitCode = kExitOk;
+        for (const orbis::Geodetic2D& point : points) {
+            if (const auto height = query.at(point)) {
+                std::printf("%.3f\n", height->height);
+            } else {
+                std::printf("nodata\n");
+                exitCode = kExitFailed;
+            }
+        }
+        return exitCode;
+    } catch (const orbis::Error& error) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "orbis height: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
 struct Subcommand {
     std::string_view name;
     std::string_view arguments; ///< for the usage line
@@ -705,6 +790,11 @@ constexpr Subcommand kSubcommands[] = {
      "tiles with layer.json (availability, each tile's measured geometric error); --max-error: the quantized-mesh "
      "tolerance at level 0, halved per level (see docs/terrain.md)",
      runTile},
+    {"height", "TERRAIN (LON LAT [LON LAT ...] | --points FILE.csv) [--format NAME]",
+     "print the most-detailed height of each point (degrees; a CSV's lon and lat columns) in metres, one line "
+     "each in input order, from a terrain source (layer.json folder or URL, MBTiles, PNG height pyramid, .hgt, "
+     "any DEM GDAL reads); a point on a tile edge gives the same value from either tile",
+     runHeight},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };
 
