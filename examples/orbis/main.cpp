@@ -716,7 +716,9 @@ int runHeight(Arguments arguments)
             return kExitUsage;
         }
     }
-    if (terrain.empty() || numbers.size() % 2 != 0 || numbers.empty() == !csv) {
+    const bool pointsGiven = !numbers.empty() || csv;
+    const bool bothGiven = !numbers.empty() && csv;
+    if (terrain.empty() || numbers.size() % 2 != 0 || !pointsGiven || bothGiven) {
         return kExitUsage;
     }
     try {
