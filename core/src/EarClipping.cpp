@@ -18,6 +18,7 @@
 #include <queue>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 
 namespace orbis {
@@ -65,6 +66,10 @@ public:
         while (!splitTouchingEdges()) {
             ++result.repairedVertices;
             --result.vertexCount;
+        }
+        for (std::size_t removed = removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
+            result.repairedVertices += removed;
+            result.vertexCount -= std::min(removed, result.vertexCount);
         }
         result.repairedArea = _repairedArea;
         checkHoles();
@@ -267,34 +272,49 @@ private:
         return true;
     }
 
-    // Edges e (from node a) and f (from node c) cross with one edge between them: the ring twists
-    // next to a spike, as rings simplified with straight edges in longitude and latitude can once
-    // drawn with great-circle edges. Removing one of the two vertices between the crossing edges
-    // undoes it; the one whose triangle with its neighbours holds less area goes, if that is at most
-    // _repairRelativeArea of the outer ring's.
+    // Edges e (from node a) and f (from node c) cross with at most kTwistEdges edges between them:
+    // the ring twists in a small loop, as rings simplified with straight edges in longitude and
+    // latitude can once drawn with great-circle edges, or quantized ones (TopoJSON) where a step
+    // back of one unit crosses the edge before. Removing one of the vertices between the crossing
+    // edges undoes it, or leaves a smaller loop to undo next time round: the one whose triangle
+    // with its neighbours holds least area goes, if that is at most _repairRelativeArea of the
+    // outer ring's.
+    static constexpr int kTwistEdges = 16;
+
     bool repairCrossing(int a, int c)
     {
-        int first = a; // the crossing edges are first -> u and v -> w, with u -> v between them
-        if (node(node(c).next).next == a) {
-            first = c;
-        } else if (node(node(a).next).next != c) {
+        // The crossing edges are first -> (first's next) and last -> (last's next).
+        auto edgesBetween = [&](int from, int to) {
+            int steps = 0;
+            for (int i = node(from).next; i != to && steps <= kTwistEdges; i = node(i).next) {
+                ++steps;
+            }
+            return steps;
+        };
+        const int forward = edgesBetween(a, c);
+        const int backward = edgesBetween(c, a);
+        if (std::min(forward, backward) > kTwistEdges || std::min(forward, backward) < 1) {
             return false;
         }
-        const int u = node(first).next;
-        const int v = node(u).next;
-        const int w = node(v).next;
-        auto triangleArea = [&](int x, int y, int z) {
-            const glm::dvec2 p = pos(y) - pos(x);
-            const glm::dvec2 q = pos(z) - pos(x);
+        const int first = forward <= backward ? a : c;
+        const int last = first == a ? c : a;
+        auto triangleArea = [&](int x) {
+            const glm::dvec2 p = pos(x) - pos(node(x).prev);
+            const glm::dvec2 q = pos(node(x).next) - pos(node(x).prev);
             return 0.5 * std::abs(p.x * q.y - p.y * q.x);
         };
-        const double withoutU = triangleArea(first, u, v);
-        const double withoutV = triangleArea(u, v, w);
-        const int gone = withoutU <= withoutV ? u : v;
-        if (std::min(withoutU, withoutV) > _repairRelativeArea * _outerArea) {
+        int gone = -1;
+        double smallest = INFINITY;
+        for (int i = node(first).next; i != node(last).next; i = node(i).next) {
+            if (triangleArea(i) < smallest) {
+                smallest = triangleArea(i);
+                gone = i;
+            }
+        }
+        if (gone < 0 || smallest > _repairRelativeArea * _outerArea) {
             return false;
         }
-        _repairedArea += std::min(withoutU, withoutV);
+        _repairedArea += smallest;
         std::size_t ringSize = 0;
         forEachInCycle(gone, [&](int) { ++ringSize; });
         if (ringSize <= 3) {
@@ -310,6 +330,80 @@ private:
             }
         }
         return true;
+    }
+
+    // A ring that touches itself at a vertex is lobes joined there; each lobe must wind as its ring
+    // does. One that winds the other way is the ring folded over itself (as quantization can fold
+    // a small island, or a coast, where it comes back to a point it passed): such a lobe is cut off
+    // at the touch if it holds at most _repairRelativeArea of the outer ring's area. Returns the
+    // vertices removed, 0 when no lobe is inverted.
+    std::size_t removeInvertedLobe()
+    {
+        if (_repairRelativeArea <= 0.0) {
+            return 0;
+        }
+        for (std::size_t k = 0; k < _cycles.size(); ++k) {
+            std::vector<int> order;
+            forEachInCycle(_cycles[k], [&](int i) { order.push_back(i); });
+            std::vector<std::pair<glm::dvec2, std::size_t>> byPosition; // position, place in order
+            for (std::size_t place = 0; place < order.size(); ++place) {
+                byPosition.emplace_back(pos(order[place]), place);
+            }
+            std::sort(byPosition.begin(), byPosition.end(), [](const auto& a, const auto& b) {
+                return std::tie(a.first.x, a.first.y, a.second) < std::tie(b.first.x, b.first.y, b.second);
+            });
+            const double ringSign = k == 0 ? 1.0 : -1.0; // the outer ring counter-clockwise, holes clockwise
+            for (std::size_t r = 1; r < byPosition.size(); ++r) {
+                if (byPosition[r].first != byPosition[r - 1].first) {
+                    continue;
+                }
+                // The lobe from one visit of the position to the next.
+                const std::size_t from = byPosition[r - 1].second;
+                const std::size_t to = byPosition[r].second;
+                std::vector<glm::dvec2> lobe;
+                for (std::size_t place = from; place < to; ++place) {
+                    lobe.push_back(pos(order[place]));
+                }
+                const double area = signedArea(lobe);
+                // The lobe outside it (the rest of the ring) may be the inverted one instead.
+                const double rest = signedArea(ringPositions(order)) - area;
+                const bool lobeInverted = area * ringSign < 0.0;
+                const bool restInverted = rest * ringSign < 0.0;
+                if (lobeInverted == restInverted) {
+                    continue;
+                }
+                const double removedArea = std::abs(lobeInverted ? area : rest);
+                if (removedArea > _repairRelativeArea * _outerArea) {
+                    continue;
+                }
+                // Keep the first visit, unlink the lobe's other vertices (or the rest's).
+                const int keep = order[lobeInverted ? from : to];
+                const int resume = order[lobeInverted ? to : from];
+                std::size_t removed = 0;
+                for (int i = node(keep).next; i != resume; i = node(i).next) {
+                    ++removed;
+                }
+                if (order.size() - removed - 1 < 3) {
+                    continue;
+                }
+                node(keep).next = node(resume).next;
+                node(node(resume).next).prev = keep;
+                _cycles[k] = keep;
+                _repairedArea += removedArea;
+                return removed + 1;
+            }
+        }
+        return 0;
+    }
+
+    std::vector<glm::dvec2> ringPositions(std::span<const int> order) const
+    {
+        std::vector<glm::dvec2> points;
+        points.reserve(order.size());
+        for (const int i : order) {
+            points.push_back(pos(i));
+        }
+        return points;
     }
 
     Location locate(const glm::dvec2& p, std::span<const int> cycles) const

@@ -13,6 +13,7 @@
 #include <orbis/core/TileKey.h>
 #include <orbis/world/CsvPoints.h>
 #include <orbis/world/ImageFile.h>
+#include <orbis/world/FileAccess.h>
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
@@ -93,16 +94,40 @@ std::string resolveDataFile(const std::string& argument, const char* folder)
     return argument;
 }
 
-/// orbis validate SCENE.json...: reads each file, and the files it names, as `orbis render` would,
-/// renders nothing; lists every fault of a file (world::validateSceneFile).
+/// --sandbox FOLDER: every file read from now on must lie in FOLDER (symbolic links followed);
+/// false, with a message, when FOLDER is no folder.
+bool confineFiles(const char* folder)
+{
+    try {
+        orbis::world::setFileSandbox(std::filesystem::path(folder));
+        return true;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis: %s\n", error.what());
+        return false;
+    }
+}
+
+/// orbis validate [--sandbox FOLDER] SCENE.json...: reads each file, and the files it names, as
+/// `orbis render` would, renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
 {
-    if (arguments.empty()) {
+    std::vector<std::string> scenes;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        if (std::string_view(arguments[i]) == "--sandbox" && i + 1 < arguments.size()) {
+            if (!confineFiles(arguments[++i])) {
+                return kExitFailed;
+            }
+        } else if (std::string_view(arguments[i]).starts_with("--")) {
+            return kExitUsage;
+        } else {
+            scenes.push_back(resolveDataFile(arguments[i], "scenes"));
+        }
+    }
+    if (scenes.empty()) {
         return kExitUsage;
     }
     int exitCode = kExitOk;
-    for (const char* argument : arguments) {
-        const std::string path = resolveDataFile(argument, "scenes");
+    for (const std::string& path : scenes) {
         orbis::world::SceneDescription scene;
         const orbis::world::DiagnosticList faults = orbis::world::validateSceneFile(path, &scene);
         if (faults.empty()) {
@@ -156,6 +181,7 @@ struct SceneArguments {
     std::optional<int> frames;
     std::optional<int> maxFrames;
     bool noWait = false;
+    std::optional<std::string> sandbox;
 };
 
 /// Reads the arguments into `parsed`; false when they are malformed.
@@ -188,6 +214,8 @@ bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
             parsed.statisticsPath = value;
         } else if (argument == "--path") {
             parsed.cameraPath = resolveDataFile(value, "paths");
+        } else if (argument == "--sandbox") {
+            parsed.sandbox = value;
         } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
                      (argument == "--height" && count(parsed.height, 16384)) ||
                      (argument == "--frames" && count(parsed.frames, 100000)) ||
@@ -242,7 +270,8 @@ int runRender(Arguments arguments)
     if (!parseSceneArguments(arguments, parsed)) {
         return kExitUsage;
     }
-    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait] = parsed;
+    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait, sandbox] =
+        parsed;
     const std::string output = outputOption.value_or("orbis.png");
     if (frames.value_or(1) > 1 && !cameraPath) {
         std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
@@ -251,6 +280,9 @@ int runRender(Arguments arguments)
     if (noWait && maxFrames) {
         std::fprintf(stderr, "orbis render: --no-wait writes the first frame, --max-frames waits: give one\n");
         return kExitUsage;
+    }
+    if (sandbox && !confineFiles(sandbox->c_str())) {
+        return kExitFailed;
     }
 
     try {
@@ -768,7 +800,7 @@ constexpr Subcommand kSubcommands[] = {
     {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
     {"render",
      "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N | --no-wait] "
-     "[--frames N --path PATH.json]",
+     "[--frames N --path PATH.json] [--sandbox FOLDER]",
      "render a scene file (the default Earth without one) to a PNG once its tiles have converged (at most "
      "--max-frames frames, 600 by default; --no-wait: the first frame), or a flight along a camera path to "
      "numbered PNGs, headless",
@@ -777,7 +809,7 @@ constexpr Subcommand kSubcommands[] = {
      "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
      "D, E Q), Escape to close",
      runView},
-    {"validate", "SCENE.json...",
+    {"validate", "[--sandbox FOLDER] SCENE.json...",
      "check scene files and the files they name without rendering, listing every fault (see docs/scene-format.md)",
      runValidate},
     {"tile", "imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q] [--level L [--range X0:X1]] "

@@ -23,6 +23,11 @@ struct Font::Impl {
 Font::Font(const std::filesystem::path& path) : _impl(std::make_unique<Impl>())
 {
     _impl->path = path;
+    // Only a regular file: opening a named pipe would wait for a writer.
+    std::error_code ignored;
+    if (std::filesystem::exists(path, ignored) && !std::filesystem::is_regular_file(path, ignored)) {
+        throw Error(path.string() + ": cannot open font file: not a regular file");
+    }
     std::ifstream file(path, std::ios::binary | std::ios::ate);
     if (!file) {
         throw Error(path.string() + ": cannot open font file: " + std::strerror(errno));

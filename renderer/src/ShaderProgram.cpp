@@ -286,6 +286,9 @@ ShaderSource ShaderSource::fromFile(const std::filesystem::path& path)
     if (std::filesystem::is_directory(path, ignored)) {
         throw Error(path.string() + ": cannot read a folder as a shader file");
     }
+    if (std::filesystem::exists(path, ignored) && !std::filesystem::is_regular_file(path, ignored)) {
+        throw Error(path.string() + ": cannot read the shader file: not a regular file"); // a pipe would block
+    }
     std::ifstream file(path, std::ios::binary);
     if (!file) {
         const int error = errno;

@@ -409,6 +409,24 @@ TEST_CASE("earClip repairs a spike whose tip has twisted over its neighbour, wit
     }
 }
 
+TEST_CASE("earClip cuts off a small lobe folded over at a vertex the ring passes twice", "[polygon][ear-clipping]")
+{
+    // A square whose ring, at (10, 10), runs round a little clockwise loop and comes back: as
+    // quantized coasts fold where they return to a point. The loop holds 0.5% of the area.
+    const Rings rings = {{{0, 0}, {10, 0}, {10, 10}, {10, 11}, {11, 11}, {10, 10}, {0, 10}}};
+    REQUIRE_THROWS_AS(earClip(rings, "folded", 0.0), Error);
+    const PolygonTriangles result = earClip(rings, "folded");
+    REQUIRE(result.repairedVertices == 3);
+    REQUIRE(result.repairedArea == 0.5);
+    REQUIRE(result.triangleCount() == 2);
+    double covered = 0.0;
+    const std::vector<glm::dvec2> all = concatenated(rings);
+    for (std::size_t t = 0; t < result.indices.size(); t += 3) {
+        covered += 0.5 * static_cast<double>(orient(all[result.indices[t]], all[result.indices[t + 1]], all[result.indices[t + 2]]));
+    }
+    REQUIRE(covered == 100.0);
+}
+
 TEST_CASE("earClip reports bad input with the polygon's name", "[polygon][ear-clipping]")
 {
     REQUIRE_THROWS_WITH(earClip(Rings{{{0, 0}, {3, 3}, {3, 0}, {0, 2}}}, "bow tie"),

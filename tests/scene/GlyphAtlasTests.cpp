@@ -221,6 +221,42 @@ TEST_CASE("The halo covers the glyph and extends beyond it by the outline width"
     CHECK(equal);
 }
 
+TEST_CASE("An outline of 1024 pixels, the largest a scene allows, is a disc of that radius round the glyph", "[scene][font]")
+{
+    // Beyond a few pixels the halo comes from distance transforms, linear in the bitmap (the disc
+    // taken directly would take hours here); its time is in the benchmark (orbis_bench --only
+    // "vector data").
+    GlyphAtlasOptions options;
+    options.outlinePixels = 1024;
+    GlyphAtlas glyphs(dejaVuSans(), options);
+    const Glyph& dot = glyphs.glyph(U'.');
+    REQUIRE(dot.width > 2048);
+    REQUIRE(dot.height > 2048);
+    // The dot's fully covered pixels, and the halo along the row through the middle of them.
+    int left = dot.width;
+    int right = -1;
+    int row = -1;
+    for (int y = 0; y < dot.height && row < 0; ++y) {
+        for (int x = 0; x < dot.width; ++x) {
+            if (texel(glyphs, dot, x, y, 0) == 255) {
+                row = y;
+                left = std::min(left, x);
+                right = std::max(right, x);
+            }
+        }
+    }
+    REQUIRE(row >= 0);
+    CHECK(texel(glyphs, dot, left - 1000, row, 1) == 255);
+    CHECK(texel(glyphs, dot, left - 1024, row, 1) == 255);
+    CHECK(texel(glyphs, dot, right + 1024, row, 1) == 255);
+    // The bitmap's corners lie farther than 1025 from any covered pixel.
+    CHECK(texel(glyphs, dot, 0, 0, 1) == 0);
+    CHECK(texel(glyphs, dot, dot.width - 1, dot.height - 1, 1) == 0);
+    // Above and below as far: a disc, not a square.
+    CHECK(texel(glyphs, dot, left, row - 1000, 1) == 255);
+    CHECK(texel(glyphs, dot, left - 800, row - 800, 1) == 0); // 1131 away
+}
+
 TEST_CASE("Accented letters of place names render their own glyphs", "[scene][font]")
 {
     const auto font = dejaVuSans();

@@ -90,3 +90,31 @@ TEST_CASE("Values quoted in messages are cut, not UTF-8 sequences", "[world][fil
     // "é" is two bytes; a cut inside it moves back before it.
     REQUIRE(cutForMessage("abcdefghié", 10) == "abcdefghi... (11 bytes)");
 }
+
+TEST_CASE("A sandbox refuses files outside its folder, symbolic links and .. followed", "[world][files][sandbox]")
+{
+    const TempDirectory scratch;
+    const std::filesystem::path& folder = scratch.path();
+    writeFileAtomically(folder / "inside/data.txt", std::string_view("in"));
+    writeFileAtomically(folder / "outside/secret.txt", std::string_view("out"));
+    std::filesystem::create_symlink(folder / "outside/secret.txt", folder / "inside/link.txt");
+    std::filesystem::create_symlink(folder / "inside/data.txt", folder / "outside/in-link.txt");
+    setFileSandbox(folder / "inside");
+    struct Reset {
+        ~Reset() { setFileSandbox(std::nullopt); }
+    } reset;
+    CHECK(readFileBytes(folder / "inside/data.txt", "data").size() == 2);
+    CHECK(readFileBytes(folder / "inside/../inside/data.txt", "data").size() == 2);
+    CHECK_THROWS_WITH(readFileBytes(folder / "outside/secret.txt", "data"), Contains("outside the sandbox"));
+    CHECK_THROWS_WITH(readFileBytes(folder / "inside/../outside/secret.txt", "data"), Contains("outside the sandbox"));
+    // A link inside pointing out is refused; a link outside pointing in is the file inside.
+    CHECK_THROWS_WITH(readFileBytes(folder / "inside/link.txt", "data"),
+                      Contains("outside the sandbox") && Contains("(it resolves to"));
+    CHECK(readFileBytes(folder / "outside/in-link.txt", "data").size() == 2);
+    // A sibling whose name begins like the sandbox's is outside it.
+    writeFileAtomically(folder / "inside-not/x.txt", std::string_view("x"));
+    CHECK_THROWS_WITH(readFileBytes(folder / "inside-not/x.txt", "data"), Contains("outside the sandbox"));
+    CHECK_THROWS_WITH(setFileSandbox(folder / "nowhere"), Contains("sandbox: no such folder"));
+    setFileSandbox(std::nullopt);
+    CHECK(readFileBytes(folder / "outside/secret.txt", "data").size() == 3);
+}

@@ -2,9 +2,12 @@
 
 #include <orbis/core/Error.h>
 
+#include <algorithm>
+
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -61,10 +64,15 @@ const char* fileTypeName(mode_t mode)
     return "not a regular file";
 }
 
+std::mutex sandboxMutex;
+std::optional<std::filesystem::path> sandboxFolder; // canonical
+
 /// Empty when the file does not exist; throws for every other failure.
-std::optional<std::vector<std::uint8_t>> readRegularFile(const std::filesystem::path& path, std::string_view kind,
+std::optional<std::vector<std::uint8_t>> readRegularFile(const std::filesystem::path& given, std::string_view kind,
                                                          std::size_t maximumBytes)
 {
+    // The resolved path is what is opened, so the file read is the one checked.
+    const std::filesystem::path path = fileSandbox() ? resolveInSandbox(given, kind) : given;
     // O_NONBLOCK: opening a named pipe for reading then returns at once instead of waiting for a
     // writer; fstat on the open descriptor then refuses it without a race against a rename.
     FileDescriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
@@ -111,6 +119,46 @@ std::optional<std::vector<std::uint8_t>> readRegularFile(const std::filesystem::
 }
 
 } // namespace
+
+void setFileSandbox(const std::optional<std::filesystem::path>& folder)
+{
+    std::optional<std::filesystem::path> canonical;
+    if (folder) {
+        std::error_code error;
+        canonical = std::filesystem::canonical(*folder, error);
+        if (error || !std::filesystem::is_directory(*canonical, error)) {
+            throw Error(cutForMessage(folder->string()) + ": sandbox: no such folder");
+        }
+    }
+    const std::lock_guard lock(sandboxMutex);
+    sandboxFolder = std::move(canonical);
+}
+
+std::optional<std::filesystem::path> fileSandbox()
+{
+    const std::lock_guard lock(sandboxMutex);
+    return sandboxFolder;
+}
+
+std::filesystem::path resolveInSandbox(const std::filesystem::path& path, std::string_view kind)
+{
+    std::error_code error;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, error);
+    std::filesystem::path resolved = std::filesystem::weakly_canonical(error ? path : absolute, error);
+    if (error) {
+        // weakly_canonical fails on a loop of symbolic links (ELOOP) and little else.
+        throw Error(describe(path, kind) + ": cannot resolve: " + error.message());
+    }
+    const std::optional<std::filesystem::path> sandbox = fileSandbox();
+    if (sandbox) {
+        const auto [inside, rest] = std::mismatch(sandbox->begin(), sandbox->end(), resolved.begin(), resolved.end());
+        if (inside != sandbox->end()) {
+            throw Error(describe(path, kind) + ": outside the sandbox " + cutForMessage(sandbox->string()) +
+                        (resolved == path ? std::string() : " (it resolves to " + cutForMessage(resolved.string()) + ")"));
+        }
+    }
+    return resolved;
+}
 
 std::vector<std::uint8_t> readFileBytes(const std::filesystem::path& path, std::string_view kind, std::size_t maximumBytes)
 {

@@ -5,7 +5,11 @@
 #include "orbis/world/Diagnostics.h"
 #include "orbis/world/FileAccess.h"
 
+#include "orbis/world/TopoJson.h"
+
 #include "JsonText.h"
+#include "RingConvention.h"
+#include "TopoJsonDocument.h"
 
 #include <nlohmann/json.hpp>
 
@@ -460,18 +464,28 @@ private:
     throw Error(Diagnostic{source, position.line, position.column, std::move(where), std::move(what)}.text());
 }
 
-} // namespace
-
-FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName, const GeoJsonOptions& options)
+/// The JSON document of GeoJSON or TopoJSON text, or an Error naming the file, line and column.
+Json parseDocument(std::string_view text, const std::string& source)
 {
-    const std::string source(sourceName);
     constexpr std::size_t kMaxDepth = 256;
     std::variant<Json, Diagnostic> parsed = detail::parseJson<Json>(text, source, kMaxDepth);
     if (const auto* fault = std::get_if<Diagnostic>(&parsed)) {
         throw Error(fault->text());
     }
-    const Json& document = std::get<Json>(parsed);
+    return std::move(std::get<Json>(parsed));
+}
 
+bool isTopology(const Json& document)
+{
+    const auto type = document.is_object() ? document.find("type") : document.end();
+    return type != document.end() && type->is_string() && type->get_ref<const std::string&>() == "Topology";
+}
+
+/// The features of a GeoJSON document, each polygon's outer ring first (see putOuterRingsFirst);
+/// `text` is the document's text, for positions in messages (empty for a converted topology).
+FeatureCollection readFeatures(std::string_view text, const Json& document, const std::string& source,
+                               const GeoJsonOptions& options)
+{
     FeatureCollection result;
     FeatureReader reader(text, source, options, result);
     if (!document.is_object()) {
@@ -501,9 +515,48 @@ FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceNam
         reader.readTopLevelGeometry(document);
     } else {
         failDocument(text, source, "/type", "type",
-                     "unknown GeoJSON type " + quote(name) + " (expected FeatureCollection, Feature or a geometry type)");
+                     "unknown GeoJSON type " + quote(name) +
+                         " (expected FeatureCollection, Feature, a geometry type or a TopoJSON Topology)");
     }
+    detail::putOuterRingsFirst(result, detail::detectRingConvention(result));
     return result;
+}
+
+FeatureCollection readTopology(const Json& topology, const std::string& source, std::string_view objectName,
+                               const GeoJsonOptions& options)
+{
+    std::vector<std::string> warnings;
+    const Json features = detail::topologyToGeoJson(topology, source, objectName, warnings);
+    FeatureCollection result = readFeatures({}, features, source, options);
+    result.warnings.insert(result.warnings.begin(), warnings.begin(), warnings.end());
+    return result;
+}
+
+} // namespace
+
+FeatureCollection parseGeoJson(std::string_view text, std::string_view sourceName, const GeoJsonOptions& options)
+{
+    const std::string source(sourceName);
+    const Json document = parseDocument(text, source);
+    return isTopology(document) ? readTopology(document, source, {}, options) : readFeatures(text, document, source, options);
+}
+
+FeatureCollection parseTopoJson(std::string_view text, std::string_view sourceName, std::string_view objectName,
+                                const GeoJsonOptions& options)
+{
+    const std::string source(sourceName);
+    const Json document = parseDocument(text, source);
+    if (!isTopology(document)) {
+        throw Error(source + ": expected a TopoJSON Topology (\"type\": \"Topology\")");
+    }
+    return readTopology(document, source, objectName, options);
+}
+
+FeatureCollection loadTopoJson(const std::filesystem::path& path, std::string_view objectName, const GeoJsonOptions& options)
+{
+    const std::vector<std::uint8_t> bytes = readFileBytes(path, "TopoJSON file");
+    return parseTopoJson(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string(),
+                         objectName, options);
 }
 
 FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOptions& options)

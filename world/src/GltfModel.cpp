@@ -1,6 +1,9 @@
 #include "orbis/world/GltfModel.h"
 
+#include "JsonText.h"
 #include "TinyGltf.h"
+
+#include "orbis/world/FileAccess.h"
 
 #include <orbis/core/Error.h>
 
@@ -16,7 +19,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
@@ -838,12 +840,60 @@ private:
     std::size_t _vertices = 0; ///< unfolded so far
 };
 
-bool startsWithGlbMagic(const fs::path& file)
+/// No glTF file needs more; tinygltf's parser recurses per level (a deeper file would exhaust the
+/// stack), so the depth is checked before it sees the text.
+constexpr std::size_t kMaxJsonDepth = 128;
+
+/// The JSON of a glTF file: the whole text, or a .glb's first chunk (a 12-byte header, then chunks
+/// of length, type and data, the first the JSON); empty when a .glb is too short for its chunk
+/// (tinygltf then says what is wrong).
+std::string_view jsonOf(std::span<const std::uint8_t> bytes, bool binary)
 {
-    std::ifstream in(file, std::ios::binary);
-    char magic[4] = {};
-    in.read(magic, 4);
-    return in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+    const std::string_view all(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    if (!binary) {
+        return all;
+    }
+    if (bytes.size() < 20) {
+        return {};
+    }
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4); // little-endian, as the specification and x86 are
+    return length <= bytes.size() - 20 ? all.substr(20, length) : std::string_view{};
+}
+
+// tinygltf reads buffers and images through these, so that every file it opens is checked as
+// Orbis checks its own: a regular file (a folder or named pipe is refused before a byte is read),
+// at most kMaximumFileBytes, and no shell-style expansion of the name.
+bool gltfFileExists(const std::string& path, void*)
+{
+    std::error_code error;
+    return fs::exists(path, error);
+}
+
+std::string gltfExpandPath(const std::string& path, void*)
+{
+    return path;
+}
+
+bool gltfReadFile(std::vector<unsigned char>* out, std::string* error, const std::string& path, void*)
+{
+    try {
+        *out = readFileBytes(path, "glTF buffer or image");
+        return true;
+    } catch (const Error& failure) {
+        if (error) {
+            *error += std::string(failure.what()) + "\n";
+        }
+        return false;
+    }
+}
+
+bool gltfWriteFile(std::string* error, const std::string&, const std::vector<unsigned char>&, void*)
+{
+    if (error) {
+        *error += "Orbis writes no glTF files\n";
+    }
+    return false;
 }
 
 } // namespace
@@ -855,28 +905,41 @@ GltfModel GltfModel::read(const fs::path& file)
     if (!fs::exists(file, error)) {
         throw Error(name + ": no such file");
     }
-    if (!fs::is_regular_file(file, error)) {
-        throw Error(name + ": not a regular file");
+    const std::vector<std::uint8_t> bytes = readFileBytes(file, "glTF model");
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    const std::string_view json = jsonOf(bytes, binary);
+    // Only the nesting here (and an empty file); tinygltf says what else is wrong with the JSON,
+    // and what is wrong with a .glb too short for its JSON chunk.
+    const bool glbWithoutJson = binary && json.empty();
+    if (const std::optional<Diagnostic> fault =
+            glbWithoutJson ? std::nullopt : detail::jsonSyntaxFault(json, name, kMaxJsonDepth, nullptr)) {
+        throw Error(fault->text());
     }
-    const bool binary = startsWithGlbMagic(file);
+    if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
+        throw Error(name + ": larger than 4 GiB");
+    }
 
     tinygltf::Model model;
     EncodedImages images;
     images.model = &model;
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keepEncodedImage, &images);
+    loader.SetFsCallbacks({gltfFileExists, gltfExpandPath, gltfReadFile, gltfWriteFile, nullptr});
     std::string errors;
     std::string warnings;
     bool loaded = false;
+    const std::string folder = file.parent_path().string();
     try {
-        loaded = binary ? loader.LoadBinaryFromFile(&model, &errors, &warnings, name)
-                        : loader.LoadASCIIFromFile(&model, &errors, &warnings, name);
+        loaded = binary ? loader.LoadBinaryFromMemory(&model, &errors, &warnings, bytes.data(),
+                                                      static_cast<unsigned int>(bytes.size()), folder)
+                        : loader.LoadASCIIFromString(&model, &errors, &warnings, json.data(),
+                                                     static_cast<unsigned int>(json.size()), folder);
     } catch (const std::exception& exception) {
         throw Error(name + ": " + exception.what());
     }
     if (!loaded) {
         const std::string reason = joinLines(errors.empty() ? warnings : errors);
-        throw Error(name + ": " + (reason.empty() ? std::string("not a glTF file") : reason));
+        throw Error(name + ": " + (reason.empty() ? std::string("not a glTF file") : cutForMessage(reason)));
     }
 
     GltfModel out;

@@ -32,8 +32,10 @@ struct PolygonTriangles {
     std::size_t triangleCount() const noexcept { return indices.size() / 3; }
 };
 
-/// Default limit of earClip's repair of twisted spikes: the area removed, relative to the outer ring's.
-inline constexpr double kSpikeRepairRelativeArea = 1e-4;
+/// Default limit of earClip's repair of twisted loops: the area each removed vertex takes, relative
+/// to the outer ring's (a small island quantized to 1e5 steps, as TopoJSON files are, can twist by
+/// one step at 0.1% of its area).
+inline constexpr double kSpikeRepairRelativeArea = 1e-2;
 
 /// Triangulates a planar polygon by ear clipping (book section 8.2.1). Ears are clipped shortest
 /// diagonal first, each tested against the vertices in its bounding box through a spatial index,
@@ -47,11 +49,12 @@ inline constexpr double kSpikeRepairRelativeArea = 1e-4;
 /// kept and triangulated, exactly: orientation tests are exact, so no input makes it loop or emit
 /// overlapping triangles. Holes are joined to the outer ring by bridges from their rightmost vertex
 /// to a visible vertex (Eberly's method), checked exactly. Rings may touch at vertices, or a vertex
-/// may touch an edge; they may not cross, with one exception: two edges with one edge between them
-/// that cross (a spike whose tip has twisted over, as when data simplified with straight edges in
-/// longitude and latitude is drawn with great-circle edges) are repaired by removing one of the two
-/// vertices between them, the one whose triangle with its neighbours is smaller, if that triangle
-/// holds at most repairRelativeArea of the outer ring's area (0 turns the repair off).
+/// may touch an edge; they may not cross, with one exception: two edges with at most 16 edges
+/// between them that cross (a small twisted loop: a spike whose tip has twisted over, as when data
+/// simplified with straight edges in longitude and latitude is drawn with great-circle edges, or a
+/// step back in quantized data) are repaired by removing vertices between them one at a time, each
+/// time the one whose triangle with its neighbours is smallest, if that triangle holds at most
+/// repairRelativeArea of the outer ring's area (0 turns the repair off).
 ///
 /// An outer ring with fewer than 3 distinct vertices, or all of them on one line, gives no
 /// triangles (and vertexCount the distinct vertices); holes with no area are dropped. Throws orbis::Error, with a message naming

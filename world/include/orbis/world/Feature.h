@@ -46,7 +46,8 @@ struct MultiLineString {
 /// A closed ring: at least four positions, the last equal to the first.
 using LinearRing = std::vector<Geodetic3D>;
 
-/// rings[0] is the outer boundary, the others are holes. Winding is kept as in the file.
+/// rings[0] is the outer boundary, the others are holes. Winding is kept as in the file (the readers
+/// put the outer ring first whichever convention the file follows: see loadGeoJson).
 struct Polygon {
     std::vector<LinearRing> rings;
 };

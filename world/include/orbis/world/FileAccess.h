@@ -35,4 +35,19 @@ std::optional<std::vector<std::uint8_t>> readFileBytesIfExists(const std::filesy
 void writeFileAtomically(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 void writeFileAtomically(const std::filesystem::path& path, std::string_view text);
 
+/// Confines every file Orbis reads (readFileBytes and all the readers built on it: scene data,
+/// GeoJSON, TopoJSON, CSV, glTF and its buffers and images, images, tiles, TMS descriptions) to
+/// one folder, for rendering files from elsewhere: a path that resolves (symbolic links followed)
+/// outside it is refused. Process-wide, set before reading starts (the orbis command's --sandbox);
+/// empty (the default) allows any path. Throws orbis::Error when the folder does not exist.
+void setFileSandbox(const std::optional<std::filesystem::path>& folder);
+
+/// The sandbox folder (canonical), or empty when there is none.
+std::optional<std::filesystem::path> fileSandbox();
+
+/// path with symbolic links and "." and ".." resolved, as far as it exists. Throws orbis::Error
+/// naming the path and `kind` when a sandbox is set and the resolved path lies outside it, or
+/// when the links loop.
+std::filesystem::path resolveInSandbox(const std::filesystem::path& path, std::string_view kind);
+
 } // namespace orbis::world

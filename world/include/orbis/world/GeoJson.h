@@ -27,6 +27,13 @@ struct GeoJsonOptions {
 /// (and its name when it has one), the JSON path inside the feature and what is wrong, e.g.
 ///   countries.geojson: feature 12 (name "Fiji"): geometry.coordinates[0][3]: latitude 95 out of range [-90, 90]
 /// JSON syntax errors name the file, line, column and byte offset.
+///
+/// Polygons come with their outer ring first (Polygon::rings[0]) whichever convention the file
+/// follows: RFC 7946's (outer rings counter-clockwise) or d3's and TopoJSON's spherical one
+/// (clockwise), told apart by how the polygons' first rings wind on the sphere; where a first ring
+/// bounds no area of its polygon by that convention and another does (Antarctica in files made by
+/// topojson-client: a small ring round the pole, then the coast), the one that does goes first.
+/// A TopoJSON Topology is read too, all its objects (see loadTopoJson).
 FeatureCollection loadGeoJson(const std::filesystem::path& path, const GeoJsonOptions& options = {});
 
 /// Parses GeoJSON text already in memory; `sourceName` stands for the file in messages.
