@@ -103,7 +103,7 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
         parsed.insert(entry.path().stem().string());
     }
     // The examples docs and tests name, every one of them (a new one is added here).
-    REQUIRE(parsed == std::set<std::string>{"capitals", "countries", "default", "model", "routes"});
+    REQUIRE(parsed == std::set<std::string>{"capitals", "countries", "default", "model", "routes", "virtual-texture"});
 }
 
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
