@@ -27,7 +27,6 @@ done
 # Each target: its sources (the reader and what it uses from core; nothing that needs OpenGL or
 # GeographicLib), the libraries it links, its seeds and its dictionary.
 libraries=""
-includes=""
 companions=""
 dictionary=""
 workdir=""
@@ -69,7 +68,6 @@ case "$target" in
     sources="tests/fuzz/GltfModelFuzz.cpp world/src/GltfModel.cpp world/src/TinyGltf.cpp world/src/JsonText.cpp
       world/src/JsonLocator.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp core/src/Math.cpp"
     libraries="-lstb"
-    includes="-isystem /usr/include/stb"
     seeds="$root/data/models/*.gltf $root/data/models/*.glb"
     companions="$root/data/models/*.bin $root/data/models/*.png" # the .gltf seed's buffer and image
     ;;
@@ -78,6 +76,9 @@ case "$target" in
     exit 2
     ;;
 esac
+# Objects are shared by the targets (the same flags for all), so that a source several readers use
+# is compiled once.
+objectDir="$build/objects"
 build="$build/$target"
 [ -n "$workdir" ] || workdir="$build"
 
@@ -93,24 +94,27 @@ if [ -z "$cxx" ]; then
 fi
 
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-  -I$root/core/include -I$root/world/include -I$root/scene/include $includes"
+  -I$root/core/include -I$root/world/include -I$root/scene/include -isystem /usr/include/stb"
 launcher=""
 command -v ccache >/dev/null 2>&1 && launcher=ccache
 
-mkdir -p "$build/objects" "$build/corpus"
+mkdir -p "$objectDir" "$build/corpus"
 binary="$build/${target}_fuzz"
 objects=""
 for source in $sources; do
-  object="$build/objects/$(echo "$source" | tr / _).o"
+  object="$objectDir/$(echo "$source" | tr / _).o"
   objects="$objects $object"
   # Recompile when the source or any header it may include changed.
   if [ ! -f "$object" ] || [ -n "$(find "$root/$source" "$root/core/include" "$root/world/include" "$root/world/src" "$root/scene/include" \
        -newer "$object" -type f 2>/dev/null | head -n 1)" ]; then
+    # Written under a name of its own and renamed: targets fuzzed at once may compile it together.
     # shellcheck disable=SC2086
-    if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object"; then
+    if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object.$$.tmp"; then
+      rm -f "$object.$$.tmp"
       echo "fuzz: compiling $source with $cxx failed"
       exit 1
     fi
+    mv -f "$object.$$.tmp" "$object"
   fi
 done
 # shellcheck disable=SC2086
