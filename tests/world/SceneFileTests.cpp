@@ -394,6 +394,10 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
     CHECK(errorOf(R"({"version": 1, "depth": ")" + std::string(100, 'x') + "\"}") ==
             R"(test.json:1:25: /depth: unknown value ")" + std::string(60, 'x') +
                 R"(..."; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+    // So is a key of a megabyte, in the JSON pointer as in the quote.
+    const std::string longKey = errorOf(R"({"version": 1, ")" + std::string(1 << 20, 'k') + "\": 1}");
+    CHECK_THAT(longKey, Contains("test.json:1:16: /kkkk") && Contains("... (1048577 bytes): unknown key \"kkkk"));
+    CHECK(longKey.size() < 1000);
 }
 
 TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][scenefile][errors]")

@@ -27,17 +27,7 @@ namespace orbis::world {
 
 SceneFileError::SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
                                std::string reason)
-    : Error([&] {
-          std::string message = origin;
-          if (line > 0) {
-              message += ':' + std::to_string(line) + ':' + std::to_string(column);
-          }
-          message += ": ";
-          if (!pointer.empty()) {
-              message += pointer + ": ";
-          }
-          return message + reason;
-      }()),
+    : Error(Diagnostic{origin, line, column, pointer, reason}.text()),
       _origin(std::move(origin)), _pointer(std::move(pointer)), _line(line), _column(column), _reason(std::move(reason))
 {
 }
