@@ -32,7 +32,53 @@ std::uint32_t edgeVertex(Edge edge, int size, int w, int inset)
     return static_cast<std::uint32_t>(j * size + i);
 }
 
+/// One vertex's floats: position high and low, u, v, height.
+void writeVertex(float* v, const glm::dvec3& position, int i, int j, int size, double height)
+{
+    const EmulatedDVec3 split = EmulatedDVec3::fromDVec3(position);
+    v[0] = split.high.x;
+    v[1] = split.high.y;
+    v[2] = split.high.z;
+    v[3] = split.low.x;
+    v[4] = split.low.y;
+    v[5] = split.low.z;
+    v[6] = static_cast<float>(static_cast<double>(i) / (size - 1));
+    v[7] = static_cast<float>(1.0 - static_cast<double>(j) / (size - 1));
+    v[8] = static_cast<float>(height);
+}
+
 } // namespace
+
+// The sample lines are the edges of level + k: the same doubles in every tile that has them.
+double TileMesh::latticeLongitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int column) noexcept
+{
+    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
+    const double longitude = scheme.edgeLongitude(fineLevel, (key.x << samplesLog2) + static_cast<std::uint32_t>(column));
+    // 180 degrees east is the same meridian as 180 west, whose sine has the other sign in its last
+    // bit: one of them, so tiles on both sides of the antimeridian meet exactly.
+    return longitude == kPi ? -kPi : longitude;
+}
+
+double TileMesh::latticeLatitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int row) noexcept
+{
+    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
+    const std::uint32_t northRow = (key.y + 1) << samplesLog2; // geographic rows count from the south
+    return scheme.edgeLatitude(fineLevel, northRow - static_cast<std::uint32_t>(row));
+}
+
+void TileMesh::setVertexHeight(const Ellipsoid& ellipsoid, const TilingScheme& scheme, int i, int j, double height)
+{
+    const GeodeticGrid point(ellipsoid, {latticeLongitude(scheme, key, samplesLog2, i)},
+                             {latticeLatitude(scheme, key, samplesLog2, j)});
+    const glm::dvec3 n = point.normal(0, 0);
+    writeVertex(&vertices[static_cast<std::size_t>(j * size() + i) * kFloatsPerVertex], point.surface(n) + height * n, i,
+                j, size(), height);
+}
+
+void TileMesh::setVertexPosition(int i, int j, const glm::dvec3& position, double height)
+{
+    writeVertex(&vertices[static_cast<std::size_t>(j * size() + i) * kFloatsPerVertex], position, i, j, size(), height);
+}
 
 glm::dvec3 TileMesh::position(std::size_t vertex) const noexcept
 {
@@ -52,20 +98,11 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     const int size = mesh.size();
     assert(heights.empty() || heights.size() == static_cast<std::size_t>(size) * size);
 
-    // The sample lines are the edges of level + k: the same doubles in every tile that has them.
-    const std::uint32_t fineLevel = key.level + static_cast<std::uint32_t>(samplesLog2);
-    const std::uint32_t firstColumn = key.x << samplesLog2;
-    const std::uint32_t northRow = (key.y + 1) << samplesLog2; // geographic rows count from the south
     std::vector<double> longitudes(size);
     std::vector<double> latitudes(size);
     for (int k = 0; k < size; ++k) {
-        longitudes[k] = scheme.edgeLongitude(fineLevel, firstColumn + static_cast<std::uint32_t>(k));
-        // 180 degrees east is the same meridian as 180 west, whose sine has the other sign in its
-        // last bit: one of them, so tiles on both sides of the antimeridian meet exactly.
-        if (longitudes[k] == kPi) {
-            longitudes[k] = -kPi;
-        }
-        latitudes[k] = scheme.edgeLatitude(fineLevel, northRow - static_cast<std::uint32_t>(k));
+        longitudes[k] = latticeLongitude(scheme, key, samplesLog2, k);
+        latitudes[k] = latticeLatitude(scheme, key, samplesLog2, k);
     }
     const GeodeticGrid grid(ellipsoid, longitudes, latitudes);
 
@@ -75,17 +112,7 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     double lowest = std::numeric_limits<double>::infinity();
     double highest = -std::numeric_limits<double>::infinity();
     auto write = [&](std::size_t index, const glm::dvec3& p, int i, int j, double height) {
-        const EmulatedDVec3 split = EmulatedDVec3::fromDVec3(p);
-        float* v = &mesh.vertices[index * kFloatsPerVertex];
-        v[0] = split.high.x;
-        v[1] = split.high.y;
-        v[2] = split.high.z;
-        v[3] = split.low.x;
-        v[4] = split.low.y;
-        v[5] = split.low.z;
-        v[6] = static_cast<float>(static_cast<double>(i) / (size - 1));
-        v[7] = static_cast<float>(1.0 - static_cast<double>(j) / (size - 1));
-        v[8] = static_cast<float>(height);
+        writeVertex(&mesh.vertices[index * kFloatsPerVertex], p, i, j, size, height);
     };
     for (int j = 0; j < size; ++j) {
         for (int i = 0; i < size; ++i) {
@@ -114,6 +141,45 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
         }
     }
     return mesh;
+}
+
+std::vector<float> TileMesh::normals() const
+{
+    const TileMesh& mesh = *this;
+    const int size = mesh.size();
+    std::vector<float> normals(mesh.vertexCount() * 3);
+    const std::size_t grid = static_cast<std::size_t>(size) * size;
+    std::vector<glm::dvec3> positions(grid);
+    for (std::size_t v = 0; v < grid; ++v) {
+        positions[v] = mesh.position(v);
+    }
+    auto at = [&](int i, int j) -> const glm::dvec3& { return positions[static_cast<std::size_t>(j * size + i)]; };
+    for (int j = 0; j < size; ++j) {
+        for (int i = 0; i < size; ++i) {
+            const glm::dvec3 east = at(std::min(i + 1, size - 1), j) - at(std::max(i - 1, 0), j);
+            const glm::dvec3 north = at(i, std::max(j - 1, 0)) - at(i, std::min(j + 1, size - 1));
+            glm::dvec3 n = glm::cross(east, north);
+            const double length = glm::length(n);
+            // A pole's row collapses to a point: its normal is the axis.
+            n = length > 0.0 ? n / length : glm::normalize(at(i, j));
+            const std::size_t index = static_cast<std::size_t>(j * size + i);
+            normals[3 * index] = static_cast<float>(n.x);
+            normals[3 * index + 1] = static_cast<float>(n.y);
+            normals[3 * index + 2] = static_cast<float>(n.z);
+        }
+    }
+    // Skirt vertices copy the normal of the edge vertex above them, in TileMesh's order: the north
+    // edge west to east, the east edge north to south, the south edge east to west, the west edge
+    // south to north.
+    std::size_t out = grid;
+    for (int edge = 0; edge < 4 && out < mesh.vertexCount(); ++edge) {
+        for (int w = 0; w < size; ++w, ++out) {
+            const int i = edge == 0 ? w : edge == 1 ? size - 1 : edge == 2 ? size - 1 - w : 0;
+            const int j = edge == 0 ? 0 : edge == 1 ? w : edge == 2 ? size - 1 : size - 1 - w;
+            std::copy_n(&normals[3 * static_cast<std::size_t>(j * size + i)], 3, &normals[3 * out]);
+        }
+    }
+    return normals;
 }
 
 std::vector<std::uint32_t> TileMesh::indices(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt)

@@ -14,10 +14,12 @@
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainTiler.h>
 
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -541,78 +543,122 @@ private:
     double _lastLine = -1e9;
 };
 
-/// orbis tile imagery INPUT --out FOLDER [--levels N] [--format jpg|png|webp] [--quality Q]
-/// [--level L [--range X0:X1]] [--threads N] [--title TEXT] [--attribution TEXT]: a TMS pyramid
-/// (geographic, tilemapresource.xml) cut from an image GDAL reads, on every core.
-int runTile(Arguments arguments)
+/// `text` as a finite number of metres, 0 or more; empty when it is anything else.
+std::optional<double> parseMetres(std::string_view text)
 {
-    if (arguments.empty() || std::string_view(arguments[0]) != "imagery" || arguments.size() < 2) {
-        return kExitUsage;
+    double value = 0.0;
+    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || !std::isfinite(value) || value < 0.0) {
+        return std::nullopt;
     }
+    return value;
+}
+
+/// The options both tilers take: INPUT --out FOLDER [--levels N] [--level L [--range X0:X1]]
+/// [--threads N] [--title TEXT] [--attribution TEXT]; the rest go to `other`, which returns
+/// false for an option it does not know or a bad value.
+struct TilingArguments {
+    std::filesystem::path input;
+    std::filesystem::path output;
+    std::optional<std::uint32_t> levels;
+    std::optional<std::uint32_t> onlyLevel;
+    std::optional<std::pair<std::uint32_t, std::uint32_t>> columns;
+    int threads = 0;
+    std::string title;
+    std::string attribution;
+
+    template <class Other>
+    bool parse(Arguments arguments, Other&& other)
+    {
+        for (std::size_t i = 0; i < arguments.size(); ++i) {
+            const std::string_view argument = arguments[i];
+            if (!argument.starts_with("--")) {
+                if (!input.empty()) {
+                    return false;
+                }
+                input = std::string(argument);
+                continue;
+            }
+            if (other.flag(argument)) {
+                continue;
+            }
+            if (i + 1 == arguments.size()) {
+                return false;
+            }
+            const std::string_view value = arguments[++i];
+            if (argument == "--out") {
+                output = std::string(value);
+            } else if (argument == "--levels") {
+                levels = parseCount(value, 1, orbis::kMaximumTileLevel + 1);
+                if (!levels) {
+                    return false;
+                }
+            } else if (argument == "--level") {
+                onlyLevel = parseCount(value, 0, orbis::kMaximumTileLevel);
+                if (!onlyLevel) {
+                    return false;
+                }
+            } else if (argument == "--range") {
+                const std::size_t colon = value.find(':');
+                const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
+                const auto last =
+                    colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
+                if (!first || !last) {
+                    return false;
+                }
+                columns = std::pair(*first, *last);
+            } else if (argument == "--threads") {
+                const auto count = parseCount(value, 1, 256);
+                if (!count) {
+                    return false;
+                }
+                threads = static_cast<int>(*count);
+            } else if (argument == "--title") {
+                title = std::string(value);
+            } else if (argument == "--attribution") {
+                attribution = std::string(value);
+            } else if (!other.option(argument, value)) {
+                return false;
+            }
+        }
+        return !input.empty() && !output.empty() && (!columns || onlyLevel);
+    }
+};
+
+/// orbis tile imagery INPUT --out FOLDER [--format jpg|png|webp] [--quality Q] and the common
+/// options: a TMS pyramid (geographic, tilemapresource.xml) cut from an image GDAL reads.
+int runTileImagery(Arguments arguments)
+{
     orbis::world::ImageryTilerOptions options;
-    for (std::size_t i = 1; i < arguments.size(); ++i) {
-        const std::string_view argument = arguments[i];
-        if (!argument.starts_with("--")) {
-            if (!options.input.empty()) {
-                return kExitUsage;
+    struct Extra {
+        orbis::world::ImageryTilerOptions& options;
+        bool flag(std::string_view) { return false; }
+        bool option(std::string_view argument, std::string_view value)
+        {
+            if (argument == "--format") {
+                options.format = orbis::world::imageFormatFromName(value);
+                return options.format != orbis::world::ImageFormat::Unknown && value.find('/') == std::string_view::npos;
             }
-            options.input = std::string(argument);
-            continue;
+            if (argument == "--quality") {
+                const auto quality = parseCount(value, 0, 100);
+                options.quality = quality ? std::optional<int>(static_cast<int>(*quality)) : std::nullopt;
+                return quality.has_value();
+            }
+            return false;
         }
-        if (i + 1 == arguments.size()) {
-            return kExitUsage;
-        }
-        const std::string_view value = arguments[++i];
-        if (argument == "--out") {
-            options.output = std::string(value);
-        } else if (argument == "--levels") {
-            const auto levels = parseCount(value, 1, orbis::kMaximumTileLevel + 1);
-            if (!levels) {
-                return kExitUsage;
-            }
-            options.levels = *levels;
-        } else if (argument == "--level") {
-            const auto level = parseCount(value, 0, orbis::kMaximumTileLevel);
-            if (!level) {
-                return kExitUsage;
-            }
-            options.onlyLevel = *level;
-        } else if (argument == "--range") {
-            const std::size_t colon = value.find(':');
-            const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
-            const auto last = colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
-            if (!first || !last) {
-                return kExitUsage;
-            }
-            options.columns = std::pair(*first, *last);
-        } else if (argument == "--format") {
-            options.format = orbis::world::imageFormatFromName(value);
-            if (options.format == orbis::world::ImageFormat::Unknown || value.find('/') != std::string_view::npos) {
-                return kExitUsage;
-            }
-        } else if (argument == "--quality") {
-            const auto quality = parseCount(value, 0, 100);
-            if (!quality) {
-                return kExitUsage;
-            }
-            options.quality = static_cast<int>(*quality);
-        } else if (argument == "--threads") {
-            const auto threads = parseCount(value, 1, 256);
-            if (!threads) {
-                return kExitUsage;
-            }
-            options.threads = static_cast<int>(*threads);
-        } else if (argument == "--title") {
-            options.title = std::string(value);
-        } else if (argument == "--attribution") {
-            options.attribution = std::string(value);
-        } else {
-            return kExitUsage;
-        }
-    }
-    if (options.input.empty() || options.output.empty() || (options.columns && !options.onlyLevel)) {
+    } extra{options};
+    TilingArguments common;
+    if (!common.parse(arguments, extra)) {
         return kExitUsage;
     }
+    options.input = common.input;
+    options.output = common.output;
+    options.levels = common.levels;
+    options.onlyLevel = common.onlyLevel;
+    options.columns = common.columns;
+    options.threads = common.threads;
+    options.title = common.title;
+    options.attribution = common.attribution;
     try {
         options.progress = TilingProgressLine();
         orbis::world::ImageryTiler tiler(options);
@@ -627,6 +673,112 @@ int runTile(Arguments arguments)
         std::fprintf(stderr, "orbis tile: %s\n", error.what());
         return kExitFailed;
     }
+}
+
+/// orbis tile terrain DEM --out FOLDER [--format quantized-mesh|heightmap] [--samples N]
+/// [--max-error METRES] [--no-normals] [--gzip LEVEL] [--nodata-height METRES] and the common
+/// options: a terrain tile set with layer.json cut from a DEM GDAL reads.
+int runTileTerrain(Arguments arguments)
+{
+    orbis::world::TerrainTilerOptions options;
+    struct Extra {
+        orbis::world::TerrainTilerOptions& options;
+        bool flag(std::string_view argument)
+        {
+            if (argument == "--no-normals") {
+                options.normals = false;
+                return true;
+            }
+            return false;
+        }
+        bool option(std::string_view argument, std::string_view value)
+        {
+            if (argument == "--format") {
+                if (value == "quantized-mesh") {
+                    options.format = orbis::world::TerrainTileFormat::QuantizedMesh;
+                } else if (value == "heightmap") {
+                    options.format = orbis::world::TerrainTileFormat::Heightmap;
+                } else {
+                    return false;
+                }
+                return true;
+            }
+            if (argument == "--samples") {
+                const auto samples = parseCount(value, 5, 1025);
+                options.gridSize = samples ? static_cast<int>(*samples) : 0;
+                return samples.has_value();
+            }
+            if (argument == "--gzip") {
+                const auto level = parseCount(value, 0, 9);
+                options.gzipLevel = level ? static_cast<int>(*level) : 0;
+                return level.has_value();
+            }
+            if (argument == "--max-error") {
+                options.maximumError = parseMetres(value);
+                return options.maximumError.has_value();
+            }
+            if (argument == "--nodata-height") {
+                double height = 0.0;
+                const auto [rest, error] = std::from_chars(value.data(), value.data() + value.size(), height);
+                options.noDataHeight = height;
+                return !value.empty() && error == std::errc() && rest == value.data() + value.size() && std::isfinite(height);
+            }
+            return false;
+        }
+    } extra{options};
+    TilingArguments common;
+    if (!common.parse(arguments, extra)) {
+        return kExitUsage;
+    }
+    options.input = common.input;
+    options.output = common.output;
+    options.levels = common.levels;
+    options.onlyLevel = common.onlyLevel;
+    options.columns = common.columns;
+    options.threads = common.threads;
+    options.title = common.title;
+    options.attribution = common.attribution;
+    try {
+        options.progress = TilingProgressLine();
+        orbis::world::TerrainTiler tiler(options);
+        const orbis::world::TerrainTilerSummary summary = tiler.run();
+        std::string errors;
+        for (std::uint32_t level = 0; level < summary.levelCount; ++level) {
+            if (summary.maximumErrors[level] > 0.0 || !options.onlyLevel || *options.onlyLevel == level) {
+                char text[48];
+                std::snprintf(text, sizeof text, "%s%u: %.2f m", errors.empty() ? "" : ", ", level,
+                              summary.maximumErrors[level]);
+                errors += text;
+            }
+        }
+        std::printf("%s: %zu tiles written (%.1f MB), levels 0-%u, %.1f s (%.1f tiles/s, %.2f MB/s); largest error by "
+                    "level: %s\n",
+                    options.output.c_str(), summary.tilesWritten, static_cast<double>(summary.bytesWritten) / 1e6,
+                    summary.levelCount - 1, summary.seconds,
+                    summary.seconds > 0.0 ? static_cast<double>(summary.tilesWritten) / summary.seconds : 0.0,
+                    summary.seconds > 0.0 ? static_cast<double>(summary.bytesWritten) / 1e6 / summary.seconds : 0.0,
+                    errors.c_str());
+        return kExitOk;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "orbis tile: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
+/// orbis tile imagery|terrain ...
+int runTile(Arguments arguments)
+{
+    if (arguments.size() < 2) {
+        return kExitUsage;
+    }
+    const std::string_view kind = arguments[0];
+    if (kind == "imagery") {
+        return runTileImagery(arguments.subspan(1));
+    }
+    if (kind == "terrain") {
+        return runTileTerrain(arguments.subspan(1));
+    }
+    return kExitUsage;
 }
 
 struct Subcommand {
@@ -656,6 +808,13 @@ constexpr Subcommand kSubcommands[] = {
              "[--threads N] [--title TEXT] [--attribution TEXT]",
      "cut an image GDAL reads (GeoTIFF in any CRS, or a plain whole-globe JPEG/PNG) into a geographic TMS "
      "pyramid; --level/--range cut one level's columns X0 to X1, for splitting a job across machines",
+     runTile},
+    {"tile", "terrain DEM --out FOLDER [--format quantized-mesh|heightmap] [--levels N] [--level L [--range X0:X1]] "
+             "[--samples N] [--max-error METRES] [--no-normals] [--gzip 0-9] [--nodata-height METRES] [--threads N] "
+             "[--title TEXT] [--attribution TEXT]",
+     "cut a DEM GDAL reads (GeoTIFF in any CRS, nodata, 0..360 longitudes) into quantized-mesh or heightmap-1.0 "
+     "tiles with layer.json (availability, each tile's measured geometric error); --max-error: the quantized-mesh "
+     "tolerance at level 0, halved per level (see docs/terrain.md)",
      runTile},
     {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
 };

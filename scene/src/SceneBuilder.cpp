@@ -196,6 +196,14 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
         imagery.style.rectangle = layer.rectangle;
         options.imagery.push_back(std::move(imagery));
     }
+    if (globe.terrain) {
+        try {
+            options.terrain = world::openTerrainSource(globe.terrain->source, world::terrainSourceOptions(*globe.terrain));
+        } catch (const Error& error) {
+            throw Error("/globe/terrain: " + std::string(error.what()));
+        }
+        options.terrainExaggeration = globe.terrain->exaggeration;
+    }
     return options;
 }
 
@@ -208,7 +216,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
 
-    if (description.globe && !description.globe->imagery.empty()) {
+    if (description.globe && (!description.globe->imagery.empty() || description.globe->terrain)) {
         scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), tiledGlobeOptions(*description.globe, description.sun,
                                                                                     build)));
     } else if (description.globe) {

@@ -5,6 +5,8 @@
 #include "orbis/scene/ImageryCoverage.h"
 #include "orbis/scene/MercatorReprojection.h"
 
+#include "orbis/scene/TerrainSampler.h"
+
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/TileMesh.h>
@@ -19,6 +21,7 @@
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
 #include <orbis/world/ImageCodec.h>
+#include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
 
 #include <glm/geometric.hpp>
@@ -29,7 +32,9 @@
 #include <cstring>
 #include <deque>
 #include <iostream>
+#include <list>
 #include <map>
+#include <mutex>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -42,16 +47,80 @@ namespace {
 /// At most this many imagery tiles of one layer on one surface tile: a coarser level is taken
 /// when more would be needed (Web Mercator rows near the poles).
 constexpr std::size_t kMaximumTexturesPerLayer = 4;
+/// How far the cap may raise the screen-space error above the one asked for.
+constexpr double kMaximumCoarsening = 1 << 16;
 /// GLSL 3.30 guarantees 16 texture units; the renderer keeps one for uploads.
 constexpr int kMaximumTextures = 15;
 
 enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed };
 
+/// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    explicit MeshContent(TileMesh mesh_) : mesh(std::move(mesh_)) {}
-    std::size_t byteSize() const noexcept override { return mesh.byteSize(); }
+    MeshContent(TileMesh mesh_, std::vector<float> normals_) : mesh(std::move(mesh_)), normals(std::move(normals_)) {}
+    std::size_t byteSize() const noexcept override { return mesh.byteSize() + normals.size() * sizeof(float); }
     TileMesh mesh;
+    std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
 };
+
+/// The terrain tiles the loader's workers cut surface tiles from, shared by all of them: a child
+/// beyond the source's deepest level reads its ancestor's data again, so a few are kept.
+class TerrainCache {
+public:
+    explicit TerrainCache(std::shared_ptr<world::TerrainSource> source) : _source(std::move(source)) {}
+
+    /// The deepest tile at or above `key` that the source has; null where it has none (the
+    /// ellipsoid then). Throws orbis::Error with the source's message for a tile that failed.
+    std::shared_ptr<const TerrainSampler> samplerFor(TileKey key)
+    {
+        const world::TerrainSourceInfo& info = _source->info();
+        if (key.level > info.maximumLevel) {
+            key = key.ancestor(info.maximumLevel);
+        }
+        for (;;) {
+            while (key.level > info.minimumLevel && !_source->hasTile(key)) {
+                key = key.parent();
+            }
+            {
+                const std::lock_guard lock(_mutex);
+                const auto found = _samplers.find(key);
+                if (found != _samplers.end()) {
+                    _order.splice(_order.begin(), _order, found->second.second);
+                    return found->second.first;
+                }
+            }
+            world::TerrainFetch fetched = _source->load(key);
+            if (fetched.status == world::TerrainFetch::Status::Failed) {
+                throw Error(fetched.message);
+            }
+            if (fetched.status == world::TerrainFetch::Status::Ok) {
+                auto sampler = std::make_shared<const TerrainSampler>(
+                    std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
+                const std::lock_guard lock(_mutex);
+                if (!_samplers.contains(key)) {
+                    _order.push_front(key);
+                    _samplers.emplace(key, std::make_pair(sampler, _order.begin()));
+                    if (_order.size() > kKept) {
+                        _samplers.erase(_order.back());
+                        _order.pop_back();
+                    }
+                }
+                return sampler;
+            }
+            if (key.level <= info.minimumLevel) {
+                return nullptr;
+            }
+            key = key.parent(); // missing: the parent's heights stand for it
+        }
+    }
+
+private:
+    static constexpr std::size_t kKept = 64;
+    std::shared_ptr<world::TerrainSource> _source;
+    std::mutex _mutex;
+    std::list<TileKey> _order; ///< most recently used first
+    std::map<TileKey, std::pair<std::shared_ptr<const TerrainSampler>, std::list<TileKey>::iterator>> _samplers;
+};
+
 
 /// A decoded imagery tile, with its mipmap levels made on the worker (empty for Web Mercator tiles,
 /// whose levels are made after their reprojection).
@@ -82,14 +151,30 @@ struct SurfaceTile final : TileData {
     LoadState mesh = LoadState::Unloaded;
     std::optional<renderer::VertexBuffer> vertexBuffer;
     std::optional<renderer::VertexArray> vertexArray;
+    std::optional<renderer::VertexBuffer> normalBuffer; ///< with terrain
     std::optional<EdgeCoarsening> coarsening; ///< of the index buffer bound to the vertex array
-    std::size_t bytes = 0;
+    std::size_t bytes = 0;    ///< on the GPU
+    std::size_t cpuBytes = 0; ///< the mesh and heights kept here
+    /// The mesh as drawn: its edges facing coarser neighbours moved onto theirs.
+    TileMesh drawnMesh;
+    std::vector<float> heights; ///< the grid's own heights (exaggerated), to undo those moves
+    /// The neighbours (coarser, drawn) whose edges this tile's took, north, east, south, west,
+    /// with the version of each one's mesh they were taken from.
+    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 4> edgesFrom{};
+    std::uint32_t meshVersion = 0; ///< counts the changes of `mesh` since it was loaded
+    bool heightsKnown = false;     ///< region bounds from its own heights
+    std::uint32_t boundsFromLevel = ~0u; ///< the level of the ancestor whose heights bound it meanwhile
     std::vector<std::vector<TileKey>> imagery; ///< per layer, at the level the tile's error asks for
 };
 
 SurfaceTile& surfaceOf(QuadtreeTile& tile)
 {
     return static_cast<SurfaceTile&>(*tile.data);
+}
+
+const SurfaceTile& surfaceOf(const QuadtreeTile& tile)
+{
+    return static_cast<const SurfaceTile&>(*tile.data);
 }
 
 /// A texture a drawn tile uses.
@@ -148,6 +233,10 @@ struct TiledGlobe::Impl {
     world::TileLoadWork workFor(const LoadTarget& target) const;
     void receive(world::TileLoadResult result, TileStatistics& statistics);
     void upload(FrameState& frameState, PendingUpload pending, TileStatistics& statistics);
+    /// Whether no frame since the one before last asked for what a load brought (the view moved on).
+    bool unwanted(const LoadTarget& target, std::uint64_t frame) const;
+    /// Forgets a load's result unuploaded; the view asks for it again if it comes back.
+    void drop(PendingUpload pending);
     bool makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics);
     std::shared_ptr<renderer::Texture2D> reproject(FrameState& frameState, const Layer& layer, const TileKey& key,
                                                    const Image& image);
@@ -155,11 +244,32 @@ struct TiledGlobe::Impl {
     const renderer::IndexBuffer& indexBuffer(FrameState& frameState, const EdgeCoarsening& coarsening);
     std::vector<TextureUse> texturesFor(QuadtreeTile& tile, std::uint64_t frame);
     void warn(const std::string& message) const;
+    /// Bounds for a tile without heights of its own: its nearest ancestor's that has them, widened.
+    void boundFromAncestor(QuadtreeTile& tile);
+    /// Moves the edges of a drawn tile that face coarser drawn neighbours onto theirs (watertight
+    /// across levels, with terrain whose levels disagree too), and uploads it when that changed.
+    void conformEdges(QuadtreeTile& tile, const EdgeCoarsening& coarsening,
+                      const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn);
     std::size_t residentBytes() const noexcept { return gpuBytes + cpuBytes; }
+    /// The level whose meshes sample the terrain's deepest tiles as finely as they are.
+    std::uint32_t terrainDeepestLevel() const noexcept
+    {
+        const world::TerrainSourceInfo& info = options->terrain->info();
+        // A grid of 2^k + 1 samples is as fine as 2^(k - samplesLog2) levels of meshes; a mesh
+        // tile (quantized-mesh) holds detail of about two levels more than its own.
+        int finer = 2;
+        if (info.gridSize > 1) {
+            finer = static_cast<int>(std::lround(std::log2(info.gridSize - 1))) - options->samplesLog2;
+        }
+        return info.maximumLevel + static_cast<std::uint32_t>(std::max(finer, 0));
+    }
+    /// The bytes of what the last two frames drew, and of loads waiting to be uploaded.
+    std::size_t workingSetBytes(std::uint64_t frame) const noexcept;
 
     Ellipsoid ellipsoid;
     const TiledGlobeOptions* options = nullptr;
     std::vector<Layer> layers;
+    std::shared_ptr<TerrainCache> terrain; ///< with TiledGlobeOptions::terrain
     TileQuadtree quadtree;
     world::TileLoader loader;
     std::map<std::pair<int, TileKey>, std::uint64_t> tickets;
@@ -176,6 +286,7 @@ struct TiledGlobe::Impl {
     bool rootsLoaded = false;
 
     TileSelection selection;
+    std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash> drawnTiles; ///< the last frame's
     std::vector<std::vector<TextureUse>> drawnTextures; ///< parallel to selection.drawn
     std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
     std::map<std::array<int, 4>, renderer::IndexBuffer> indexBuffers;
@@ -234,6 +345,118 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
     tile.refinable = tile.key.level < kMaximumTileLevel - static_cast<std::uint32_t>(options->samplesLog2);
 }
 
+namespace {
+
+enum EdgeSide { NorthEdge, EastEdge, SouthEdge, WestEdge };
+
+/// The tile of the same level across an edge (geographic rows count from the south); none at a pole.
+std::optional<TileKey> neighbourAcross(const TilingScheme& scheme, const TileKey& key, int edge)
+{
+    const std::uint32_t columns = scheme.tilesX(key.level);
+    switch (edge) {
+    case NorthEdge: return key.y + 1 < scheme.tilesY(key.level) ? std::optional<TileKey>({key.level, key.x, key.y + 1}) : std::nullopt;
+    case SouthEdge: return key.y > 0 ? std::optional<TileKey>({key.level, key.x, key.y - 1}) : std::nullopt;
+    case EastEdge: return TileKey{key.level, (key.x + 1) % columns, key.y};
+    default: return TileKey{key.level, (key.x + columns - 1) % columns, key.y};
+    }
+}
+
+/// Grid vertex k along an edge: the north and south edges west to east, the east and west edges
+/// north to south.
+std::pair<int, int> edgeVertexAt(int edge, int size, int k)
+{
+    switch (edge) {
+    case NorthEdge: return {k, 0};
+    case EastEdge: return {size - 1, k};
+    case SouthEdge: return {k, size - 1};
+    default: return {0, k};
+    }
+}
+
+} // namespace
+
+void TiledGlobe::Impl::conformEdges(QuadtreeTile& tile, const EdgeCoarsening& coarsening,
+                                    const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    TileMesh& mesh = surface.drawnMesh;
+    const TilingScheme& scheme = quadtree.scheme();
+    const TileKey& key = tile.key;
+    const int samplesLog2 = mesh.samplesLog2;
+    const int size = mesh.size();
+    const std::array<int, 4> levels{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
+    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 4> from{};
+    for (int edge = 0; edge < 4; ++edge) {
+        const std::optional<TileKey> across = neighbourAcross(scheme, key, edge);
+        if (levels[edge] <= 0 || !across) {
+            continue;
+        }
+        const auto found = drawn.find(across->ancestor(key.level - static_cast<std::uint32_t>(levels[edge])));
+        if (found != drawn.end() && surfaceOf(*found->second).drawnMesh.samplesLog2 == samplesLog2) {
+            from[edge] = {found->second, surfaceOf(*found->second).meshVersion};
+        }
+    }
+    if (from == surface.edgesFrom) {
+        return;
+    }
+    // Back to its own edges, then onto the neighbours', the coarsest last: it wins the corners.
+    for (int edge = 0; edge < 4; ++edge) {
+        for (int k = 0; k < size; ++k) {
+            const auto [i, j] = edgeVertexAt(edge, size, k);
+            mesh.setVertexHeight(ellipsoid, scheme, i, j, surface.heights[static_cast<std::size_t>(j * size + i)]);
+        }
+    }
+    std::array<int, 4> order{NorthEdge, EastEdge, SouthEdge, WestEdge};
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return levels[a] < levels[b]; });
+    for (const int edge : order) {
+        if (!from[edge].first) {
+            continue;
+        }
+        const QuadtreeTile& neighbour = *from[edge].first;
+        const TileMesh& theirs = surfaceOf(neighbour).drawnMesh;
+        const int coarser = levels[edge];
+        const bool alongColumns = edge == NorthEdge || edge == SouthEdge;
+        // Their edge facing this tile: the south row for this tile's north edge, and so on.
+        const int facing = edge == NorthEdge ? size - 1 : edge == SouthEdge ? 0 : edge == EastEdge ? 0 : size - 1;
+        auto theirVertex = [&](int a) {
+            return static_cast<std::size_t>(alongColumns ? facing * size + a : a * size + facing);
+        };
+        // Vertices the zipped edge uses: every 2^coarser-th, or the corners alone.
+        const int step = std::min(1 << std::min(coarser, 30), size - 1);
+        for (int k = 0; k < size; k += step) {
+            const auto [i, j] = edgeVertexAt(edge, size, k);
+            // The vertex on their lattice, 2^coarser times coarser: powers of two, so exact.
+            const double along =
+                alongColumns
+                    ? std::ldexp(static_cast<double>((key.x << samplesLog2) + static_cast<std::uint32_t>(i)), -coarser) -
+                          static_cast<double>(neighbour.key.x << samplesLog2)
+                    : static_cast<double>((neighbour.key.y + 1) << samplesLog2) -
+                          std::ldexp(static_cast<double>(((key.y + 1) << samplesLog2) - static_cast<std::uint32_t>(j)), -coarser);
+            const int a = std::clamp(static_cast<int>(std::floor(along)), 0, size - 1);
+            const double t = along - a;
+            const std::size_t ours = static_cast<std::size_t>(j * size + i) * TileMesh::kFloatsPerVertex;
+            if (t == 0.0) {
+                // One of their vertices: its floats, so both tiles draw the same point.
+                const std::size_t source = theirVertex(a) * TileMesh::kFloatsPerVertex;
+                std::copy_n(&theirs.vertices[source], 6, &mesh.vertices[ours]);
+                mesh.vertices[ours + 8] = theirs.vertices[source + 8];
+            } else {
+                // Between two of theirs (more levels apart than the mesh has samples): on the
+                // straight edge they draw, not on the surface above it.
+                const std::size_t b = theirVertex(std::min(a + 1, size - 1));
+                const glm::dvec3 position = glm::mix(theirs.position(theirVertex(a)), theirs.position(b), t);
+                const double height =
+                    (1.0 - t) * static_cast<double>(theirs.vertices[theirVertex(a) * TileMesh::kFloatsPerVertex + 8]) +
+                    t * static_cast<double>(theirs.vertices[b * TileMesh::kFloatsPerVertex + 8]);
+                mesh.setVertexPosition(i, j, position, height);
+            }
+        }
+    }
+    surface.edgesFrom = from;
+    ++surface.meshVersion;
+    surface.vertexBuffer->copyFromSystemMemory(std::as_bytes(std::span(mesh.vertices)));
+}
+
 std::optional<TileKey> TiledGlobe::Impl::sourceKey(const Layer& layer, const TileKey& key) const
 {
     for (std::uint32_t level = key.level + 1; level-- > layer.tiling.minimumLevel;) {
@@ -276,6 +499,9 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
             if (const std::optional<TileKey> source = sourceKey(layers[l], key)) {
                 const auto found = layers[l].tiles.find(*source);
                 wants = wants || found == layers[l].tiles.end() || found->second.state == LoadState::Unloaded;
+                if (found != layers[l].tiles.end() && found->second.state == LoadState::Loading) {
+                    found->second.lastUsedFrame = streamedFrame.value_or(0); // still wanted when it arrives
+                }
             }
             TileKey used;
             bool waiting = false;
@@ -286,6 +512,33 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
     }
     tile.renderable = surface.mesh == LoadState::Ready && imageryReady;
     tile.wantsLoad = wants;
+    if (terrain && !surface.heightsKnown) {
+        boundFromAncestor(tile);
+    }
+}
+
+void TiledGlobe::Impl::boundFromAncestor(QuadtreeTile& tile)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    const QuadtreeTile* ancestor = tile.parent;
+    while (ancestor && !surfaceOf(*ancestor).heightsKnown) {
+        ancestor = ancestor->parent;
+    }
+    const std::uint32_t level = ancestor ? ancestor->key.level : ~0u;
+    if (level == surface.boundsFromLevel) {
+        return;
+    }
+    surface.boundsFromLevel = level;
+    // A coarser level's heights are smoothed: the finer data may reach past them. Without any,
+    // the Earth's range (Challenger Deep to Everest).
+    double lowest = -11000.0 * options->terrainExaggeration;
+    double highest = 8900.0 * options->terrainExaggeration;
+    if (ancestor) {
+        const double margin = 0.5 * (ancestor->region.maximumHeight() - ancestor->region.minimumHeight()) + 100.0;
+        lowest = std::max(lowest, ancestor->region.minimumHeight() - margin);
+        highest = std::min(highest, ancestor->region.maximumHeight() + margin);
+    }
+    tile.region = quadtree.regionOf(tile.key, lowest, highest);
 }
 
 std::uint64_t TiledGlobe::Impl::ticketFor(int layer, const TileKey& key)
@@ -305,9 +558,23 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         const int samplesLog2 = options->samplesLog2;
         // Skirts as deep as the tile's geometric error: enough to hide any crack the level allows.
         const double skirtDepth = options->skirts ? quadtree.geometricErrorOf(key.level) : 0.0;
-        return [shape, key, samplesLog2, skirtDepth]() -> std::unique_ptr<world::TileContent> {
-            return std::make_unique<MeshContent>(
-                TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, {}, skirtDepth));
+        const std::shared_ptr<TerrainCache> heightsFrom = terrain;
+        const double exaggeration = options->terrainExaggeration;
+        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration]() -> std::unique_ptr<world::TileContent> {
+            std::vector<float> heights;
+            if (heightsFrom) {
+                if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
+                    heights = data->latticeHeights(key, samplesLog2);
+                    for (float& height : heights) {
+                        height = static_cast<float>(static_cast<double>(height) * exaggeration);
+                    }
+                } else {
+                    heights.assign(static_cast<std::size_t>(((1 << samplesLog2) + 1) * ((1 << samplesLog2) + 1)), 0.0f);
+                }
+            }
+            TileMesh mesh = TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, heights, skirtDepth);
+            std::vector<float> normals = heightsFrom ? mesh.normals() : std::vector<float>{};
+            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals));
         };
     }
     const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
@@ -373,6 +640,21 @@ void TiledGlobe::Impl::receive(world::TileLoadResult result, TileStatistics& sta
     }
 }
 
+std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcept
+{
+    const std::uint64_t since = frame > 0 ? frame - 1 : 0;
+    std::size_t bytes = cpuBytes;
+    for (const QuadtreeTile* tile : residentTiles) {
+        bytes += tile->lastVisitedFrame >= since ? surfaceOf(*tile).bytes : 0;
+    }
+    for (const Layer& layer : layers) {
+        for (const auto& [key, imagery] : layer.tiles) {
+            bytes += imagery.state == LoadState::Ready && imagery.lastUsedFrame >= since ? imagery.bytes : 0;
+        }
+    }
+    return bytes;
+}
+
 bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics)
 {
     if (residentBytes() + bytes <= options->cacheBytes) {
@@ -421,10 +703,15 @@ bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStat
         if (candidate.layer < 0) {
             SurfaceTile& surface = surfaceOf(*candidate.tile);
             gpuBytes -= surface.bytes;
+            cpuBytes -= surface.cpuBytes;
             surface.vertexArray.reset();
             surface.vertexBuffer.reset();
+            surface.normalBuffer.reset();
             surface.coarsening.reset();
+            surface.drawnMesh = TileMesh{};
+            surface.heights = {};
             surface.bytes = 0;
+            surface.cpuBytes = 0; // its bounds stay: they still hold
             surface.mesh = LoadState::Unloaded;
             candidate.tile->renderable = false;
             residentTiles.erase(std::find(residentTiles.begin(), residentTiles.end(), candidate.tile));
@@ -452,6 +739,30 @@ std::shared_ptr<renderer::Texture2D> TiledGlobe::Impl::reproject(FrameState& fra
     return target;
 }
 
+bool TiledGlobe::Impl::unwanted(const LoadTarget& target, std::uint64_t frame) const
+{
+    std::uint64_t wanted = 0;
+    if (target.layer < 0) {
+        wanted = target.tile->lastVisitedFrame;
+    } else {
+        const auto& tiles = layers[static_cast<std::size_t>(target.layer)].tiles;
+        const auto found = tiles.find(target.key);
+        wanted = found == tiles.end() ? 0 : found->second.lastUsedFrame;
+    }
+    return target.key.level > 0 && wanted + 2 < frame;
+}
+
+void TiledGlobe::Impl::drop(PendingUpload pending)
+{
+    cpuBytes -= pending.content->byteSize();
+    const LoadTarget& target = pending.target;
+    if (target.layer < 0) {
+        surfaceOf(*target.tile).mesh = LoadState::Unloaded;
+    } else {
+        layers[static_cast<std::size_t>(target.layer)].tiles[target.key].state = LoadState::Unloaded;
+    }
+}
+
 void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, TileStatistics& statistics)
 {
     const std::size_t cpu = pending.content->byteSize();
@@ -460,15 +771,24 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
     renderer::Device& device = frameState.device;
     if (target.layer < 0) {
         SurfaceTile& surface = surfaceOf(*target.tile);
-        const TileMesh& mesh = static_cast<MeshContent&>(*pending.content).mesh;
+        MeshContent& content = static_cast<MeshContent&>(*pending.content);
+        const TileMesh& mesh = content.mesh;
         const std::span<const std::byte> bytes = std::as_bytes(std::span(mesh.vertices));
-        if (!makeRoom(bytes.size(), frameState.frameNumber, statistics)) {
+        const std::span<const std::byte> normalBytes = std::as_bytes(std::span(content.normals));
+        // The GPU's copy, and the one kept here for stitching and heights.
+        const std::size_t kept = bytes.size() + static_cast<std::size_t>(mesh.size() * mesh.size()) * sizeof(float);
+        if (!makeRoom(bytes.size() + normalBytes.size() + kept, frameState.frameNumber, statistics)) {
             surface.mesh = LoadState::Unloaded; // asked for again once there is room
             statistics.memoryLimited = true;
             return;
         }
         surface.vertexBuffer = device.createVertexBuffer(bytes);
         surface.vertexArray = frameState.context.createVertexArray();
+        if (!content.normals.empty()) {
+            surface.normalBuffer = device.createVertexBuffer(normalBytes);
+            surface.vertexArray->setAttribute(renderer::VertexAttributeLocation::Normal, *surface.normalBuffer,
+                                              {renderer::ComponentType::Float, 3, false, false, 3 * sizeof(float), 0});
+        }
         constexpr std::size_t stride = TileMesh::kFloatsPerVertex * sizeof(float);
         using renderer::ComponentType;
         surface.vertexArray->setAttribute(renderer::VertexAttributeLocation::PositionHigh, *surface.vertexBuffer,
@@ -479,9 +799,22 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
                                           {ComponentType::Float, 3, false, false, stride, 6 * sizeof(float)});
         surface.coarsening.reset();
         surface.mesh = LoadState::Ready;
-        surface.bytes = bytes.size();
+        surface.bytes = bytes.size() + normalBytes.size();
         gpuBytes += surface.bytes;
         statistics.uploadedBytes += surface.bytes;
+        surface.heights.resize(static_cast<std::size_t>(mesh.size()) * mesh.size());
+        for (std::size_t v = 0; v < surface.heights.size(); ++v) {
+            surface.heights[v] = mesh.vertices[v * TileMesh::kFloatsPerVertex + 8];
+        }
+        surface.cpuBytes = kept;
+        cpuBytes += kept;
+        if (terrain) {
+            target.tile->region = quadtree.regionOf(target.key, mesh.minimumHeight, mesh.maximumHeight);
+            surface.heightsKnown = true;
+        }
+        surface.drawnMesh = std::move(content.mesh);
+        surface.edgesFrom = {};
+        ++surface.meshVersion;
         residentTiles.push_back(target.tile);
         return;
     }
@@ -503,7 +836,6 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
     }
     imagery.state = LoadState::Ready;
     imagery.bytes = bytes;
-    imagery.lastUsedFrame = frameState.frameNumber;
     gpuBytes += bytes;
     statistics.uploadedBytes += bytes;
 }
@@ -579,6 +911,9 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     if (options->lighting) {
         description.defines.push_back({"LIGHTING"});
     }
+    if (terrain) {
+        description.defines.push_back({"TERRAIN"});
+    }
     for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
@@ -607,6 +942,9 @@ const renderer::IndexBuffer& TiledGlobe::Impl::indexBuffer(FrameState& frameStat
 TiledGlobe::TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options)
     : _options(std::move(options))
 {
+    if (_options.samplesLog2 == 0) {
+        _options.samplesLog2 = _options.terrain ? 6 : 4;
+    }
     if (_options.samplesLog2 < 1 || _options.samplesLog2 > 7) {
         throw Error("TiledGlobe: samplesLog2 must be 1 to 7 (3 to 129 vertices a side), not " +
                     std::to_string(_options.samplesLog2));
@@ -614,7 +952,13 @@ TiledGlobe::TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options)
     if (!(_options.maximumScreenSpaceError > 0.0)) {
         throw Error("TiledGlobe: maximumScreenSpaceError must be above 0 pixels");
     }
+    if (!(std::isfinite(_options.terrainExaggeration) && _options.terrainExaggeration >= 0.0)) {
+        throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
+    }
     _impl = std::make_unique<Impl>(ellipsoid, _options);
+    if (_options.terrain) {
+        _impl->terrain = std::make_shared<TerrainCache>(_options.terrain);
+    }
     for (const ImageryLayer& layer : _options.imagery) {
         if (!layer.source) {
             throw Error("TiledGlobe: an imagery layer has no source");
@@ -691,6 +1035,10 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         while (!impl.uploads.empty() && (uploaded == 0 || statistics.uploadedBytes < _options.uploadBytesPerFrame)) {
             PendingUpload pending = std::move(impl.uploads.front());
             impl.uploads.pop_front();
+            if (impl.unwanted(pending.target, frame)) {
+                impl.drop(std::move(pending));
+                continue;
+            }
             impl.upload(frameState, std::move(pending), statistics);
             ++uploaded;
         }
@@ -709,14 +1057,20 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         for (const auto& layer : impl.layers) {
             deepest = std::max(deepest, layer.tiling.maximumLevel);
         }
-        // Finer tiles than the deepest imagery show nothing new.
+        // Finer tiles than the deepest imagery and terrain show nothing new.
         selectionOptions.maximumLevel = impl.layers.empty() ? 0 : deepest;
+        if (impl.terrain) {
+            selectionOptions.maximumLevel = std::max(selectionOptions.maximumLevel, impl.terrainDeepestLevel());
+        }
         impl.quadtree.select(view, selectionOptions, frame, impl.selection,
                              [&impl](QuadtreeTile& tile) { impl.refresh(tile); });
 
+        // No new loads while more arrived than four frames' uploads: what the view asks for later
+        // is more useful than what it asked for while the queue was long.
+        const bool mayStart = impl.cpuBytes < 4 * _options.uploadBytesPerFrame;
         for (const TileLoadCandidate& candidate : impl.selection.loads) {
             SurfaceTile& surface = surfaceOf(*candidate.tile);
-            if (surface.mesh == LoadState::Unloaded) {
+            if (surface.mesh == LoadState::Unloaded && mayStart) {
                 surface.mesh = LoadState::Loading;
                 impl.request({-1, candidate.tile->key, candidate.tile}, candidate.priority);
             }
@@ -727,7 +1081,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
                         continue;
                     }
                     ImageryTile& imagery = impl.layers[l].tiles[*source];
-                    if (imagery.state == LoadState::Unloaded) {
+                    // Kept (or, still loading, uploaded) while the tile waits for what it lacks.
+                    imagery.lastUsedFrame = frame;
+                    if (imagery.state == LoadState::Unloaded && mayStart) {
                         imagery.state = LoadState::Loading;
                         impl.request({static_cast<int>(l), *source, nullptr}, candidate.priority);
                     }
@@ -795,25 +1151,40 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         statistics.residentBytesCpu = impl.cpuBytes;
         statistics.residentBytesGpu = impl.gpuBytes;
         statistics.maximumScreenSpaceError = impl.effectiveScreenSpaceError;
-        statistics.memoryLimited = statistics.memoryLimited || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
+        const bool refusedForRoom = statistics.memoryLimited; // set by an upload the cap refused
+        statistics.memoryLimited = refusedForRoom || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
         statistics.converged = selection.standIns == 0 && selection.loads.empty() && statistics.pending == 0 &&
                                statistics.fallbackImagery == 0;
-        // The cap: coarser while it binds, back towards the error asked for once there is room.
-        if (statistics.evicted > 0 && impl.residentBytes() > _options.cacheBytes * 9 / 10) {
-            impl.effectiveScreenSpaceError *= 1.25;
-        } else if (statistics.memoryLimited && impl.residentBytes() + _options.cacheBytes / 10 > _options.cacheBytes) {
-            impl.effectiveScreenSpaceError *= 1.25;
+        // The cap binds when an upload finds no room after everything evictable went (a full
+        // cache of tiles the view no longer uses is no reason: those are evicted as needed).
+        // Coarser while uploads are refused; back towards the error asked for once the view's own
+        // tiles leave room.
+        const std::size_t working = impl.workingSetBytes(frame);
+        if (refusedForRoom) {
+            impl.effectiveScreenSpaceError = std::min(impl.effectiveScreenSpaceError * 1.25,
+                                                      _options.maximumScreenSpaceError * kMaximumCoarsening);
         } else if (impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError &&
-                   impl.residentBytes() < _options.cacheBytes * 7 / 10) {
-            impl.effectiveScreenSpaceError = std::max(_options.maximumScreenSpaceError, impl.effectiveScreenSpaceError / 1.1);
+                   working < _options.cacheBytes * 7 / 10) {
+            impl.effectiveScreenSpaceError = std::max(_options.maximumScreenSpaceError, impl.effectiveScreenSpaceError / 1.25);
+            statistics.converged = false; // the next frame refines
         }
         _statistics = statistics;
     }
 
-    // The commands: one per drawn tile, stitched to its coarser neighbours.
+    // The commands: one per drawn tile, stitched to its coarser neighbours (coarse tiles first, so
+    // that finer ones take their edges as they are drawn).
     DrawnTileSet drawn;
-    for (const QuadtreeTile* tile : impl.selection.drawn) {
+    std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawnTiles = impl.drawnTiles;
+    drawnTiles.clear();
+    for (QuadtreeTile* tile : impl.selection.drawn) {
         drawn.insert(tile->key);
+        drawnTiles.emplace(tile->key, tile);
+    }
+    std::vector<QuadtreeTile*> coarseFirst = impl.selection.drawn;
+    std::stable_sort(coarseFirst.begin(), coarseFirst.end(),
+                     [](const QuadtreeTile* a, const QuadtreeTile* b) { return a->key.level < b->key.level; });
+    for (QuadtreeTile* tile : coarseFirst) {
+        impl.conformEdges(*tile, edgeCoarsening(impl.quadtree.scheme(), tile->key, drawn), drawnTiles);
     }
     if (!impl.sampler) {
         SamplerDescription sampler;
@@ -865,11 +1236,93 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.boundingSphere = tile.region.boundingSphere();
         command.nearestDistance = std::max(tile.region.distanceTo(eye), eyeHeight - tile.region.maximumHeight());
         command.tags = Effect::Globe | Effect::TiledImagery;
+        if (impl.terrain) {
+            command.tags = command.tags | Effect::Terrain;
+        }
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;
         }
         commands.push_back(std::move(command));
     }
+}
+
+std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
+{
+    const Impl& impl = *_impl;
+    const TilingScheme& scheme = impl.quadtree.scheme();
+    const QuadtreeTile* tile = nullptr;
+    for (std::uint32_t level = 0; level <= kMaximumTileLevel && !tile; ++level) {
+        const std::optional<TileKey> key = scheme.tileAt(position, level);
+        if (!key) {
+            return std::nullopt;
+        }
+        const auto found = impl.drawnTiles.find(*key);
+        tile = found == impl.drawnTiles.end() ? nullptr : found->second;
+    }
+    if (!tile) {
+        return std::nullopt;
+    }
+    const SurfaceTile& surface = surfaceOf(*tile);
+    const TileMesh& mesh = surface.drawnMesh;
+    const int size = mesh.size();
+    const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile->key, position), 0.0, 1.0);
+    const double column = uv.x * (size - 1);
+    const double row = (1.0 - uv.y) * (size - 1);
+    const std::vector<std::uint32_t> indices =
+        TileMesh::indices(mesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false);
+    auto heightOn = [&](std::size_t first) -> std::optional<double> {
+        std::array<glm::dvec2, 3> corner;
+        std::array<double, 3> height{};
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t vertex = indices[first + static_cast<std::size_t>(k)];
+            corner[static_cast<std::size_t>(k)] = {static_cast<double>(vertex % static_cast<std::uint32_t>(size)),
+                                                   static_cast<double>(vertex / static_cast<std::uint32_t>(size))};
+            height[static_cast<std::size_t>(k)] = static_cast<double>(mesh.vertices[vertex * TileMesh::kFloatsPerVertex + 8]);
+        }
+        const glm::dvec2 e1 = corner[1] - corner[0];
+        const glm::dvec2 e2 = corner[2] - corner[0];
+        const glm::dvec2 p = glm::dvec2(column, row) - corner[0];
+        const double area = e1.x * e2.y - e2.x * e1.y;
+        const double w1 = (p.x * e2.y - e2.x * p.y) / area;
+        const double w2 = (e1.x * p.y - p.x * e1.y) / area;
+        const double w0 = 1.0 - w1 - w2;
+        if (std::min({w0, w1, w2}) < -1e-12) {
+            return std::nullopt;
+        }
+        return w0 * height[0] + w1 * height[1] + w2 * height[2];
+    };
+    // The inner grid's quads come first, two triangles each; the ring around them after.
+    const int inner = size - 3;
+    const std::size_t ringStart = static_cast<std::size_t>(6 * inner * inner);
+    std::optional<double> height;
+    if (column >= 1.0 && column <= size - 2.0 && row >= 1.0 && row <= size - 2.0) {
+        const int i = std::min(static_cast<int>(column), size - 3) - 1;
+        const int j = std::min(static_cast<int>(row), size - 3) - 1;
+        const std::size_t quad = static_cast<std::size_t>(6 * (j * inner + i));
+        height = heightOn(quad);
+        height = height ? height : heightOn(quad + 3);
+    }
+    for (std::size_t first = ringStart; !height && first + 2 < indices.size(); first += 3) {
+        height = heightOn(first);
+    }
+    if (!height) {
+        return std::nullopt;
+    }
+    const double exaggeration = _options.terrainExaggeration;
+    return exaggeration > 0.0 ? *height / exaggeration : 0.0;
+}
+
+std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const
+{
+    std::vector<glm::dvec3> points;
+    for (const QuadtreeTile* tile : _impl->selection.drawn) {
+        const SurfaceTile& surface = surfaceOf(*tile);
+        for (const std::uint32_t vertex :
+             TileMesh::indices(surface.drawnMesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false)) {
+            points.push_back(surface.drawnMesh.position(vertex));
+        }
+    }
+    return points;
 }
 
 } // namespace orbis::scene

@@ -222,6 +222,8 @@ TEST_CASE("The tile cache never holds more than its cap: the selection coarsens 
             REQUIRE(tiles.uploadedBytes <= options.uploadBytesPerFrame + 256 * 256 * 4 * 4 / 3);
         }
         limited = limited || tiles.memoryLimited;
+        // Coarser only while uploads find no room, and never without bound.
+        REQUIRE(tiles.maximumScreenSpaceError <= options.maximumScreenSpaceError * 65536.0);
         evicted += tiles.evicted;
         int holes = 0;
         for (std::size_t i = 0; i < rendered.image.pixels.size(); i += 4) {

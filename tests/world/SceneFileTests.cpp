@@ -623,3 +623,33 @@ TEST_CASE("A camera path whose eye meets its target, at a keyframe or between tw
                               "path.json")
               .size() == 2);
 }
+
+TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cache folder, each checked",
+          "[world][scenefile][terrain]")
+{
+    const SceneDescription scene = parse(R"({"version": 1, "globe": {
+        "imagery": [{"source": "../imagery/BlueMarble"}],
+        "terrain": {"source": "../terrain/etopo5", "format": "png16", "exaggeration": 2.5, "cacheFolder": "cache"}}})");
+    REQUIRE(scene.globe);
+    REQUIRE(scene.globe->terrain);
+    const TerrainDescription& terrain = *scene.globe->terrain;
+    CHECK(fs::path(terrain.source) == (kScenes / "../terrain/etopo5").lexically_normal());
+    CHECK(terrain.format == "png16");
+    CHECK(terrain.exaggeration == 2.5);
+    CHECK(terrain.cacheFolder == (kScenes / "cache").lexically_normal());
+    // A URL stays as it is; terrain alone makes a tiled globe too.
+    const SceneDescription remote =
+        parse(R"({"version": 1, "globe": {"terrain": {"source": "https://example.org/terrain/layer.json"}}})");
+    CHECK(remote.globe->terrain->source == "https://example.org/terrain/layer.json");
+    CHECK(remote.globe->terrain->exaggeration == 1.0);
+
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "format": "geotiff"}}})") ==
+          R"(test.json:1:63: /globe/terrain/format: "geotiff" is not a terrain format (quantized-mesh, heightmap, png16, terrain-rgb, terrarium, hgt, gdal))");
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "exaggeration": -1}}})") ==
+          "test.json:1:69: /globe/terrain/exaggeration: -1 is out of range [0, 100]");
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"sourc": "t"}}})").find("unknown key \"sourc\"") != std::string::npos);
+    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "a.jpg", "terrain": {"source": "t"}}})")
+              .find("a globe with terrain has no \"texture\"") != std::string::npos);
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "no-such-folder"}}})", true)
+              .find("/globe/terrain/source") != std::string::npos);
+}

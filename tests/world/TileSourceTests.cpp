@@ -20,6 +20,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
+using orbis::test::MBTilesWriter;
 using orbis::test::TempDirectory;
 using Catch::Matchers::Contains;
 using Status = TileFetch::Status;
@@ -32,37 +33,6 @@ std::vector<std::uint8_t> tileBytes(int seed)
 {
     return encodePng(orbis::test::testPattern(8 + seed, 8, 3), 1);
 }
-
-/// A small MBTiles database: metadata rows, then tiles (zoom, column, row from the south, bytes).
-class MBTilesWriter {
-public:
-    explicit MBTilesWriter(const std::filesystem::path& path)
-    {
-        REQUIRE(sqlite3_open(path.c_str(), &_database) == SQLITE_OK);
-        run("CREATE TABLE metadata (name TEXT, value TEXT)");
-        run("CREATE TABLE tiles (zoom_level INTEGER, tile_column INTEGER, tile_row INTEGER, tile_data BLOB)");
-    }
-    ~MBTilesWriter() { sqlite3_close(_database); }
-    void run(const std::string& sql) { REQUIRE(sqlite3_exec(_database, sql.c_str(), nullptr, nullptr, nullptr) == SQLITE_OK); }
-    void metadata(const std::string& name, const std::string& value)
-    {
-        run("INSERT INTO metadata VALUES ('" + name + "', '" + value + "')");
-    }
-    void tile(int zoom, int column, int row, const std::vector<std::uint8_t>& bytes)
-    {
-        sqlite3_stmt* statement = nullptr;
-        REQUIRE(sqlite3_prepare_v2(_database, "INSERT INTO tiles VALUES (?, ?, ?, ?)", -1, &statement, nullptr) == SQLITE_OK);
-        sqlite3_bind_int(statement, 1, zoom);
-        sqlite3_bind_int(statement, 2, column);
-        sqlite3_bind_int(statement, 3, row);
-        sqlite3_bind_blob(statement, 4, bytes.data(), int(bytes.size()), SQLITE_TRANSIENT);
-        REQUIRE(sqlite3_step(statement) == SQLITE_DONE);
-        sqlite3_finalize(statement);
-    }
-
-private:
-    sqlite3* _database = nullptr;
-};
 
 /// Runs `work` where a hang shows as a failed wait instead of blocking the suite.
 template <typename Work>

@@ -1,5 +1,9 @@
 #include "WorldTestSupport.h"
 
+#include <catch2/catch.hpp>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+#include <sqlite3.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -100,6 +104,75 @@ double meanDifference(const Image& a, const Image& b)
         sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
     }
     return sum / static_cast<double>(a.pixels.size());
+}
+
+MBTilesWriter::MBTilesWriter(const std::filesystem::path& path)
+{
+    REQUIRE(sqlite3_open(path.c_str(), &_database) == SQLITE_OK);
+    run("CREATE TABLE metadata (name TEXT, value TEXT)");
+    run("CREATE TABLE tiles (zoom_level INTEGER, tile_column INTEGER, tile_row INTEGER, tile_data BLOB)");
+}
+
+MBTilesWriter::~MBTilesWriter()
+{
+    sqlite3_close(_database);
+}
+
+void MBTilesWriter::run(const std::string& sql)
+{
+    REQUIRE(sqlite3_exec(_database, sql.c_str(), nullptr, nullptr, nullptr) == SQLITE_OK);
+}
+
+void MBTilesWriter::metadata(const std::string& name, const std::string& value)
+{
+    sqlite3_stmt* statement = nullptr;
+    REQUIRE(sqlite3_prepare_v2(_database, "INSERT INTO metadata VALUES (?, ?)", -1, &statement, nullptr) == SQLITE_OK);
+    sqlite3_bind_text(statement, 1, name.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(statement, 2, value.c_str(), -1, SQLITE_TRANSIENT);
+    REQUIRE(sqlite3_step(statement) == SQLITE_DONE);
+    sqlite3_finalize(statement);
+}
+
+void MBTilesWriter::tile(int zoom, int column, int row, const std::vector<std::uint8_t>& bytes)
+{
+    sqlite3_stmt* statement = nullptr;
+    REQUIRE(sqlite3_prepare_v2(_database, "INSERT INTO tiles VALUES (?, ?, ?, ?)", -1, &statement, nullptr) == SQLITE_OK);
+    sqlite3_bind_int(statement, 1, zoom);
+    sqlite3_bind_int(statement, 2, column);
+    sqlite3_bind_int(statement, 3, row);
+    sqlite3_bind_blob(statement, 4, bytes.data(), int(bytes.size()), SQLITE_TRANSIENT);
+    REQUIRE(sqlite3_step(statement) == SQLITE_DONE);
+    sqlite3_finalize(statement);
+}
+
+void writeDem(const std::filesystem::path& path, int width, int height, const double transform[6], int epsg,
+              const std::function<float(int column, int row)>& heightAt, std::optional<double> noData)
+{
+    GDALAllRegister();
+    GDALDriverH driver = GDALGetDriverByName("GTiff");
+    REQUIRE(driver);
+    GDALDatasetH dataset = GDALCreate(driver, path.c_str(), width, height, 1, GDT_Float32, nullptr);
+    REQUIRE(dataset);
+    double geotransform[6];
+    std::copy_n(transform, 6, geotransform);
+    GDALSetGeoTransform(dataset, geotransform);
+    OGRSpatialReferenceH reference = OSRNewSpatialReference(nullptr);
+    REQUIRE(OSRImportFromEPSG(reference, epsg) == OGRERR_NONE);
+    GDALSetSpatialRef(dataset, reference);
+    OSRDestroySpatialReference(reference);
+    GDALRasterBandH band = GDALGetRasterBand(dataset, 1);
+    if (noData) {
+        GDALSetRasterNoDataValue(band, *noData);
+    }
+    std::vector<float> heights(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    for (int row = 0; row < height; ++row) {
+        for (int column = 0; column < width; ++column) {
+            heights[static_cast<std::size_t>(row) * static_cast<std::size_t>(width) + static_cast<std::size_t>(column)] =
+                heightAt(column, row);
+        }
+    }
+    REQUIRE(GDALRasterIO(band, GF_Write, 0, 0, width, height, heights.data(), width, height, GDT_Float32, 0, 0) == CE_None);
+    GDALClose(dataset);
 }
 
 } // namespace orbis::test

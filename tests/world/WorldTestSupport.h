@@ -7,8 +7,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
+
+struct sqlite3;
 
 namespace orbis::test {
 
@@ -30,5 +34,26 @@ void writeBytes(const std::filesystem::path& path, const std::vector<std::uint8_
 int maximumDifference(const Image& a, const Image& b);
 /// The mean absolute difference per byte.
 double meanDifference(const Image& a, const Image& b);
+
+/// A small MBTiles database: metadata rows, then tiles (zoom, column, row from the south, bytes).
+class MBTilesWriter {
+public:
+    explicit MBTilesWriter(const std::filesystem::path& path);
+    ~MBTilesWriter();
+    MBTilesWriter(const MBTilesWriter&) = delete;
+    MBTilesWriter& operator=(const MBTilesWriter&) = delete;
+    void run(const std::string& sql);
+    void metadata(const std::string& name, const std::string& value);
+    void tile(int zoom, int column, int row, const std::vector<std::uint8_t>& bytes);
+
+private:
+    sqlite3* _database = nullptr;
+};
+
+/// A one-band Float32 GeoTIFF DEM written with GDAL: width x height pixels, the geotransform
+/// (pixel corners), the CRS by EPSG code, each pixel's height from height(column, row) at its
+/// centre, optionally a nodata value.
+void writeDem(const std::filesystem::path& path, int width, int height, const double transform[6], int epsg,
+              const std::function<float(int column, int row)>& heightAt, std::optional<double> noData = std::nullopt);
 
 } // namespace orbis::test

@@ -74,6 +74,9 @@ HttpClient::HttpClient(const HttpOptions& options, std::size_t maximumBytes)
     initialiseCurl();
     _options.maximumRequestsInFlight = std::max(_options.maximumRequestsInFlight, 1);
     _options.retries = std::max(_options.retries, 0);
+    for (const std::string& header : _options.headers) {
+        _headers = curl_slist_append(static_cast<curl_slist*>(_headers), header.c_str());
+    }
 }
 
 HttpClient::~HttpClient()
@@ -81,6 +84,7 @@ HttpClient::~HttpClient()
     for (void* handle : _idle) {
         curl_easy_cleanup(static_cast<CURL*>(handle));
     }
+    curl_slist_free_all(static_cast<curl_slist*>(_headers));
 }
 
 void* HttpClient::acquire()
@@ -132,6 +136,7 @@ TileFetch HttpClient::get(const std::string& url)
         curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, static_cast<long>(_options.totalTimeout.count()));
         curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, ""); // whatever libcurl decodes (gzip for terrain)
         curl_easy_setopt(curl, CURLOPT_USERAGENT, _options.userAgent.c_str());
+        curl_easy_setopt(curl, CURLOPT_HTTPHEADER, static_cast<curl_slist*>(_headers));
         curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, static_cast<curl_off_t>(_maximumBytes));
         curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, appendBody);
         curl_easy_setopt(curl, CURLOPT_WRITEDATA, &body);

@@ -35,6 +35,7 @@ private:
     std::condition_variable _available;
     std::vector<void*> _idle;
     int _created = 0;
+    void* _headers = nullptr; ///< curl_slist of HttpOptions::headers
 };
 
 /// True for http:// and https:// URLs.

@@ -1,5 +1,7 @@
 #include "orbis/world/ImageryTiler.h"
 
+#include "GdalSupport.h"
+
 #include "orbis/world/FileAccess.h"
 #include "orbis/world/TileMapResource.h"
 
@@ -36,43 +38,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Registers GDAL's drivers once, and on the calling thread makes a libjpeg warning (a truncated
-/// or damaged JPEG, which GDAL would otherwise fill with grey) an error.
-void prepareGdal()
-{
-    static std::once_flag registered;
-    std::call_once(registered, [] { GDALAllRegister(); });
-    CPLSetThreadLocalConfigOption("GDAL_ERROR_ON_LIBJPEG_WARNING", "TRUE");
-}
-
-/// GDAL's messages go to the error we throw, not to stderr, on this thread while this lives.
-class QuietGdal {
-public:
-    QuietGdal()
-    {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
-    }
-    ~QuietGdal() { CPLPopErrorHandler(); }
-    QuietGdal(const QuietGdal&) = delete;
-    QuietGdal& operator=(const QuietGdal&) = delete;
-};
-
-std::string gdalMessage()
-{
-    const char* message = CPLGetLastErrorMsg();
-    return message && *message ? cutForMessage(message) : std::string("GDAL gave no reason");
-}
-
-struct DatasetCloser {
-    void operator()(void* dataset) const noexcept
-    {
-        if (dataset) {
-            GDALClose(dataset);
-        }
-    }
-};
-using Dataset = std::unique_ptr<void, DatasetCloser>;
+using detail::checkInputFile;
+using detail::Dataset;
+using detail::gdalMessage;
+using detail::geographicReference;
+using detail::prepareGdal;
+using detail::QuietGdal;
 
 /// An argument list for GDAL's utilities (a NULL-terminated char** owned here).
 class ArgumentList {
@@ -91,22 +62,6 @@ public:
 private:
     char** _list = nullptr;
 };
-
-/// Refuses anything but a regular file before GDAL opens it (GDAL would block on a named pipe).
-void checkInputFile(const std::filesystem::path& path)
-{
-    const std::string where = cutForMessage(path.string());
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-    if (fd < 0) {
-        throw Error(where + ": cannot open the input image: " + std::strerror(errno));
-    }
-    struct stat status {};
-    const bool regular = ::fstat(fd, &status) == 0 && S_ISREG(status.st_mode);
-    ::close(fd);
-    if (!regular) {
-        throw Error(where + ": the input image is not a regular file");
-    }
-}
 
 /// How the input is turned into 8-bit colours (GDALTranslate to an in-memory VRT) and which of
 /// its bands the warper reads. Found once, applied by each worker to its own datasets.
@@ -133,23 +88,9 @@ struct InputPlan {
 /// The most input pixels (bytes of 8-bit bands) kept in memory: 2 GiB, a 32768 x 21845 RGB image.
 constexpr std::size_t kMaximumInMemoryBytes = std::size_t{2} << 30;
 
-/// The WGS84 longitude-latitude CRS, longitude first as geotransforms have it.
-OGRSpatialReference geographicReference()
-{
-    OGRSpatialReference reference;
-    reference.SetWellKnownGeogCS("WGS84");
-    reference.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    return reference;
-}
-
 Dataset openSource(const std::filesystem::path& path)
 {
-    const QuietGdal quiet;
-    Dataset dataset(GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
-    if (!dataset) {
-        throw Error(cutForMessage(path.string()) + ": GDAL cannot read the input image: " + gdalMessage());
-    }
-    return dataset;
+    return detail::openRaster(path, "input image");
 }
 
 Dataset prepare(void* source, const InputPlan& plan, const std::filesystem::path& path)
@@ -252,60 +193,14 @@ InputPlan planInput(const std::filesystem::path& path)
         const double value = GDALGetRasterNoDataValue(GDALGetRasterBand(prepared.get(), band), &hasNoData);
         plan.noData.push_back(hasNoData ? value : std::nan(""));
     }
-    // The footprint: the raster's edges and a grid inside it, taken to longitude and latitude.
-    const OGRSpatialReference geographic = geographicReference();
-    reference.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    std::unique_ptr<OGRCoordinateTransformation> toGeographic(OGRCreateCoordinateTransformation(&reference, &geographic));
-    if (!toGeographic) {
-        throw Error(where + ": cannot transform the input's coordinate reference system to longitude and latitude: " +
-                    gdalMessage());
+    const detail::RasterFootprint footprint = detail::rasterFootprint(plan.width, plan.height, transform, reference, where);
+    plan.footprint = footprint.extent;
+    if (plan.footprint.east < plan.footprint.west) {
+        // Across the antimeridian: every column of those rows (those without pixels stay empty).
+        plan.footprint.west = -kPi;
+        plan.footprint.east = kPi;
     }
-    auto toLongitudeLatitude = [&](double column, double row, double& longitude, double& latitude) {
-        double x = transform[0] + column * transform[1] + row * transform[2];
-        double y = transform[3] + column * transform[4] + row * transform[5];
-        if (!toGeographic->Transform(1, &x, &y) || !std::isfinite(x) || !std::isfinite(y)) {
-            return false;
-        }
-        longitude = x;
-        latitude = y;
-        return true;
-    };
-    double west = 180.0;
-    double east = -180.0;
-    double south = 90.0;
-    double north = -90.0;
-    constexpr int kSamples = 64;
-    for (int i = 0; i <= kSamples; ++i) {
-        for (int j = 0; j <= kSamples; ++j) {
-            double longitude = 0.0;
-            double latitude = 0.0;
-            if (toLongitudeLatitude(plan.width * double(i) / kSamples, plan.height * double(j) / kSamples, longitude, latitude)) {
-                west = std::min(west, longitude);
-                east = std::max(east, longitude);
-                south = std::min(south, latitude);
-                north = std::max(north, latitude);
-            }
-        }
-    }
-    if (!(west < east) || !(south < north)) {
-        throw Error(where + ": the input's corners do not transform to an area of the globe");
-    }
-    plan.footprint = GeodeticExtent::fromDegrees(std::max(west, -180.0), std::max(south, -90.0), std::min(east, 180.0),
-                                                 std::min(north, 90.0));
-    // The smaller side of a pixel at the centre, in degrees.
-    const double centreColumn = plan.width / 2.0;
-    const double centreRow = plan.height / 2.0;
-    double longitude0 = 0.0, latitude0 = 0.0, longitude1 = 0.0, latitude1 = 0.0, longitude2 = 0.0, latitude2 = 0.0;
-    if (!toLongitudeLatitude(centreColumn, centreRow, longitude0, latitude0) ||
-        !toLongitudeLatitude(centreColumn + 1.0, centreRow, longitude1, latitude1) ||
-        !toLongitudeLatitude(centreColumn, centreRow + 1.0, longitude2, latitude2)) {
-        throw Error(where + ": the centre of the input does not transform to longitude and latitude");
-    }
-    plan.degreesPerPixel = std::min(std::hypot(longitude1 - longitude0, latitude1 - latitude0),
-                                    std::hypot(longitude2 - longitude0, latitude2 - latitude0));
-    if (!(plan.degreesPerPixel > 0.0)) {
-        throw Error(where + ": the input's pixels have no size on the globe");
-    }
+    plan.degreesPerPixel = footprint.degreesPerPixel;
     return plan;
 }
 
@@ -634,7 +529,7 @@ ImageryTiler::ImageryTiler(ImageryTilerOptions options) : _impl(std::make_unique
     }
     impl.extension = std::string(imageFormatExtension(o.format));
     impl.quality = o.quality.value_or(o.format == ImageFormat::Png ? 6 : 90);
-    checkInputFile(o.input);
+    checkInputFile(o.input, "input image");
     prepareGdal();
     impl.plan = planInput(o.input);
 

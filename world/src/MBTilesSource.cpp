@@ -2,6 +2,7 @@
 
 #include "orbis/world/FileAccess.h"
 #include "orbis/world/ImageCodec.h"
+#include "orbis/world/TerrainLayer.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
@@ -208,7 +209,9 @@ private:
             for (int count = 0; (step = sqlite3_step(rows.get())) == SQLITE_ROW && count < 1000; ++count) {
                 const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 0));
                 const auto* value = reinterpret_cast<const char*>(sqlite3_column_text(rows.get(), 1));
-                if (name && value && std::strlen(value) < 65536) {
+                // The "json" row of a terrain set holds its layer.json, availability and all.
+                const std::size_t limit = name && std::strcmp(name, "json") == 0 ? kMaximumTerrainLayerBytes : 65536;
+                if (name && value && std::strlen(value) < limit) {
                     metadata[name] = value;
                 }
             }
@@ -265,6 +268,9 @@ private:
         }
         _info.tileWidth = options.tileWidth;
         _info.tileHeight = options.tileHeight;
+        if (const auto json = metadata.find("json"); json != metadata.end()) {
+            _info.metadataJson = json->second;
+        }
     }
 
     /// "west,south,east,north" in degrees.

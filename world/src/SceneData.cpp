@@ -93,6 +93,16 @@ TileSourceOptions tileSourceOptions(const ImageryLayerDescription& layer)
     return options;
 }
 
+TerrainSourceOptions terrainSourceOptions(const TerrainDescription& terrain)
+{
+    TerrainSourceOptions options;
+    options.format = terrain.format;
+    if (terrain.cacheFolder) {
+        options.tiles.cacheFolder = *terrain.cacheFolder;
+    }
+    return options;
+}
+
 DiagnosticList validateSceneFile(const std::filesystem::path& path, SceneDescription* description)
 {
     DiagnosticList faults;
@@ -128,6 +138,10 @@ DiagnosticList validateSceneFile(const std::filesystem::path& path, SceneDescrip
         const ImageryLayerDescription& layer = scene.globe->imagery[i];
         check("/globe/imagery/" + std::to_string(i) + "/source",
               [&] { openTileSource(layer.source, tileSourceOptions(layer)); });
+    }
+    if (scene.globe && scene.globe->terrain) {
+        const TerrainDescription& terrain = *scene.globe->terrain;
+        check("/globe/terrain/source", [&] { openTerrainSource(terrain.source, terrainSourceOptions(terrain)); });
     }
     for (std::size_t i = 0; i < scene.layers.size(); ++i) {
         const std::string pointer = "/layers/" + std::to_string(i);

@@ -2,6 +2,7 @@
 
 #include "orbis/world/CsvPoints.h"
 #include "orbis/world/FileAccess.h"
+#include "orbis/world/TerrainSource.h"
 
 #include "JsonText.h"
 
@@ -90,9 +91,12 @@ constexpr std::array<std::string_view, 3> kPositionKeys = {"lon", "lat", "height
 constexpr std::array<std::string_view, 2> kCameraPathKeys = {"version", "keyframes"};
 constexpr std::array<std::string_view, 3> kKeyframeKeys = {"time", "position", "target"};
 constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
-constexpr std::array<std::string_view, 7> kGlobeKeys = {"method",  "texture", "nightTexture",
-                                                        "grid",    "imagery", "maximumScreenSpaceError",
-                                                        "cacheMegabytes"};
+constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
+                                                        "grid",    "imagery", "terrain",
+                                                        "maximumScreenSpaceError", "cacheMegabytes"};
+constexpr std::array<std::string_view, 4> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder"};
+constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh", "heightmap", "png16", "terrain-rgb",
+                                                                 "terrarium",      "hgt",       "gdal"};
 constexpr std::array<std::string_view, 10> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
                                                           "contrast", "gamma",     "rectangle",    "minimumLevel",
                                                           "maximumLevel", "cacheFolder"};
@@ -184,6 +188,7 @@ constexpr Range kPositiveRange{0.0, std::numeric_limits<double>::infinity(), tru
 constexpr Range kScreenSpaceErrorRange{0.1, 1000.0};
 /// The tile cache in MiB: from a few tiles to 64 GiB.
 constexpr Range kCacheMegabytesRange{1.0, 65536.0};
+constexpr Range kExaggerationRange{0.0, 100.0};
 /// Degrees. Finer than 0.1 would cut the world's borders into millions of vertices and its
 /// countries into tens of millions of triangles; coarser than 10 lifts lines 24 km off the ground.
 constexpr Range kGranularityRange{0.1, 10.0};
@@ -690,6 +695,13 @@ private:
                 });
             }
         }
+        if (const Json* terrain = member(value, "terrain")) {
+            if (globe.texture || globe.nightTexture) {
+                fail(pointer + "/terrain", "a globe with terrain has no \"texture\" or \"nightTexture\": give its "
+                                           "imagery as \"imagery\" layers");
+            }
+            attempt([&] { globe.terrain = readTerrain(*terrain, pointer + "/terrain"); });
+        }
         if (const Json* error = member(value, "maximumScreenSpaceError")) {
             attempt([&] {
                 globe.maximumScreenSpaceError =
@@ -702,26 +714,55 @@ private:
         return globe;
     }
 
+    /// A tile source's "source": an http(s) URL as it is, or a path resolved against the file's
+    /// folder (which must exist unless it is a {z}/{x}/{y} template).
+    std::string readTileSourceLocation(const Json& value, const std::string& pointer) const
+    {
+        const Json& source = required(value, pointer, "source");
+        const std::string& text = readString(source, pointer + "/source", "a path or an http(s) URL");
+        if (text.starts_with("http://") || text.starts_with("https://")) {
+            return text;
+        }
+        const fs::path path = readPath(source, pointer + "/source");
+        // A template names its tiles, not one file; a folder or a file must be there.
+        if (_options.checkFiles && text.find('{') == std::string::npos) {
+            std::error_code error;
+            if (!fs::exists(path, error)) {
+                fail(pointer + "/source", notFound(source, path, "tile source"));
+            }
+        }
+        return path.string();
+    }
+
+    TerrainDescription readTerrain(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kTerrainKeys);
+        TerrainDescription terrain;
+        terrain.source = readTileSourceLocation(value, pointer);
+        if (const Json* format = member(value, "format")) {
+            terrain.format = readString(*format, pointer + "/format", "a terrain format");
+            if (std::find(kTerrainFormatNames.begin(), kTerrainFormatNames.end(), terrain.format) ==
+                kTerrainFormatNames.end()) {
+                fail(pointer + "/format", quote(terrain.format) + " is not a terrain format (" +
+                                              std::string(kTerrainFormats) + ")");
+            }
+        }
+        if (const Json* exaggeration = member(value, "exaggeration")) {
+            terrain.exaggeration = readNumber(*exaggeration, pointer + "/exaggeration", kExaggerationRange);
+        }
+        if (const Json* cache = member(value, "cacheFolder")) {
+            terrain.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
+        }
+        return terrain;
+    }
+
     ImageryLayerDescription readImageryLayer(const Json& value, const std::string& pointer) const
     {
         expectObject(value, pointer);
         checkKeys(value, pointer, kImageryKeys);
         ImageryLayerDescription layer;
-        const Json& source = required(value, pointer, "source");
-        const std::string& text = readString(source, pointer + "/source", "a path or an http(s) URL");
-        if (text.starts_with("http://") || text.starts_with("https://")) {
-            layer.source = text;
-        } else {
-            const fs::path path = readPath(source, pointer + "/source");
-            layer.source = path.string();
-            // A template names its tiles, not one file; a folder or an .mbtiles file must be there.
-            if (_options.checkFiles && text.find('{') == std::string::npos) {
-                std::error_code error;
-                if (!fs::exists(path, error)) {
-                    fail(pointer + "/source", notFound(source, path, "tile source"));
-                }
-            }
-        }
+        layer.source = readTileSourceLocation(value, pointer);
         if (const Json* scheme = member(value, "scheme")) {
             layer.scheme = readEnum(*scheme, pointer + "/scheme", kTilingSchemes);
         }

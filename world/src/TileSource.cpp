@@ -262,6 +262,29 @@ std::string templateExtension(const std::string& pattern)
     return path.substr(dot + 1);
 }
 
+/// The path or URL of a tile from a parsed template.
+LocatedTileSource::Locator templateLocator(std::vector<TemplatePart> parts, std::vector<std::string> subdomains,
+                                           const TilingScheme& scheme)
+{
+    return [parts = std::move(parts), subdomains = std::move(subdomains), scheme](const TileKey& key) {
+        std::string location;
+        for (const TemplatePart& part : parts) {
+            using Kind = TemplatePart::Kind;
+            switch (part.kind) {
+            case Kind::Text: location += part.text; break;
+            case Kind::Level: location += std::to_string(key.level); break;
+            case Kind::Column: location += std::to_string(key.x); break;
+            case Kind::RowFromNorth: location += std::to_string(rowFromNorth(scheme, key)); break;
+            case Kind::RowFromSouth: location += std::to_string(rowFromSouth(scheme, key)); break;
+            case Kind::Subdomain:
+                location += subdomains[(std::size_t{key.x} + key.y + key.level) % subdomains.size()];
+                break;
+            }
+        }
+        return location;
+    };
+}
+
 std::unique_ptr<TileSource> openTemplate(const std::string& pattern, const TileSourceOptions& options)
 {
     const std::string where = cutForMessage(pattern);
@@ -292,24 +315,7 @@ std::unique_ptr<TileSource> openTemplate(const std::string& pattern, const TileS
     const std::string extension = templateExtension(pattern);
     info.format = options.format.empty() ? extension : options.format;
     info.attribution = options.attribution;
-    const TilingScheme scheme = info.scheme;
-    auto locate = [parts = std::move(parts), subdomains, scheme](const TileKey& key) {
-        std::string location;
-        for (const TemplatePart& part : parts) {
-            using Kind = TemplatePart::Kind;
-            switch (part.kind) {
-            case Kind::Text: location += part.text; break;
-            case Kind::Level: location += std::to_string(key.level); break;
-            case Kind::Column: location += std::to_string(key.x); break;
-            case Kind::RowFromNorth: location += std::to_string(rowFromNorth(scheme, key)); break;
-            case Kind::RowFromSouth: location += std::to_string(rowFromSouth(scheme, key)); break;
-            case Kind::Subdomain:
-                location += subdomains[(std::size_t{key.x} + key.y + key.level) % subdomains.size()];
-                break;
-            }
-        }
-        return location;
-    };
+    auto locate = templateLocator(std::move(parts), subdomains, info.scheme);
     auto transport = isHttpUrl(pattern) ? std::make_unique<Transport>(options, pattern)
                                         : std::make_unique<Transport>(options.maximumTileBytes);
     transport->setExtension(extension.empty() ? info.format : extension);
@@ -377,7 +383,85 @@ bool hasMBTilesName(const std::string& path)
     return lower == ".mbtiles";
 }
 
+void replaceAll(std::string& text, std::string_view from, std::string_view to)
+{
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+        text.replace(at, from.size(), to);
+    }
+}
+
 } // namespace
+
+bool detail::looksLikeLayer(const std::string& location)
+{
+    if (location.ends_with("layer.json")) {
+        return true;
+    }
+    if (isHttpUrl(location)) {
+        return false;
+    }
+    std::error_code error;
+    return std::filesystem::is_directory(location, error) &&
+           std::filesystem::is_regular_file(std::filesystem::path(location) / "layer.json", error);
+}
+
+detail::LayerTiles detail::openLayerTiles(const std::string& location, const TileSourceOptions& options)
+{
+    const bool http = isHttpUrl(location);
+    std::string base = location;
+    std::string layerLocation;
+    if (location.ends_with("layer.json")) {
+        layerLocation = location;
+        const std::size_t slash = location.rfind('/');
+        base = slash == std::string::npos ? "." : location.substr(0, slash);
+    } else {
+        while (base.size() > 1 && base.ends_with("/")) {
+            base.pop_back();
+        }
+        layerLocation = base + "/layer.json";
+    }
+    std::unique_ptr<Transport> transport =
+        http ? std::make_unique<Transport>(options, base) : std::make_unique<Transport>(options.maximumTileBytes);
+    const std::vector<std::uint8_t> bytes = http ? transport->fetchFile(layerLocation, "layer.json", kMaximumTerrainLayerBytes)
+                                                 : readFileBytes(layerLocation, "layer.json", kMaximumTerrainLayerBytes);
+    LayerTiles result;
+    result.layer = parseTerrainLayer(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), layerLocation);
+    const TerrainLayer& layer = result.layer;
+    const std::string where = cutForMessage(layerLocation);
+    if (layer.projection != "EPSG:4326") {
+        throw Error(where + ": terrain in " + layer.projection +
+                    " is not supported (quantized-mesh and heightmap tiles must be in EPSG:4326)");
+    }
+    std::string pattern = layer.tiles.front();
+    replaceAll(pattern, "{version}", layer.version);
+    if (!http) {
+        pattern = pattern.substr(0, pattern.find('?'));
+    }
+    if (layer.rowsFromSouth) {
+        replaceAll(pattern, "{y}", "{reverseY}");
+    }
+    if (!isHttpUrl(pattern)) {
+        pattern = base + "/" + (pattern.starts_with("./") ? pattern.substr(2) : pattern);
+    }
+    std::vector<TemplatePart> parts;
+    try {
+        parts = parseTemplate(pattern);
+    } catch (const Error& error) {
+        throw Error(where + ": /tiles/0: " + error.what());
+    }
+    TileSourceInfo info;
+    info.name = location;
+    info.scheme = TilingScheme::geographic();
+    info.minimumLevel = layer.minimumLevel;
+    info.maximumLevel = layer.maximumLevel;
+    info.extent = layer.bounds;
+    info.format = layer.format;
+    info.attribution = layer.attribution.empty() ? options.attribution : layer.attribution;
+    transport->setExtension("terrain");
+    auto locate = templateLocator(std::move(parts), splitSubdomains(options.subdomains), info.scheme);
+    result.tiles = std::make_unique<LocatedTileSource>(std::move(info), std::move(locate), std::move(transport));
+    return result;
+}
 
 std::unique_ptr<TileSource> openTileSource(const std::string& pathOrUrl, const TileSourceOptions& options)
 {

@@ -5,9 +5,12 @@
 in vec3 positionHigh;
 in vec3 positionLow;
 in vec3 textureCoordinate; // u and v within the tile (0..1 west to east, south to north), height (metres)
+#ifdef TERRAIN
+in vec3 normal; // of the terrain, Earth-fixed
+#endif
 
 out vec2 v_tileCoordinates;
-out vec3 v_normal; // geodetic surface normal, Earth-fixed
+out vec3 v_normal; // the surface's normal (the terrain's or the ellipsoid's), Earth-fixed
 
 uniform vec3 og_cameraEye;
 uniform vec3 og_cameraEyeHigh;
@@ -19,7 +22,11 @@ void main()
 {
     vec3 position = og_emulatedDoubleSubtract(positionHigh, positionLow, og_cameraEyeHigh, og_cameraEyeLow);
     v_tileCoordinates = textureCoordinate.xy;
+#ifdef TERRAIN
+    v_normal = normal;
+#else
     // The eye in one float is half a metre off at most: a normal tilted by 1e-7.
     v_normal = normalize((og_cameraEye + position) * u_oneOverRadiiSquared);
+#endif
     gl_Position = og_depthVertex(og_modelViewProjectionMatrixRelativeToEye * vec4(position, 1.0));
 }

@@ -176,19 +176,21 @@ void TestHttpServer::serve(int connection)
         const std::string path = firstSpace < secondSpace && secondSpace < headerEnd
                                      ? buffer.substr(firstSpace + 1, secondSpace - firstSpace - 1)
                                      : std::string("/");
+        const std::string headers = buffer.substr(0, headerEnd);
         buffer.erase(0, headerEnd + 4);
-        open = answer(connection, path);
+        open = answer(connection, path, headers);
     }
     const std::lock_guard lock(_mutex);
     _connections.erase(std::remove(_connections.begin(), _connections.end(), connection), _connections.end());
     ::close(connection);
 }
 
-bool TestHttpServer::answer(int connection, const std::string& path)
+bool TestHttpServer::answer(int connection, const std::string& path, const std::string& headers)
 {
     ScriptedResponse response = ScriptedResponse::withStatus(404);
     {
         std::unique_lock lock(_mutex);
+        _headers[path] = headers;
         ++_total;
         const int count = ++_requests[path];
         ++_concurrent;
@@ -221,6 +223,13 @@ bool TestHttpServer::answer(int connection, const std::string& path)
         --_concurrent;
     }
     return sent && !response.truncateAfter;
+}
+
+std::string TestHttpServer::lastRequestHeaders(const std::string& path) const
+{
+    const std::lock_guard lock(_mutex);
+    const auto found = _headers.find(path);
+    return found == _headers.end() ? std::string() : found->second;
 }
 
 } // namespace orbis::test

@@ -69,12 +69,14 @@ public:
     int totalRequests() const;
     /// The most requests being answered at the same moment since the start.
     int maximumConcurrent() const;
+    /// The header lines of the last request for a path ("" before any).
+    std::string lastRequestHeaders(const std::string& path) const;
 
 private:
     void acceptLoop();
     void serve(int connection);
     /// Handles one request; false when the connection must close.
-    bool answer(int connection, const std::string& path);
+    bool answer(int connection, const std::string& path, const std::string& headers);
 
     int _listener = -1;
     std::uint16_t _port = 0;
@@ -83,6 +85,7 @@ private:
     bool _stopping = false;
     std::map<std::string, ScriptedResponse> _responses;
     std::map<std::string, int> _requests;
+    std::map<std::string, std::string> _headers;
     int _total = 0;
     int _concurrent = 0;
     int _maximumConcurrent = 0;

@@ -63,6 +63,22 @@ struct TileMesh {
     static TileMesh build(const Ellipsoid& ellipsoid, const TilingScheme& scheme, const TileKey& key, int samplesLog2,
                           std::span<const float> heights, double skirtDepth);
 
+    /// The longitude of column i and latitude of row j of a tile's samples (the edges of level +
+    /// samplesLog2): the same doubles in every tile that has the point.
+    static double latticeLongitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int column) noexcept;
+    static double latticeLatitude(const TilingScheme& scheme, const TileKey& key, int samplesLog2, int row) noexcept;
+
+    /// Moves grid vertex (i, j) to another height, computed as build() computes it (a tile that
+    /// takes its edge from a coarser neighbour gets the neighbour's floats exactly).
+    void setVertexHeight(const Ellipsoid& ellipsoid, const TilingScheme& scheme, int i, int j, double height);
+    /// Puts grid vertex (i, j) at a position (on a coarser neighbour's edge between its vertices).
+    void setVertexPosition(int i, int j, const glm::dvec3& position, double height);
+
+    /// Unit normals of the surface, three floats per vertex: the cross product of the east-west
+    /// and north-south differences of the grid's positions (one-sided at the edges, the axis at a
+    /// pole's collapsed row); skirt vertices take their edge vertex's.
+    std::vector<float> normals() const;
+
     /// The counter-clockwise triangles (seen from above) of a mesh of 2^samplesLog2 + 1 samples a
     /// side: the inner grid as quads, and a ring of triangles zipping each edge's vertices (every
     /// 2^coarsening-th one; clamped to the side) to the row inside it. One list serves every tile

@@ -21,6 +21,7 @@ enum class Effect : std::uint32_t {
     Polygons = 1u << 8,
     Models = 1u << 9,
     TiledImagery = 1u << 10, ///< the globe's surface streamed as tiles with imagery layers
+    Terrain = 1u << 11,      ///< heights on the streamed tiles
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

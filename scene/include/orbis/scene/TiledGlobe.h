@@ -5,6 +5,7 @@
 #include "orbis/scene/TileStatistics.h"
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/core/Geodetic.h>
 #include <orbis/core/GeodeticExtent.h>
 #include <orbis/world/TileLoader.h>
 
@@ -20,6 +21,7 @@
 
 namespace orbis::world {
 class TileSource;
+class TerrainSource;
 } // namespace orbis::world
 
 namespace orbis::scene {
@@ -53,8 +55,14 @@ struct TiledGlobeOptions {
     world::TileLoaderOptions loader;
     /// See TileSelectionOptions::loadingDescendantLimit.
     std::size_t loadingDescendantLimit = 20;
-    /// Tile meshes have 2^samplesLog2 + 1 vertices a side (17 by default: the ellipsoid is smooth).
-    int samplesLog2 = 4;
+    /// Heights for every tile (world::openTerrainSource), finer tiles cut from the deepest tile
+    /// the source has; none: the ellipsoid itself.
+    std::shared_ptr<world::TerrainSource> terrain;
+    /// Terrain heights are multiplied by this; bounds and horizon tests follow.
+    double terrainExaggeration = 1.0;
+    /// Tile meshes have 2^samplesLog2 + 1 vertices a side; 0: 17 on the ellipsoid (it is
+    /// smooth), 65 with terrain.
+    int samplesLog2 = 0;
     /// Skirts under the tiles' edges; off by default: tiles stitch to their coarser neighbours.
     bool skirts = false;
     bool lighting = true;
@@ -88,6 +96,16 @@ public:
 
     /// Every drawn tile at the level its error asks for with its own imagery, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }
+
+    /// The terrain's height (metres, exaggeration taken out) of the surface drawn at a point in
+    /// the last frame: on the triangle drawn there, so that a point on an edge or a corner shared
+    /// by tiles gets the same height from each. Empty before the first frame, and where no tile
+    /// was drawn (a point behind the horizon is covered by the coarser tiles drawn there).
+    std::optional<double> heightAt(const Geodetic2D& position) const;
+
+    /// The triangles of the surface drawn in the last frame (Earth-fixed, three points each, as
+    /// the GPU receives them), for checking that it is watertight.
+    std::vector<glm::dvec3> drawnTriangles() const;
 
     /// A load this globe started: a surface tile's mesh (layer -1) or an imagery layer's tile.
     struct Load {

@@ -5,6 +5,7 @@
 
 #include "orbis/world/Diagnostics.h"
 #include "orbis/world/SceneDescription.h"
+#include "orbis/world/TerrainSource.h"
 #include "orbis/world/TileSource.h"
 
 #include <orbis/core/Geodetic.h>
@@ -35,6 +36,9 @@ void readLayerSource(const LayerDescription& layer);
 /// The options a globe's imagery layer opens its tile source with (openTileSource): the layer's
 /// scheme, levels and cache folder.
 TileSourceOptions tileSourceOptions(const ImageryLayerDescription& layer);
+
+/// How a scene's terrain source is opened (format, cache folder).
+TerrainSourceOptions terrainSourceOptions(const TerrainDescription& terrain);
 
 /// What `orbis validate` checks: every fault of a scene file (parseSceneFile, collecting), and when
 /// the file itself has none, every file it names read as building and drawing the scene would

@@ -84,6 +84,20 @@ struct ImageryLayerDescription {
     friend bool operator==(const ImageryLayerDescription&, const ImageryLayerDescription&) = default;
 };
 
+/// The heights under a tiled globe.
+struct TerrainDescription {
+    /// An absolute path (a folder or layer.json of quantized-mesh or heightmap tiles, an .mbtiles
+    /// file, a TMS folder or {z}/{x}/{y} template of height PNGs, a folder of .hgt files, a DEM
+    /// that GDAL reads) or an http(s) URL.
+    std::string source;
+    std::string format;        ///< one of world::kTerrainFormats; empty: told from the source
+    double exaggeration = 1.0; ///< >= 0: heights multiplied by it
+    /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
+    std::optional<std::filesystem::path> cacheFolder;
+
+    friend bool operator==(const TerrainDescription&, const TerrainDescription&) = default;
+};
+
 struct GlobeDescription {
     GlobeMethod method = GlobeMethod::RayCast;
     std::optional<GlobeTexture> texture;                 ///< empty: an untextured globe
@@ -92,6 +106,8 @@ struct GlobeDescription {
     /// Imagery streamed as tiles, drawn in order; non-empty: the globe's surface is a tile
     /// quadtree (method, texture, nightTexture and grid do not apply).
     std::vector<ImageryLayerDescription> imagery;
+    /// Heights under the tiles; present: the globe's surface is a tile quadtree too.
+    std::optional<TerrainDescription> terrain;
     double maximumScreenSpaceError = 2.0; ///< pixels, > 0: refine while a tile's error is larger
     double cacheMegabytes = 256.0;        ///< the tiles' hard cap, CPU and GPU together (MiB)
 

@@ -25,6 +25,8 @@ struct TileSourceInfo {
     orbis::GeodeticExtent extent = orbis::GeodeticExtent::maximum(); ///< where tiles exist
     std::string format;               ///< "jpg", "png", "webp", ...; empty when unknown (decoders detect it)
     std::string attribution;
+    /// MBTiles: the metadata table's "json" row (terrain sets keep layer.json there); else empty.
+    std::string metadataJson;
 };
 
 /// The outcome of fetching one tile.
@@ -64,6 +66,8 @@ struct HttpOptions {
     std::chrono::milliseconds backoff{250};
     std::chrono::milliseconds maximumBackoff{4000};
     std::string userAgent = "Orbis/0.1 (virtual globe; libcurl)";
+    /// Further request headers, each "Name: value" (an Accept header for quantized-mesh servers).
+    std::vector<std::string> headers;
 };
 
 /// How openTileSource reads a source.

@@ -1,0 +1,40 @@
+#pragma once
+
+#include <orbis/core/TileKey.h>
+#include <orbis/world/TerrainSource.h>
+
+#include <memory>
+#include <vector>
+
+namespace orbis::scene {
+
+/// Heights anywhere in one terrain tile of the geographic scheme: bilinear between a grid's
+/// samples, or on the triangle of a mesh (quantized-mesh) that holds the point.
+///
+/// Positions are given as a sample of a finer (or equal) lattice, so that a point that two tiles
+/// share, or a child and the data tile it is cut from, is the same pair of doubles and gets the
+/// same height: exactly the data's sample where the lattices meet.
+class TerrainSampler {
+public:
+    explicit TerrainSampler(std::shared_ptr<const world::TerrainTileData> data);
+
+    const world::TerrainTileData& data() const noexcept { return *_data; }
+
+    /// The height at u (0 west .. 1 east) and v (0 south .. 1 north) of the data tile.
+    double height(double u, double v) const noexcept;
+
+    /// The heights of sample (i, j) (column from the west, row from the north) of the
+    /// (2^samplesLog2 + 1)^2 lattice of `key`, a descendant of (or the same as) the data's tile.
+    std::vector<float> latticeHeights(const TileKey& key, int samplesLog2) const;
+
+private:
+    double gridHeight(double u, double v) const noexcept;
+    double meshHeight(double u, double v) const noexcept;
+
+    std::shared_ptr<const world::TerrainTileData> _data;
+    /// Meshes: triangles listed per bucket of a buckets x buckets grid over the tile.
+    int _buckets = 0;
+    std::vector<std::vector<std::uint32_t>> _bucketTriangles;
+};
+
+} // namespace orbis::scene

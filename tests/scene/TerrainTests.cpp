@@ -1,0 +1,318 @@
+#include "SceneTestSupport.h"
+
+#include <orbis/core/Transforms.h>
+#include <orbis/scene/Effect.h>
+#include <orbis/scene/TiledGlobe.h>
+#include <orbis/world/TerrainSource.h>
+
+#include <catch2/catch.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <random>
+
+using namespace orbis;
+using namespace orbis::scene;
+using namespace orbis::test;
+
+namespace {
+
+const Ellipsoid kEarth = Ellipsoid::wgs84();
+
+/// Grid terrain tiles of levels 0 to deepestLevel (65 samples a side) from a function of longitude and
+/// latitude (degrees) plus `levelOffset` metres per level: the levels disagree, as the levels of
+/// a box-filtered pyramid do, while neighbours of one level share their edge samples.
+class SyntheticTerrain final : public world::TerrainSource {
+public:
+    SyntheticTerrain(std::function<double(double, double)> height, double levelOffset, std::uint32_t deepestLevel = 12)
+        : _height(std::move(height)), _levelOffset(levelOffset)
+    {
+        _info.name = "synthetic terrain";
+        _info.format = "heightmap";
+        _info.maximumLevel = deepestLevel;
+        _info.gridSize = 65;
+    }
+
+    const world::TerrainSourceInfo& info() const noexcept override { return _info; }
+    bool hasTile(const TileKey& key) const override { return key.level <= _info.maximumLevel; }
+
+    world::TerrainFetch load(const TileKey& key) override
+    {
+        world::TerrainFetch fetched;
+        if (!hasTile(key)) {
+            fetched.status = world::TerrainFetch::Status::Missing;
+            return fetched;
+        }
+        fetched.status = world::TerrainFetch::Status::Ok;
+        world::TerrainTileData& tile = fetched.tile;
+        tile.key = key;
+        tile.size = 65;
+        tile.heights.resize(65 * 65);
+        for (int row = 0; row < 65; ++row) {
+            for (int column = 0; column < 65; ++column) {
+                const Geodetic2D g = world::terrainGridPosition(key, 65, column, row);
+                tile.heights[static_cast<std::size_t>(row * 65 + column)] =
+                    static_cast<float>(_height(toDegrees(g.longitude), toDegrees(g.latitude)) + _levelOffset * key.level);
+            }
+        }
+        const auto [low, high] = std::minmax_element(tile.heights.begin(), tile.heights.end());
+        tile.minimumHeight = *low;
+        tile.maximumHeight = *high;
+        return fetched;
+    }
+
+private:
+    std::function<double(double, double)> _height;
+    double _levelOffset;
+    world::TerrainSourceInfo _info;
+};
+
+/// Mountains of a few kilometres, 70 km apart, everywhere: continuous across the antimeridian and
+/// one height at each pole, as real elevation is.
+double ridges(double longitudeDegrees, double latitudeDegrees)
+{
+    const double longitude = toRadians(longitudeDegrees);
+    const double latitude = toRadians(latitudeDegrees);
+    return 1500.0 + 1200.0 * std::sin(400.0 * longitude) * std::cos(latitude) * std::cos(300.0 * latitude) +
+           400.0 * std::sin(700.0 * latitude);
+}
+
+struct TerrainScene {
+    Scene scene{kEarth};
+    std::shared_ptr<TiledGlobe> globe;
+
+    explicit TerrainScene(std::shared_ptr<world::TerrainSource> terrain, double exaggeration = 1.0)
+    {
+        TiledGlobeOptions options;
+        options.terrain = std::move(terrain);
+        options.terrainExaggeration = exaggeration;
+        options.loader.workerThreads = 0;
+        options.loader.latencyFrames = 0;
+        options.loader.maximumStartsPerFrame = 64;
+        options.baseColor = glm::vec4(0.3f, 0.6f, 0.3f, 1.0f);
+        scene.options().background = glm::vec4(1.0f, 0.0f, 1.0f, 1.0f); // magenta: a crack or a hole
+        globe = std::make_shared<TiledGlobe>(kEarth, options);
+        scene.add(globe);
+    }
+
+    void look(const Geodetic3D& position, double headingDegrees, double pitchDegrees)
+    {
+        const glm::dvec3 eye = kEarth.toCartesian(position);
+        const ViewOrientation view =
+            headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
+        scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
+    }
+
+    RenderedFrame converge(int width, int height)
+    {
+        RenderedFrame frame;
+        for (int i = 0; i < 300; ++i) {
+            frame = renderFrame(scene, width, height);
+            if (frame.statistics.tiles->converged) {
+                break;
+            }
+        }
+        return frame;
+    }
+};
+
+/// Pixels of the background below the horizon's row band: the sky is at the top of these views.
+int magentaBelowSky(const Image& image, int skyRows)
+{
+    int count = 0;
+    for (int y = skyRows; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const std::uint8_t* p = image.pixel(x, y);
+            count += p[0] == 255 && p[1] == 0 && p[2] == 255;
+        }
+    }
+    return count;
+}
+
+} // namespace
+
+TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer edge takes the coarser one's",
+          "[scene][tiles][terrain][gl]")
+{
+    // 37 m a level apart: without stitching every level change would open a visible crack.
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 37.0));
+    // Low and oblique over the ridges: many levels in one view, with the horizon at the top.
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 9000.0), 30.0, -20.0);
+    const RenderedFrame frame = terrain.converge(320, 240);
+    const TileStatistics& tiles = *frame.statistics.tiles;
+    REQUIRE(tiles.converged);
+    REQUIRE(tiles.deepestLevelDrawn >= 8);
+    CHECK(hasEffect(frame.statistics.effects, Effect::Terrain));
+    CHECK(magentaBelowSky(frame.image, 80) == 0);
+
+    // Across every drawn tile's edges the surface is continuous: a point just inside one tile and
+    // just inside its neighbour give heights within what the slope makes of the step.
+    std::mt19937 random(42);
+    std::uniform_real_distribution<double> along(0.0, 1.0);
+    const TilingScheme scheme = TilingScheme::geographic();
+    int sampled = 0;
+    double largestJump = 0.0;
+    // Edge points of the tiles around the view's centre, on each side of the edge.
+    for (std::uint32_t level = 6; level <= 12; ++level) {
+        const TileKey centre = *scheme.tileAt(Geodetic2D::fromDegrees(10.05, 46.1), level);
+        const GeodeticExtent extent = scheme.tileExtent(centre);
+        for (int k = 0; k < 200; ++k) {
+            const double t = along(random);
+            const double epsilon = 1e-10;
+            const std::array<std::pair<Geodetic2D, Geodetic2D>, 2> pairs{{
+                {{extent.east - epsilon, extent.south + t * extent.height()},
+                 {extent.east + epsilon, extent.south + t * extent.height()}},
+                {{extent.west + t * extent.width(), extent.north - epsilon},
+                 {extent.west + t * extent.width(), extent.north + epsilon}},
+            }};
+            for (const auto& [inside, outside] : pairs) {
+                const std::optional<double> a = terrain.globe->heightAt(inside);
+                const std::optional<double> b = terrain.globe->heightAt(outside);
+                if (a && b) {
+                    ++sampled;
+                    largestJump = std::max(largestJump, std::abs(*a - *b));
+                }
+            }
+        }
+    }
+    CHECK(sampled > 1000);
+    CHECK(largestJump < 0.01);
+}
+
+TEST_CASE("The surface drawn over terrain shares every inner edge between two triangles", "[scene][tiles][terrain][gl]")
+{
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 37.0));
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 20000.0), 0.0, -35.0);
+    REQUIRE(terrain.converge(256, 256).statistics.tiles->converged);
+
+    // Each triangle edge by its two end points, as the GPU gets them (doubles of the floats).
+    const std::vector<glm::dvec3> points = terrain.globe->drawnTriangles();
+    REQUIRE(points.size() > 3000);
+    auto less = [](const glm::dvec3& a, const glm::dvec3& b) {
+        return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+    };
+    std::map<std::pair<glm::dvec3, glm::dvec3>, int, std::function<bool(const std::pair<glm::dvec3, glm::dvec3>&,
+                                                                            const std::pair<glm::dvec3, glm::dvec3>&)>>
+        edges([&](const auto& a, const auto& b) {
+            if (less(a.first, b.first) != less(b.first, a.first)) {
+                return less(a.first, b.first);
+            }
+            return less(a.second, b.second);
+        });
+    for (std::size_t t = 0; t + 2 < points.size(); t += 3) {
+        for (int e = 0; e < 3; ++e) {
+            glm::dvec3 a = points[t + static_cast<std::size_t>(e)];
+            glm::dvec3 b = points[t + static_cast<std::size_t>((e + 1) % 3)];
+            if (a == b) {
+                continue; // a pole's collapsed row
+            }
+            if (less(b, a)) {
+                std::swap(a, b);
+            }
+            ++edges[{a, b}];
+        }
+    }
+    // An edge with one triangle must be on the border of what was drawn: no tile across it.
+    int cracks = 0;
+    int border = 0;
+    for (const auto& [edge, count] : edges) {
+        REQUIRE(count <= 2);
+        if (count == 2) {
+            continue;
+        }
+        const Geodetic2D a = kEarth.toGeodetic2D(edge.first);
+        const Geodetic2D b = kEarth.toGeodetic2D(edge.second);
+        const Geodetic2D middle{0.5 * (a.longitude + b.longitude), 0.5 * (a.latitude + b.latitude)};
+        // Just off the edge on both sides, square to it in longitude and latitude.
+        const glm::dvec2 direction = glm::normalize(glm::dvec2(b.longitude - a.longitude, b.latitude - a.latitude));
+        const glm::dvec2 across = glm::dvec2(-direction.y, direction.x) * 1e-9;
+        const bool left = terrain.globe->heightAt({middle.longitude + across.x, middle.latitude + across.y}).has_value();
+        const bool right = terrain.globe->heightAt({middle.longitude - across.x, middle.latitude - across.y}).has_value();
+        if (left && right) {
+            ++cracks;
+        } else {
+            ++border;
+        }
+    }
+    CHECK(border > 0);
+    CHECK(cracks == 0);
+}
+
+TEST_CASE("heightAt gives the terrain's height on the drawn triangles, at edges and corners too", "[scene][tiles][terrain][gl]")
+{
+    // A plane in longitude and latitude: the triangles' interpolation is then exact, so any
+    // difference is an error of the lookup, the stitching or the exaggeration.
+    auto plane = [](double longitude, double latitude) { return 800.0 + 40.0 * longitude - 25.0 * latitude; };
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(plane, 0.0), 2.5);
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 30000.0), 0.0, -60.0);
+    REQUIRE(terrain.converge(256, 256).statistics.tiles->converged);
+
+    const TilingScheme scheme = TilingScheme::geographic();
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int answered = 0;
+    double largestError = 0.0;
+    for (int k = 0; k < 20000; ++k) {
+        // Points of the drawn tiles around the view's centre, a quarter on edges or corners.
+        const std::uint32_t level = 10 + static_cast<std::uint32_t>(k % 4);
+        const TileKey key = *scheme.tileAt(
+            Geodetic2D::fromDegrees(10.0 + 0.1 * (unit(random) - 0.5), 46.15 + 0.05 * (unit(random) - 0.5)), level);
+        const GeodeticExtent extent = scheme.tileExtent(key);
+        double u = unit(random);
+        double v = unit(random);
+        if (k % 4 == 0) {
+            u = std::round(u);
+        }
+        if (k % 8 == 0) {
+            v = std::round(v);
+        }
+        const Geodetic2D point{extent.west + u * extent.width(), extent.south + v * extent.height()};
+        const std::optional<double> height = terrain.globe->heightAt(point);
+        REQUIRE(height.has_value());
+        ++answered;
+        const double expected = plane(toDegrees(point.longitude), toDegrees(point.latitude));
+        largestError = std::max(largestError, std::abs(*height - expected));
+    }
+    CHECK(answered == 20000);
+    // Heights travel as floats (2,000 m x 2.5: a few millimetres).
+    CHECK(largestError < 0.01);
+}
+
+TEST_CASE("Terrain shades the tiles by their own normals and a globe without terrain pays nothing for it",
+          "[scene][tiles][terrain][gl]")
+{
+    TerrainScene flat(std::make_shared<SyntheticTerrain>([](double, double) { return 0.0; }, 0.0));
+    TerrainScene hills(std::make_shared<SyntheticTerrain>(ridges, 0.0), 3.0);
+    for (TerrainScene* terrain : {&flat, &hills}) {
+        terrain->look(Geodetic3D::fromDegrees(10.0, 46.0, 60000.0), 0.0, -50.0);
+        terrain->scene.setSunDirection(glm::normalize(kEarth.geodeticSurfaceNormal(Geodetic3D::fromDegrees(75.0, 46.0, 0.0))));
+    }
+    const Image flatImage = flat.converge(128, 128).image;
+    const Image hillImage = hills.converge(128, 128).image;
+    // Flat terrain is lit like the ellipsoid: smooth; the ridges make light and shadow under a
+    // Sun low in the east.
+    auto spread = [](const Image& image) {
+        int lowest = 255;
+        int highest = 0;
+        for (int y = 64; y < image.height; ++y) {
+            for (int x = 0; x < image.width; ++x) {
+                lowest = std::min<int>(lowest, image.pixel(x, y)[1]);
+                highest = std::max<int>(highest, image.pixel(x, y)[1]);
+            }
+        }
+        return highest - lowest;
+    };
+    CHECK(spread(flatImage) < 12);
+    CHECK(spread(hillImage) > 25);
+
+    TiledGlobeOptions options;
+    options.loader.workerThreads = 0;
+    Scene plain(kEarth);
+    plain.add(std::make_shared<TiledGlobe>(kEarth, options));
+    const RenderedFrame frame = renderFrame(plain, 64, 64);
+    CHECK_FALSE(hasEffect(frame.statistics.effects, Effect::Terrain));
+}

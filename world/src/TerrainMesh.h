@@ -1,0 +1,58 @@
+#pragma once
+
+// Meshes of terrain tiles for the terrain tiler: a grid of heights simplified into a triangle mesh
+// whose edges depend only on the edge's own samples (so neighbours agree), normals from the grid,
+// and the height a mesh or grid gives at a point, for measuring its error. Private to orbis::world.
+
+#include "orbis/world/TerrainSource.h"
+
+#include <orbis/core/Ellipsoid.h>
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace orbis::world::detail {
+
+/// A size x size grid of heights (row 0 north) simplified into a mesh within `tolerance` metres of
+/// every grid sample, vertically: each edge's samples are first reduced on their own (a
+/// Douglas-Peucker pass over the edge's profile, the same in both tiles that share the edge), then
+/// interior samples are inserted greedily, farthest first, into a Delaunay triangulation of
+/// those, until none is farther than the tolerance. Vertices are grid samples (u, v from the
+/// grid index, v from the south); triangles counter-clockwise, covering the tile once.
+struct SimplifiedMesh {
+    std::vector<glm::vec3> vertices;     ///< u, v, height
+    std::vector<std::uint32_t> indices;
+    std::vector<int> gridIndex;          ///< per vertex: row * size + column of its sample
+};
+SimplifiedMesh simplifyGrid(std::span<const float> heights, int size, double tolerance);
+
+/// Earth-fixed unit normals of a tile's grid samples, from central differences over a grid with a
+/// one-sample margin on every side ((size + 2)^2 heights, row 0 one sample north of the tile), so
+/// that a sample on an edge gets the same normal in both tiles that share it.
+std::vector<glm::vec3> gridNormals(const orbis::TileKey& key, int size, std::span<const float> heightsWithMargin,
+                                   const orbis::Ellipsoid& ellipsoid);
+
+/// The height of a triangle mesh (u, v in 0..1) at points, found through a grid of buckets.
+class MeshHeights {
+public:
+    MeshHeights(std::span<const glm::vec3> vertices, std::span<const std::uint32_t> indices);
+    /// The height at u, v (NaN outside every triangle).
+    double at(double u, double v) const noexcept;
+
+private:
+    std::span<const glm::vec3> _vertices;
+    std::span<const std::uint32_t> _indices;
+    int _buckets = 1;
+    std::vector<std::uint32_t> _bucketStart; ///< _buckets^2 + 1 offsets into _bucketTriangles
+    std::vector<std::uint32_t> _bucketTriangles;
+};
+
+/// The vertical distance from h to a grid's surface at u, v (0..1, v from the south), the larger
+/// of the two ways of cutting the grid cell into triangles, so that the measure holds whichever
+/// diagonal a renderer draws.
+double gridDeviation(std::span<const float> heights, int size, double u, double v, double h) noexcept;
+
+} // namespace orbis::world::detail
