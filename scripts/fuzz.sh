@@ -35,7 +35,8 @@ case "$target" in
     sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
       world/src/JsonText.cpp world/src/Diagnostics.cpp world/src/CsvPoints.cpp world/src/FileAccess.cpp
       world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
-      world/src/CameraKeyframe.cpp core/src/Transforms.cpp scene/src/Camera.cpp scene/src/CameraControllers.cpp"
+      world/src/CameraKeyframe.cpp core/src/Transforms.cpp core/src/IntersectionTests.cpp scene/src/Camera.cpp
+      scene/src/CameraControllers.cpp"
     seeds="$root/data/scenes/*.json $root/data/paths/*.json"
     dictionary="-dict=$root/tests/fuzz/scene.dict"
     workdir="$root/data/scenes" # where the seeds' relative paths lead

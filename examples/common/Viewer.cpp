@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string>
 #include <utility>
 
 using namespace orbis::world;
@@ -34,8 +35,14 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
     constexpr std::pair<char, Key> kFlyKeys[] = {{'W', Key::Forward}, {'S', Key::Backward}, {'A', Key::Left},
                                                  {'D', Key::Right},   {'E', Key::Up},       {'Q', Key::Down}};
     auto lastFrame = std::chrono::steady_clock::now();
+    // H flies back to where the viewer started.
+    const Geodetic3D home = scene.ellipsoid().toGeodetic3D(scene.camera().eye());
+    const HeadingPitchRoll homeOrientation = scene.camera().headingPitchRoll(scene.ellipsoid());
+    std::optional<CameraFlight> flight;
+    double flown = 0.0;
 
     std::optional<Framebuffer> frame;
+    std::string title;
     int shown = 0;
     while (!window.shouldClose() && (!options.frames || shown < *options.frames)) {
         window.pollEvents();
@@ -46,6 +53,10 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
         const WindowInput input = window.takeInput();
         bool moved = input.dragPixels != glm::dvec2(0.0) || input.scrollSteps != 0.0;
         for (const char letter : input.pressedLetters) {
+            if (letter == 'H') {
+                flight.emplace(scene.ellipsoid(), scene.camera(), home, homeOrientation, 3.0);
+                flown = 0.0;
+            }
             if (letter == 'F') {
                 const bool flying = controller.mode() == ViewerController::Mode::Fly;
                 controller.setMode(flying ? ViewerController::Mode::Orbit : ViewerController::Mode::Fly, scene.camera());
@@ -63,7 +74,19 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
                 }
             }
         }
-        if (moved) {
+        if (flight && moved) {
+            // The user takes over from wherever the flight got to.
+            flight.reset();
+            controller.setMode(controller.mode(), scene.camera());
+        }
+        if (flight) {
+            flown += seconds;
+            flight->apply(flown, scene.camera());
+            if (flown >= flight->duration()) {
+                flight.reset();
+                controller.setMode(controller.mode(), scene.camera());
+            }
+        } else if (moved) {
             controller.apply(scene.camera());
         }
         const int width = window.framebufferWidth();
@@ -77,6 +100,20 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
         context.setFramebuffer(&*frame);
         const FrameStatistics statistics = scene.render(context);
         context.blit(*frame);
+        if (statistics.tiles) {
+            // The title bar says what is still streaming in.
+            const TileStatistics& tiles = *statistics.tiles;
+            std::string status = options.title;
+            status.append(" - tiles: ").append(std::to_string(tiles.drawn)).append(" drawn, ");
+            status.append(std::to_string(tiles.pending)).append(" pending");
+            if (tiles.failed > 0) {
+                status.append(", ").append(std::to_string(tiles.failed)).append(" failed");
+            }
+            if (status != title) {
+                window.setTitle(status);
+                title = status;
+            }
+        }
         if (shown == 0) {
             std::printf("window %dx%d, %s\n%s", width, height, device.info().renderer.c_str(), statistics.toText().c_str());
             std::fflush(stdout);

@@ -1,6 +1,7 @@
 // The orbis command: one subcommand per job, looked up in a table (kSubcommands), each a function
 // from its arguments to the exit code: 0 success, 1 the job failed (an invalid scene file, ...),
-// 2 the command line is wrong.
+// 2 the command line is wrong (a UsageError naming what, thrown by the subcommand). docs/cli.md
+// describes each.
 #include "../common/SceneExample.h"
 #include "../common/Viewer.h"
 
@@ -9,8 +10,10 @@
 #include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/core/TileKey.h>
-#include <orbis/world/ImageFile.h>
+#include <orbis/world/AsyncPngWriter.h>
+#include <orbis/world/Diagnostics.h>
 #include <orbis/world/FileAccess.h>
+#include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
@@ -20,15 +23,20 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -40,6 +48,98 @@ constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
 
 using Arguments = std::span<char* const>;
+
+/// A command line the subcommand cannot run: main prints the message and the subcommand's usage,
+/// and exits with kExitUsage.
+struct UsageError {
+    std::string message;
+};
+
+[[gnu::format(printf, 1, 2)]] std::string format(const char* pattern, ...)
+{
+    std::va_list arguments;
+    va_start(arguments, pattern);
+    std::va_list again;
+    va_copy(again, arguments);
+    const int length = std::vsnprintf(nullptr, 0, pattern, arguments);
+    va_end(arguments);
+    std::string text(static_cast<std::size_t>(std::max(length, 0)), '\0');
+    std::vsnprintf(text.data(), text.size() + 1, pattern, again);
+    va_end(again);
+    return text;
+}
+
+/// "unknown option "--widht" (did you mean "--width"?)".
+UsageError unknownOption(std::string_view option, std::span<const std::string_view> options)
+{
+    return {"unknown option " + orbis::world::quote(option) + orbis::world::suggestion(option, options)};
+}
+
+/// `text` as a whole number from minimum to maximum; empty when it is anything else ("64abc", "1e3").
+std::optional<std::uint32_t> parseCount(std::string_view text, std::uint32_t minimum, std::uint32_t maximum)
+{
+    std::uint32_t value = 0;
+    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || value < minimum || value > maximum) {
+        return std::nullopt;
+    }
+    return value;
+}
+
+/// The value of `option` as a whole number from minimum to maximum, or a UsageError saying so.
+std::uint32_t countOption(std::string_view option, std::string_view value, std::uint32_t minimum, std::uint32_t maximum)
+{
+    const std::optional<std::uint32_t> count = parseCount(value, minimum, maximum);
+    if (!count) {
+        throw UsageError{format("%.*s: expected a whole number from %u to %u, got %s", static_cast<int>(option.size()),
+                                option.data(), minimum, maximum, orbis::world::quote(value).c_str())};
+    }
+    return *count;
+}
+
+/// A progress line on stderr for a long job: rewritten in place on a terminal (ten times a second
+/// at most), elsewhere, as a batch job's log wants it, a line of its own every five seconds, the
+/// first after five seconds, so that a short job prints none.
+class ProgressLine {
+public:
+    /// Shows `text` if a line is due; `last` always shows it (where an earlier line was shown).
+    void show(bool last, const std::string& text)
+    {
+        const double elapsed = seconds();
+        const bool due = elapsed >= _nextLine || (last && _shown);
+        if (!due) {
+            return;
+        }
+        _nextLine = elapsed + (_terminal ? 0.1 : 5.0);
+        std::fprintf(stderr, _terminal ? "\r%s   " : "%s\n", text.c_str());
+        _shown = true;
+        _open = _terminal;
+        if (last) {
+            endLine();
+        }
+    }
+    /// Seconds since the line was made.
+    double seconds() const
+    {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - _start).count();
+    }
+    ~ProgressLine() { endLine(); }
+
+private:
+    void endLine()
+    {
+        if (_open) {
+            std::fputc('\n', stderr);
+            _open = false;
+        }
+    }
+
+    bool _terminal = isatty(fileno(stderr)) != 0;
+    std::chrono::steady_clock::time_point _start = std::chrono::steady_clock::now();
+    double _nextLine = _terminal ? 0.0 : 5.0;
+    bool _shown = false; ///< a line was printed
+    bool _open = false;  ///< the terminal's cursor is at the end of a line being rewritten
+};
 
 void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbis::Geodetic3D& g)
 {
@@ -55,7 +155,7 @@ void printConversion(const orbis::Ellipsoid& earth, const char* name, const orbi
 int runDemo(Arguments arguments)
 {
     if (!arguments.empty()) {
-        return kExitUsage;
+        throw UsageError{format("demo takes no arguments, got %s", orbis::world::quote(arguments[0]).c_str())};
     }
     const orbis::Ellipsoid earth = orbis::Ellipsoid::wgs84();
     printConversion(earth, "Greenwich, sea level", orbis::Geodetic3D::fromDegrees(0.0, 51.4778, 0.0));
@@ -91,7 +191,7 @@ std::string resolveDataFile(const std::string& argument, const char* folder)
 
 /// --sandbox FOLDER: every file read from now on must lie in FOLDER (symbolic links followed);
 /// false, with a message, when FOLDER is no folder.
-bool confineFiles(const char* folder)
+bool confineFiles(const std::string& folder)
 {
     try {
         orbis::world::setFileSandbox(std::filesystem::path(folder));
@@ -121,20 +221,22 @@ bool buildsWithoutFault(const std::string& path, const orbis::world::SceneDescri
 /// `orbis render` would, renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
 {
+    constexpr std::string_view kOptions[] = {"--sandbox"};
     std::vector<std::string> scenes;
     for (std::size_t i = 0; i < arguments.size(); ++i) {
-        if (std::string_view(arguments[i]) == "--sandbox" && i + 1 < arguments.size()) {
-            if (!confineFiles(arguments[++i])) {
-                return kExitFailed;
-            }
-        } else if (std::string_view(arguments[i]).starts_with("--")) {
-            return kExitUsage;
-        } else {
-            scenes.push_back(resolveDataFile(arguments[i], "scenes"));
+        const std::string_view argument = arguments[i];
+        if (!argument.starts_with("--")) {
+            scenes.push_back(resolveDataFile(std::string(argument), "scenes"));
+        } else if (argument != "--sandbox") {
+            throw unknownOption(argument, kOptions);
+        } else if (i + 1 == arguments.size()) {
+            throw UsageError{"--sandbox needs a value"};
+        } else if (!confineFiles(arguments[++i])) {
+            return kExitFailed;
         }
     }
     if (scenes.empty()) {
-        return kExitUsage;
+        throw UsageError{"give the scene files to check"};
     }
     int exitCode = kExitOk;
     for (const std::string& path : scenes) {
@@ -165,32 +267,6 @@ std::string framePath(const std::string& output, int index, int count)
     char number[16];
     std::snprintf(number, sizeof number, "_%04d", index + 1);
     return hasExtension ? output.substr(0, dot) + number + output.substr(dot) : output + number;
-}
-
-/// A progress bar on a terminal, for flights.
-void showProgress(int done, int count, double elapsedSeconds)
-{
-    if (count <= 1 || !isatty(fileno(stderr))) {
-        return;
-    }
-    constexpr int kWidth = 30;
-    const int filled = done * kWidth / count;
-    std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames, %.1f frames/s", filled, "==============================",
-                 kWidth - filled, "", done, count, elapsedSeconds > 0.0 ? done / elapsedSeconds : 0.0);
-    if (done == count) {
-        std::fputc('\n', stderr);
-    }
-}
-
-/// `text` as a whole number from minimum to maximum; empty when it is anything else ("64abc", "1e3").
-std::optional<std::uint32_t> parseCount(std::string_view text, std::uint32_t minimum, std::uint32_t maximum)
-{
-    std::uint32_t value = 0;
-    const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || value < minimum || value > maximum) {
-        return std::nullopt;
-    }
-    return value;
 }
 
 /// The files one run writes, each first under a temporary name beside it, renamed into place
@@ -259,118 +335,114 @@ struct SceneArguments {
     std::optional<std::string> sandbox;
 };
 
-/// Reads the arguments into `parsed`; false when they are malformed.
-bool parseSceneArguments(Arguments arguments, SceneArguments& parsed)
+constexpr std::string_view kRenderOptions[] = {"--out",  "--width",      "--height",  "--stats",  "--frames",
+                                               "--path", "--max-frames", "--no-wait", "--sandbox"};
+constexpr std::string_view kViewOptions[] = {"--out", "--width", "--height", "--frames"};
+
+/// Reads the arguments of render or view, which take the `accepted` options; throws UsageError
+/// naming what is wrong.
+SceneArguments parseSceneArguments(Arguments arguments, std::span<const std::string_view> accepted)
 {
+    SceneArguments parsed;
     for (std::size_t i = 0; i < arguments.size(); ++i) {
         const std::string_view argument = arguments[i];
         if (!argument.starts_with("--")) {
             if (parsed.scenePath) {
-                return false;
+                throw UsageError{format("one scene file at a time: %s and %s", orbis::world::quote(*parsed.scenePath).c_str(),
+                                        orbis::world::quote(argument).c_str())};
             }
             parsed.scenePath = resolveDataFile(std::string(argument), "scenes");
             continue;
+        }
+        if (std::find(std::begin(accepted), std::end(accepted), argument) == std::end(accepted)) {
+            throw unknownOption(argument, accepted);
         }
         if (argument == "--no-wait") {
             parsed.noWait = true;
             continue;
         }
         if (i + 1 == arguments.size()) {
-            return false;
+            throw UsageError{format("%s needs a value", arguments[i])};
         }
-        const char* value = arguments[++i];
-        auto count = [&](std::optional<int>& into, std::uint32_t maximum) {
-            const std::optional<std::uint32_t> number = parseCount(value, 1, maximum);
-            if (!number) {
-                std::fprintf(stderr, "orbis: %.*s: expected a whole number from 1 to %u, got %s\n",
-                             static_cast<int>(argument.size()), argument.data(), maximum,
-                             orbis::world::quote(value).c_str());
-                return false;
-            }
-            into = static_cast<int>(*number);
-            return true;
-        };
+        const std::string_view value = arguments[++i];
+        auto count = [&](std::uint32_t maximum) { return static_cast<int>(countOption(argument, value, 1, maximum)); };
         if (argument == "--out") {
-            parsed.output = value;
+            parsed.output = std::string(value);
         } else if (argument == "--stats") {
-            parsed.statisticsPath = value;
+            parsed.statisticsPath = std::string(value);
         } else if (argument == "--path") {
-            parsed.cameraPath = resolveDataFile(value, "paths");
+            parsed.cameraPath = resolveDataFile(std::string(value), "paths");
         } else if (argument == "--sandbox") {
-            parsed.sandbox = value;
-        } else if (!((argument == "--width" && count(parsed.width, 16384)) ||
-                     (argument == "--height" && count(parsed.height, 16384)) ||
-                     (argument == "--frames" && count(parsed.frames, 100000)) ||
-                     (argument == "--max-frames" && count(parsed.maxFrames, 100000)))) {
-            return false;
+            parsed.sandbox = std::string(value);
+        } else if (argument == "--width") {
+            parsed.width = count(16384);
+        } else if (argument == "--height") {
+            parsed.height = count(16384);
+        } else if (argument == "--frames") {
+            parsed.frames = count(100000);
+        } else {
+            parsed.maxFrames = count(100000);
         }
     }
-    return true;
+    return parsed;
 }
 
-/// A line now and then while render waits for tiles: on a terminal as it goes, elsewhere every
-/// few seconds.
-class ConvergenceProgress {
-public:
-    void show(int frames, const orbis::scene::FrameStatistics& statistics)
-    {
-        if (!statistics.tiles) {
-            return;
-        }
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - _start).count();
-        const bool terminal = isatty(fileno(stderr)) != 0;
-        if (!terminal && elapsed < _nextLine) {
-            return;
-        }
-        _nextLine = elapsed + 5.0;
-        std::fprintf(stderr, terminal ? "\rwaiting for tiles: %d frames, %zu drawn, %zu pending " :
-                                        "waiting for tiles: %d frames, %zu drawn, %zu pending\n",
-                     frames, statistics.tiles->drawn, statistics.tiles->pending);
-        _shown = terminal;
-    }
-    ~ConvergenceProgress()
-    {
-        if (_shown) {
-            std::fputc('\n', stderr);
-        }
-    }
+orbis::world::SceneDescription readScene(const std::optional<std::string>& scenePath)
+{
+    return scenePath ? orbis::world::parseSceneFile(*scenePath)
+                     : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
+}
 
-private:
-    std::chrono::steady_clock::time_point _start = std::chrono::steady_clock::now();
-    double _nextLine = 5.0;
-    bool _shown = false;
-};
+/// Renders until the scene's streamed tiles have converged, at most `limit` frames, showing
+/// progress while it waits.
+orbis::scene::FrameStatistics renderConverged(orbis::scene::Scene& scene, orbis::renderer::Context& context, int limit)
+{
+    ProgressLine progress;
+    for (int rendered = 1;; ++rendered) {
+        orbis::scene::FrameStatistics statistics = scene.render(context);
+        const bool converged = !statistics.tiles || statistics.tiles->converged;
+        if (converged) {
+            statistics.framesToConverge = static_cast<std::uint64_t>(rendered);
+        }
+        if (converged || rendered >= limit) {
+            return statistics;
+        }
+        progress.show(false, format("waiting for tiles: %d frames, %zu drawn, %zu pending", rendered,
+                                    statistics.tiles->drawn, statistics.tiles->pending));
+    }
+}
 
-/// orbis render [SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N |
-/// --no-wait] [--frames N --path PATH.json]: one picture of a scene file (the built-in default
-/// Earth without one), rendered until its streamed tiles have converged (at most --max-frames
-/// frames, 600 by default; --no-wait writes the first), or a flight along a camera path as
-/// numbered PNGs, one frame each, headless. Each PNG appears whole or not at all.
+/// Encoders for a flight's frames: the cores the render thread leaves, at least one, at most four.
+int frameWriterThreads()
+{
+    const unsigned cores = std::thread::hardware_concurrency();
+    return static_cast<int>(std::clamp(cores > 1 ? cores - 1 : 1U, 1U, 4U));
+}
+
+/// orbis render [SCENE.json] [options]: one picture of a scene file (the built-in default Earth
+/// without one), rendered until its streamed tiles have converged, or a flight along a camera path
+/// as numbered PNGs, one frame each, headless; the PNGs are encoded on other threads while the
+/// next frames are drawn. Each PNG appears whole or not at all. docs/cli.md has the options.
 int runRender(Arguments arguments)
 {
-    SceneArguments parsed;
-    if (!parseSceneArguments(arguments, parsed)) {
-        return kExitUsage;
-    }
-    const auto& [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait, sandbox] =
-        parsed;
+    const auto [scenePath, outputOption, statisticsPath, cameraPath, width, height, frames, maxFrames, noWait,
+                sandbox] = parseSceneArguments(arguments, kRenderOptions);
     const std::string output = outputOption.value_or("orbis.png");
-    if (frames.value_or(1) > 1 && !cameraPath) {
-        std::fprintf(stderr, "orbis render: --frames needs a camera path (--path PATH.json)\n");
-        return kExitUsage;
+    if (frames && !cameraPath) {
+        throw UsageError{"--frames needs a camera path (--path PATH.json): a still picture is one frame"};
     }
     if (noWait && maxFrames) {
-        std::fprintf(stderr, "orbis render: --no-wait writes the first frame, --max-frames waits: give one\n");
-        return kExitUsage;
+        throw UsageError{"--no-wait writes the first frame, --max-frames waits: give one"};
     }
-    if (sandbox && !confineFiles(sandbox->c_str())) {
+    if (cameraPath && (noWait || maxFrames)) {
+        throw UsageError{"--no-wait and --max-frames are for still pictures; a flight draws each frame once"};
+    }
+    if (sandbox && !confineFiles(*sandbox)) {
         return kExitFailed;
     }
 
     try {
-        const orbis::world::SceneDescription description =
-            scenePath ? orbis::world::parseSceneFile(*scenePath)
-                      : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
+        const orbis::world::SceneDescription description = readScene(scenePath);
         std::optional<orbis::scene::CameraPath> flight;
         if (cameraPath) {
             flight.emplace(orbis::Ellipsoid::wgs84());
@@ -395,8 +467,9 @@ int runRender(Arguments arguments)
         orbis::scene::Scene scene;
         orbis::scene::populateScene(description, scene);
 
+        orbis::world::AsyncPngWriter writer(frameCount > 1 ? frameWriterThreads() : 1);
         std::string statisticsJson = frameCount > 1 ? "[\n" : "";
-        const auto start = std::chrono::steady_clock::now();
+        ProgressLine progress;
         for (int frame = 0; frame < frameCount; ++frame) {
             orbis::scene::FrameStatistics statistics;
             if (flight) {
@@ -404,24 +477,11 @@ int runRender(Arguments arguments)
                 flight->apply(flight->keyframes().front().seconds + t * flight->duration(), scene.camera());
                 statistics = scene.render(context);
             } else {
-                // A still picture waits for its tiles: frames until nothing changes any more.
-                ConvergenceProgress progress;
-                const int limit = noWait ? 1 : maxFrames.value_or(600);
-                for (int rendered = 1;; ++rendered) {
-                    statistics = scene.render(context);
-                    const bool converged = !statistics.tiles || statistics.tiles->converged;
-                    if (converged) {
-                        statistics.framesToConverge = static_cast<std::uint64_t>(rendered);
-                    }
-                    if (converged || rendered >= limit) {
-                        break;
-                    }
-                    progress.show(rendered, statistics);
-                }
+                statistics = renderConverged(scene, context, noWait ? 1 : maxFrames.value_or(600));
             }
             const std::string path = framePath(output, frame, frameCount);
-            orbis::world::writePng(context.readPixels(), outputs.stage(path));
-            if (frame == 0 || frameCount == 1) {
+            writer.write(context.readPixels(), outputs.stage(path));
+            if (frame == 0) {
                 std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
                             device.info().renderer.c_str(), statistics.toText().c_str());
             }
@@ -438,10 +498,12 @@ int runRender(Arguments arguments)
             statisticsJson += statistics.toJson();
             if (frameCount > 1) {
                 statisticsJson += frame + 1 < frameCount ? ",\n" : "]\n";
+                const double seconds = progress.seconds();
+                progress.show(frame + 1 == frameCount, format("%d/%d frames, %.1f frames/s", frame + 1, frameCount,
+                                                              seconds > 0.0 ? (frame + 1) / seconds : 0.0));
             }
-            showProgress(frame + 1, frameCount,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         }
+        writer.finish();
         if (frameCount > 1) {
             std::printf("%d frames: %s .. %s\n", frameCount, framePath(output, 0, frameCount).c_str(),
                         framePath(output, frameCount - 1, frameCount).c_str());
@@ -457,23 +519,18 @@ int runRender(Arguments arguments)
     }
 }
 
-/// orbis view [SCENE.json] [--width W] [--height H] [--frames N --out PNG]: the scene in a window,
-/// turned by dragging with the left button and zoomed with the wheel (about the Earth's centre);
-/// F switches to flying (drag to look around, W A S D to move, E and Q up and down) and back;
-/// Escape or closing the window ends it. Each frame is rendered offscreen, where the scene may have
-/// the float depth buffer a window lacks, and copied to the window. --frames stops after N frames,
-/// and --out then writes the last one as the window showed it.
+/// orbis view [SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]: the scene in a
+/// window (examples/common/Viewer.h has the controls). Each frame is rendered offscreen, where the
+/// scene may have the float depth buffer a window lacks, and copied to the window. --frames stops
+/// after N frames, and --out then writes the last one as the window showed it.
 int runView(Arguments arguments)
 {
-    SceneArguments parsed;
-    if (!parseSceneArguments(arguments, parsed) || parsed.statisticsPath || parsed.cameraPath ||
-        (parsed.output && !parsed.frames)) {
-        return kExitUsage;
+    const SceneArguments parsed = parseSceneArguments(arguments, kViewOptions);
+    if (parsed.output && !parsed.frames) {
+        throw UsageError{"--out writes the last of --frames N frames: give --frames too"};
     }
     try {
-        const orbis::world::SceneDescription description =
-            parsed.scenePath ? orbis::world::parseSceneFile(*parsed.scenePath)
-                             : orbis::world::parseDefaultScene(orbis::examples::dataDirectory() / "scenes");
+        const orbis::world::SceneDescription description = readScene(parsed.scenePath);
         orbis::examples::ViewerOptions options;
         options.width = parsed.width.value_or(description.width);
         options.height = parsed.height.value_or(description.height);
@@ -494,14 +551,17 @@ int runView(Arguments arguments)
     }
 }
 
-/// orbis info: the OpenGL driver the headless device gets, and its limits.
+/// orbis info: Orbis's version, the OpenGL driver the headless device gets, its limits, and the
+/// capabilities the scene chooses its strategies by.
 int runInfo(Arguments arguments)
 {
     if (!arguments.empty()) {
-        return kExitUsage;
+        throw UsageError{format("info takes no arguments, got %s", orbis::world::quote(arguments[0]).c_str())};
     }
     const orbis::renderer::Device device;
     const orbis::renderer::DeviceInfo& info = device.info();
+    auto yes = [](bool value) { return value ? "yes" : "no"; };
+    std::printf("orbis:            %s\n", ORBIS_VERSION);
     std::printf("backend:          %s\n", info.backendDescription.c_str());
     std::printf("vendor:           %s\n", info.vendor.c_str());
     std::printf("renderer:         %s\n", info.renderer.c_str());
@@ -512,51 +572,31 @@ int runInfo(Arguments arguments)
     std::printf("colour targets:   %d\n", info.maxColorAttachments);
     std::printf("vertex attributes: %d\n", info.maxVertexAttributes);
     std::printf("max anisotropy:   %g\n", static_cast<double>(info.maxAnisotropy));
-    std::printf("KHR_debug:        %s\n", info.khrDebug ? "yes" : "no");
+    std::printf("KHR_debug:        %s\n", yes(info.khrDebug));
+    std::printf("capabilities the strategies depend on:\n");
+    std::printf("  clip control:   %s (complementary depth in a float buffer: depth \"auto\" can pick it)\n",
+                yes(info.clipControl));
+    std::printf("  gpu_shader5:    %s (\"precise\" arithmetic for GPU relative-to-eye and emulated doubles)\n",
+                yes(info.gpuShader5));
+    std::printf("  sparse texture: %s (ARB_sparse_texture, for virtual textures)\n",
+                yes(info.hasExtension("GL_ARB_sparse_texture")));
     return kExitOk;
 }
 
-/// Progress of a tiling run on stderr: one line rewritten on a terminal, else a line every five
-/// seconds (a batch job's log), and the last tile always.
-class TilingProgressLine {
-public:
-    void operator()(const orbis::world::TilerProgress& progress)
-    {
-        const bool last = progress.done == progress.total;
-        const double sinceLine = progress.seconds - _lastLine;
-        if (!last && sinceLine < (_terminal ? 0.1 : 5.0)) {
-            return;
-        }
-        _lastLine = progress.seconds;
-        const auto done = static_cast<double>(progress.done);
-        const auto total = static_cast<double>(progress.total);
-        const double rate = progress.seconds > 0.0 ? done / progress.seconds : 0.0;
-        const double left = rate > 0.0 ? (total - done) / rate : 0.0;
-        std::fprintf(stderr, "%slevel %u: %zu/%zu tiles, all levels %zu/%zu (%.0f%%), %.1f tiles/s, %.0f s left%s",
-                     _terminal ? "\r" : "", progress.level, progress.levelDone, progress.levelTotal, progress.done,
-                     progress.total, total > 0.0 ? 100.0 * done / total : 100.0, rate, left,
-                     _terminal ? (last ? "\n" : "   ") : "\n");
-    }
-
-private:
-    bool _terminal = isatty(fileno(stderr)) != 0;
-    double _lastLine = -1e9;
-};
-
-/// `text` as a finite number of metres, 0 or more; empty when it is anything else.
-std::optional<double> parseMetres(std::string_view text)
+/// `text` as a finite number, at least `minimum`; empty when it is anything else.
+std::optional<double> parseFinite(std::string_view text, double minimum)
 {
     double value = 0.0;
     const auto [rest, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || !std::isfinite(value) || value < 0.0) {
+    if (text.empty() || error != std::errc() || rest != text.data() + text.size() || !std::isfinite(value) ||
+        value < minimum) {
         return std::nullopt;
     }
     return value;
 }
 
 /// The options both tilers take: INPUT --out FOLDER [--levels N] [--level L [--range X0:X1]]
-/// [--threads N] [--title TEXT] [--attribution TEXT]; the rest go to `other`, which returns
-/// false for an option it does not know or a bad value.
+/// [--threads N] [--title TEXT] [--attribution TEXT].
 struct TilingArguments {
     std::filesystem::path input;
     std::filesystem::path output;
@@ -567,100 +607,124 @@ struct TilingArguments {
     std::string title;
     std::string attribution;
 
-    template <class Other>
-    bool parse(Arguments arguments, Other&& other)
+    static constexpr std::string_view kOptions[] = {"--out",     "--levels", "--level",      "--range",
+                                                    "--threads", "--title",  "--attribution"};
+
+    /// Reads the arguments; the tiler's own options (`ownOptions`, flags among them taking no value)
+    /// go to `own(option, value)`, which throws UsageError for a bad value. Throws UsageError naming
+    /// what is wrong.
+    template <class Own>
+    void parse(Arguments arguments, std::span<const std::string_view> ownOptions,
+               std::span<const std::string_view> ownFlags, Own&& own)
     {
+        std::vector<std::string_view> accepted(std::begin(kOptions), std::end(kOptions));
+        accepted.insert(accepted.end(), ownOptions.begin(), ownOptions.end());
+        accepted.insert(accepted.end(), ownFlags.begin(), ownFlags.end());
         for (std::size_t i = 0; i < arguments.size(); ++i) {
             const std::string_view argument = arguments[i];
             if (!argument.starts_with("--")) {
                 if (!input.empty()) {
-                    return false;
+                    throw UsageError{format("one input at a time: %s and %s", orbis::world::quote(input.string()).c_str(),
+                                            orbis::world::quote(argument).c_str())};
                 }
                 input = std::string(argument);
                 continue;
             }
-            if (other.flag(argument)) {
+            if (std::find(accepted.begin(), accepted.end(), argument) == accepted.end()) {
+                throw unknownOption(argument, accepted);
+            }
+            if (std::find(ownFlags.begin(), ownFlags.end(), argument) != ownFlags.end()) {
+                own(argument, std::string_view());
                 continue;
             }
             if (i + 1 == arguments.size()) {
-                return false;
+                throw UsageError{format("%s needs a value", arguments[i])};
             }
             const std::string_view value = arguments[++i];
             if (argument == "--out") {
                 output = std::string(value);
             } else if (argument == "--levels") {
-                levels = parseCount(value, 1, orbis::kMaximumTileLevel + 1);
-                if (!levels) {
-                    return false;
-                }
+                levels = countOption(argument, value, 1, orbis::kMaximumTileLevel + 1);
             } else if (argument == "--level") {
-                onlyLevel = parseCount(value, 0, orbis::kMaximumTileLevel);
-                if (!onlyLevel) {
-                    return false;
-                }
+                onlyLevel = countOption(argument, value, 0, orbis::kMaximumTileLevel);
             } else if (argument == "--range") {
                 const std::size_t colon = value.find(':');
                 const auto first = parseCount(value.substr(0, colon), 0, 0x7fffffff);
                 const auto last =
                     colon == std::string_view::npos ? std::nullopt : parseCount(value.substr(colon + 1), 0, 0x7fffffff);
                 if (!first || !last) {
-                    return false;
+                    throw UsageError{"--range: expected the first and last column as X0:X1, got " +
+                                     orbis::world::quote(value)};
                 }
                 columns = std::pair(*first, *last);
             } else if (argument == "--threads") {
-                const auto count = parseCount(value, 1, 256);
-                if (!count) {
-                    return false;
-                }
-                threads = static_cast<int>(*count);
+                threads = static_cast<int>(countOption(argument, value, 1, 256));
             } else if (argument == "--title") {
                 title = std::string(value);
             } else if (argument == "--attribution") {
                 attribution = std::string(value);
-            } else if (!other.option(argument, value)) {
-                return false;
+            } else {
+                own(argument, value);
             }
         }
-        return !input.empty() && !output.empty() && (!columns || onlyLevel);
+        if (input.empty() || output.empty()) {
+            throw UsageError{"give the input and --out FOLDER"};
+        }
+        if (columns && !onlyLevel) {
+            throw UsageError{"--range cuts columns of one level: give --level too"};
+        }
+    }
+
+    /// Copies the common options into a tiler's options.
+    template <class Options>
+    void apply(Options& options) const
+    {
+        options.input = input;
+        options.output = output;
+        options.levels = levels;
+        options.onlyLevel = onlyLevel;
+        options.columns = columns;
+        options.threads = threads;
+        options.title = title;
+        options.attribution = attribution;
     }
 };
+
+/// A tiler's progress on a ProgressLine.
+std::function<void(const orbis::world::TilerProgress&)> tilingProgress()
+{
+    return [line = std::make_shared<ProgressLine>()](const orbis::world::TilerProgress& progress) {
+        const auto done = static_cast<double>(progress.done);
+        const auto total = static_cast<double>(progress.total);
+        const double rate = progress.seconds > 0.0 ? done / progress.seconds : 0.0;
+        const double left = rate > 0.0 ? (total - done) / rate : 0.0;
+        line->show(progress.done == progress.total,
+                   format("level %u: %zu/%zu tiles, all levels %zu/%zu (%.0f%%), %.1f tiles/s, %.0f s left",
+                          progress.level, progress.levelDone, progress.levelTotal, progress.done, progress.total,
+                          total > 0.0 ? 100.0 * done / total : 100.0, rate, left));
+    };
+}
 
 /// orbis tile imagery INPUT --out FOLDER [--format jpg|png|webp] [--quality Q] and the common
 /// options: a TMS pyramid (geographic, tilemapresource.xml) cut from an image GDAL reads.
 int runTileImagery(Arguments arguments)
 {
     orbis::world::ImageryTilerOptions options;
-    struct Extra {
-        orbis::world::ImageryTilerOptions& options;
-        bool flag(std::string_view) { return false; }
-        bool option(std::string_view argument, std::string_view value)
-        {
-            if (argument == "--format") {
-                options.format = orbis::world::imageFormatFromName(value);
-                return options.format != orbis::world::ImageFormat::Unknown && value.find('/') == std::string_view::npos;
-            }
-            if (argument == "--quality") {
-                const auto quality = parseCount(value, 0, 100);
-                options.quality = quality ? std::optional<int>(static_cast<int>(*quality)) : std::nullopt;
-                return quality.has_value();
-            }
-            return false;
-        }
-    } extra{options};
+    constexpr std::string_view kOwnOptions[] = {"--format", "--quality"};
     TilingArguments common;
-    if (!common.parse(arguments, extra)) {
-        return kExitUsage;
-    }
-    options.input = common.input;
-    options.output = common.output;
-    options.levels = common.levels;
-    options.onlyLevel = common.onlyLevel;
-    options.columns = common.columns;
-    options.threads = common.threads;
-    options.title = common.title;
-    options.attribution = common.attribution;
+    common.parse(arguments, kOwnOptions, {}, [&](std::string_view argument, std::string_view value) {
+        if (argument == "--format") {
+            options.format = orbis::world::imageFormatFromName(value);
+            if (options.format == orbis::world::ImageFormat::Unknown || value.find('/') != std::string_view::npos) {
+                throw UsageError{"--format: expected \"jpg\", \"png\" or \"webp\", got " + orbis::world::quote(value)};
+            }
+        } else {
+            options.quality = static_cast<int>(countOption(argument, value, 0, 100));
+        }
+    });
+    common.apply(options);
     try {
-        options.progress = TilingProgressLine();
+        options.progress = tilingProgress();
         orbis::world::ImageryTiler tiler(options);
         const orbis::world::TilerSummary summary = tiler.run();
         std::printf("%s: %zu tiles written, %zu empty skipped, levels 0-%u, %.1f s (%.1f tiles/s)\n",
@@ -681,65 +745,43 @@ int runTileImagery(Arguments arguments)
 int runTileTerrain(Arguments arguments)
 {
     orbis::world::TerrainTilerOptions options;
-    struct Extra {
-        orbis::world::TerrainTilerOptions& options;
-        bool flag(std::string_view argument)
-        {
-            if (argument == "--no-normals") {
-                options.normals = false;
-                return true;
-            }
-            return false;
-        }
-        bool option(std::string_view argument, std::string_view value)
-        {
-            if (argument == "--format") {
-                if (value == "quantized-mesh") {
-                    options.format = orbis::world::TerrainTileFormat::QuantizedMesh;
-                } else if (value == "heightmap") {
-                    options.format = orbis::world::TerrainTileFormat::Heightmap;
-                } else {
-                    return false;
-                }
-                return true;
-            }
-            if (argument == "--samples") {
-                const auto samples = parseCount(value, 5, 1025);
-                options.gridSize = samples ? static_cast<int>(*samples) : 0;
-                return samples.has_value();
-            }
-            if (argument == "--gzip") {
-                const auto level = parseCount(value, 0, 9);
-                options.gzipLevel = level ? static_cast<int>(*level) : 0;
-                return level.has_value();
-            }
-            if (argument == "--max-error") {
-                options.maximumError = parseMetres(value);
-                return options.maximumError.has_value();
-            }
-            if (argument == "--nodata-height") {
-                double height = 0.0;
-                const auto [rest, error] = std::from_chars(value.data(), value.data() + value.size(), height);
-                options.noDataHeight = height;
-                return !value.empty() && error == std::errc() && rest == value.data() + value.size() && std::isfinite(height);
-            }
-            return false;
-        }
-    } extra{options};
+    constexpr std::string_view kOwnOptions[] = {"--format", "--samples", "--gzip", "--max-error", "--nodata-height"};
+    constexpr std::string_view kOwnFlags[] = {"--no-normals"};
     TilingArguments common;
-    if (!common.parse(arguments, extra)) {
-        return kExitUsage;
-    }
-    options.input = common.input;
-    options.output = common.output;
-    options.levels = common.levels;
-    options.onlyLevel = common.onlyLevel;
-    options.columns = common.columns;
-    options.threads = common.threads;
-    options.title = common.title;
-    options.attribution = common.attribution;
+    common.parse(arguments, kOwnOptions, kOwnFlags, [&](std::string_view argument, std::string_view value) {
+        if (argument == "--no-normals") {
+            options.normals = false;
+        } else if (argument == "--format") {
+            if (value == "quantized-mesh") {
+                options.format = orbis::world::TerrainTileFormat::QuantizedMesh;
+            } else if (value == "heightmap") {
+                options.format = orbis::world::TerrainTileFormat::Heightmap;
+            } else {
+                throw UsageError{"--format: expected \"quantized-mesh\" or \"heightmap\", got " +
+                                 orbis::world::quote(value)};
+            }
+        } else if (argument == "--samples") {
+            options.gridSize = static_cast<int>(countOption(argument, value, 5, 1025));
+        } else if (argument == "--gzip") {
+            options.gzipLevel = static_cast<int>(countOption(argument, value, 0, 9));
+        } else {
+            const bool error = argument == "--max-error";
+            const std::optional<double> metres = parseFinite(value, error ? 0.0 : -1e300);
+            if (!metres) {
+                throw UsageError{format("%.*s: expected a finite number of metres%s, got %s",
+                                        static_cast<int>(argument.size()), argument.data(), error ? ", 0 or more" : "",
+                                        orbis::world::quote(value).c_str())};
+            }
+            if (error) {
+                options.maximumError = *metres;
+            } else {
+                options.noDataHeight = *metres;
+            }
+        }
+    });
+    common.apply(options);
     try {
-        options.progress = TilingProgressLine();
+        options.progress = tilingProgress();
         orbis::world::TerrainTiler tiler(options);
         const orbis::world::TerrainTilerSummary summary = tiler.run();
         std::string errors;
@@ -768,17 +810,14 @@ int runTileTerrain(Arguments arguments)
 /// orbis tile imagery|terrain ...
 int runTile(Arguments arguments)
 {
-    if (arguments.size() < 2) {
-        return kExitUsage;
-    }
-    const std::string_view kind = arguments[0];
+    const std::string_view kind = arguments.empty() ? std::string_view() : std::string_view(arguments[0]);
     if (kind == "imagery") {
         return runTileImagery(arguments.subspan(1));
     }
     if (kind == "terrain") {
         return runTileTerrain(arguments.subspan(1));
     }
-    return kExitUsage;
+    throw UsageError{"what to tile: \"imagery\" or \"terrain\", got " + (kind.empty() ? "nothing" : orbis::world::quote(kind))};
 }
 
 struct Subcommand {
@@ -789,17 +828,18 @@ struct Subcommand {
 };
 
 constexpr Subcommand kSubcommands[] = {
-    {"demo", "", "geodetic conversions on WGS84 (the default with no subcommand)", runDemo},
     {"render",
      "[SCENE.json] [--out PNG] [--width W] [--height H] [--stats JSON] [--max-frames N | --no-wait] "
-     "[--frames N --path PATH.json] [--sandbox FOLDER]",
-     "render a scene file (the default Earth without one) to a PNG once its tiles have converged (at most "
-     "--max-frames frames, 600 by default; --no-wait: the first frame), or a flight along a camera path to "
-     "numbered PNGs, headless",
+     "[--path PATH.json [--frames N]] [--sandbox FOLDER]",
+     "render a scene file (the default Earth without one) to a PNG (orbis.png) once its tiles have converged "
+     "(at most --max-frames frames, 600 by default; --no-wait: the first frame); with --path, a flight along "
+     "a camera path to numbered PNGs (PNG_0001.png ...), --frames of them (60 by default), headless; "
+     "--sandbox: refuse to read files outside FOLDER",
      runRender},
     {"view", "[SCENE.json] [--width W] [--height H] [--frames N [--out PNG]]",
      "show a scene file in a window (needs GLFW and a display): drag to turn, wheel to zoom, F to fly (W A S "
-     "D, E Q), Escape to close",
+     "D, E Q), H to fly home, Escape to close; the title shows the tiles pending; --frames N stops after N "
+     "frames, --out writes the last",
      runView},
     {"validate", "[--sandbox FOLDER] SCENE.json...",
      "check scene files and the files they name without rendering, listing every fault (see docs/scene-format.md)",
@@ -816,17 +856,25 @@ constexpr Subcommand kSubcommands[] = {
      "tiles with layer.json (availability, each tile's measured geometric error); --max-error: the quantized-mesh "
      "tolerance at level 0, halved per level (see docs/terrain.md)",
      runTile},
-    {"info", "", "the OpenGL vendor, renderer, version and limits", runInfo},
+    {"info", "", "the Orbis version, the OpenGL driver, its limits and the capabilities the scene's strategies use",
+     runInfo},
+    {"demo", "", "geodetic conversions on WGS84", runDemo},
+    {"help", "[COMMAND]", "this text, or one command's (also: orbis COMMAND --help)", nullptr},
 };
+
+void printUsageLine(std::FILE* stream, const Subcommand& subcommand)
+{
+    std::fprintf(stream, "  orbis %.*s%s%.*s\n      %.*s\n", static_cast<int>(subcommand.name.size()),
+                 subcommand.name.data(), subcommand.arguments.empty() ? "" : " ",
+                 static_cast<int>(subcommand.arguments.size()), subcommand.arguments.data(),
+                 static_cast<int>(subcommand.summary.size()), subcommand.summary.data());
+}
 
 int usage(std::FILE* stream, int exitCode)
 {
-    std::fprintf(stream, "usage:\n");
+    std::fprintf(stream, "orbis %s: virtual-globe rendering from scene files (docs/cli.md)\nusage:\n", ORBIS_VERSION);
     for (const Subcommand& subcommand : kSubcommands) {
-        std::fprintf(stream, "  orbis %.*s %.*s\n      %.*s\n", static_cast<int>(subcommand.name.size()),
-                     subcommand.name.data(), static_cast<int>(subcommand.arguments.size()),
-                     subcommand.arguments.data(), static_cast<int>(subcommand.summary.size()),
-                     subcommand.summary.data());
+        printUsageLine(stream, subcommand);
     }
     const std::filesystem::path data = orbis::examples::dataDirectory();
     std::fprintf(stream, "SCENE.json and PATH.json may name an example in %s (scenes/, paths/):",
@@ -848,26 +896,78 @@ int usage(std::FILE* stream, int exitCode)
     return exitCode;
 }
 
+int commandUsage(std::FILE* stream, const Subcommand& subcommand, int exitCode)
+{
+    std::fprintf(stream, "usage:\n");
+    for (const Subcommand& form : kSubcommands) { // tile has two forms
+        if (form.name == subcommand.name) {
+            printUsageLine(stream, form);
+        }
+    }
+    std::fprintf(stream, "(orbis help: every command; docs/cli.md: the options in full)\n");
+    return exitCode;
+}
+
+const Subcommand* findSubcommand(std::string_view name)
+{
+    for (const Subcommand& subcommand : kSubcommands) {
+        if (subcommand.name == name) {
+            return &subcommand;
+        }
+    }
+    return nullptr;
+}
+
+bool asksForHelp(std::string_view argument)
+{
+    return argument == "--help" || argument == "-h";
+}
+
+/// "unknown command "rnder" (did you mean "render"?)".
+int unknownCommand(std::string_view name)
+{
+    std::vector<std::string_view> names;
+    for (const Subcommand& subcommand : kSubcommands) {
+        if (std::find(names.begin(), names.end(), subcommand.name) == names.end()) {
+            names.push_back(subcommand.name);
+        }
+    }
+    std::fprintf(stderr, "orbis: unknown command %s%s\n", orbis::world::quote(name).c_str(),
+                 orbis::world::suggestion(name, names).c_str());
+    return usage(stderr, kExitUsage);
+}
+
 } // namespace
 
 int main(int argc, char** argv)
 {
     const Arguments all(argv, static_cast<std::size_t>(argc));
-    const std::string_view name = all.size() > 1 ? std::string_view(all[1]) : std::string_view("demo");
-    if (name == "help" || name == "--help" || name == "-h") {
+    if (all.size() < 2 || asksForHelp(all[1])) {
         return usage(stdout, kExitOk);
     }
-    for (const Subcommand& subcommand : kSubcommands) {
-        if (subcommand.name == name) {
-            try {
-                const int exitCode = subcommand.run(all.size() > 2 ? all.subspan(2) : Arguments());
-                return exitCode == kExitUsage ? usage(stderr, kExitUsage) : exitCode;
-            } catch (const std::exception& error) {
-                std::fprintf(stderr, "orbis %.*s: %s\n", static_cast<int>(name.size()), name.data(), error.what());
-                return kExitFailed;
-            }
+    const std::string_view name = all[1];
+    const Arguments arguments = all.subspan(2);
+    if (name == "help") {
+        if (arguments.empty()) {
+            return usage(stdout, kExitOk);
         }
+        const Subcommand* subcommand = findSubcommand(arguments[0]);
+        return subcommand ? commandUsage(stdout, *subcommand, kExitOk) : unknownCommand(arguments[0]);
     }
-    std::fprintf(stderr, "orbis: unknown command \"%.*s\"\n", static_cast<int>(name.size()), name.data());
-    return usage(stderr, kExitUsage);
+    const Subcommand* subcommand = findSubcommand(name);
+    if (!subcommand) {
+        return unknownCommand(name);
+    }
+    if (std::any_of(arguments.begin(), arguments.end(), asksForHelp)) {
+        return commandUsage(stdout, *subcommand, kExitOk);
+    }
+    try {
+        return subcommand->run(arguments);
+    } catch (const UsageError& error) {
+        std::fprintf(stderr, "orbis %.*s: %s\n", static_cast<int>(name.size()), name.data(), error.message.c_str());
+        return commandUsage(stderr, *subcommand, kExitUsage);
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "orbis %.*s: %s\n", static_cast<int>(name.size()), name.data(), error.what());
+        return kExitFailed;
+    }
 }

@@ -389,14 +389,13 @@ void Context::draw(std::span<const DrawCommand> commands, const SceneState& scen
     }
 }
 
-void Context::draw(const DrawCommand& command, const SceneState& scene)
+std::size_t Context::checkDrawable(const DrawCommand& command, const SceneState& scene) const
 {
-    prefetchFollowing(command, 2);
-    detail::ContextState& state = *_state;
+    const detail::ContextState& state = *_state;
     if (!state.isCurrent()) {
         throw Error(commandLabel(command) + ": the context is not current on this thread");
     }
-    ShaderProgram* program = command.shaderProgram;
+    const ShaderProgram* program = command.shaderProgram;
     const VertexArray* array = command.vertexArray;
     if (!program || !program->valid()) {
         throw Error(commandLabel(command) + ": no shader program");
@@ -432,20 +431,24 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
                     std::to_string(command.first) + ", " + std::to_string(command.first + count) +
                     ") but the vertex array has " + std::to_string(available));
     }
-
-    const bool complementary = scene.depthConvention == DepthConvention::Complementary;
-    if (complementary && !device().info().clipControl) [[unlikely]] {
+    if (scene.depthConvention == DepthConvention::Complementary && !device().info().clipControl) [[unlikely]] {
         throw Error(commandLabel(command) +
                     ": complementary depth needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control) for a 0..1 "
                     "clip-space depth range, and this driver (" + device().info().renderer + ", OpenGL " +
                     device().info().version + ") has neither");
     }
+    return count;
+}
 
-    const ErrorSource source{"DrawCommand", command.debugName};
+PixelRectangle Context::applyDrawState(const DrawCommand& command, const SceneState& scene,
+                                       const detail::ErrorSource& source)
+{
+    detail::ContextState& state = *_state;
     Framebuffer* target = bindTarget(command.framebuffer, source);
     const PixelRectangle viewport = scene.viewport.width > 0 && scene.viewport.height > 0 ? scene.viewport
-                                                                                     : targetRectangle(target);
+                                                                                          : targetRectangle(target);
     state.applyViewport(viewport);
+    const bool complementary = scene.depthConvention == DepthConvention::Complementary;
     if (complementary) [[unlikely]] {
         RenderState renderState = command.renderState;
         renderState.depthTest.function = mirrored(renderState.depthTest.function);
@@ -458,9 +461,15 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
     if (complementary || state.clipDepthZeroToOne()) [[unlikely]] {
         state.applyClipDepthZeroToOne(complementary);
     }
-    state.bindProgram(ShaderProgramAccess::serial(*program), ShaderProgramAccess::handle(*program));
-    state.bindVertexArray(array->_serial, array->_name);
+    state.bindProgram(ShaderProgramAccess::serial(*command.shaderProgram),
+                      ShaderProgramAccess::handle(*command.shaderProgram));
+    state.bindVertexArray(command.vertexArray->_serial, command.vertexArray->_name);
+    return viewport;
+}
 
+std::uint32_t Context::bindTextures(const DrawCommand& command)
+{
+    detail::ContextState& state = *_state;
     std::uint32_t boundUnits = 0;
     for (const TextureBinding& binding : command.textures) {
         if (binding.unit < 0 || binding.unit >= state.commandTextureUnits) {
@@ -480,46 +489,66 @@ void Context::draw(const DrawCommand& command, const SceneState& scene)
                           binding.sampler ? binding.sampler->_name : 0u);
         boundUnits |= 1u << binding.unit;
     }
+    return boundUnits;
+}
 
-    const std::uint64_t programSerial = ShaderProgramAccess::serial(*program);
+void Context::setUniforms(const DrawCommand& command, const SceneState& scene, const PixelRectangle& viewport,
+                          std::uint32_t boundUnits, const detail::ErrorSource& source)
+{
+    detail::ContextState& state = *_state;
+    ShaderProgram& program = *command.shaderProgram;
+    const std::uint64_t programSerial = ShaderProgramAccess::serial(program);
     const UniformValues& uniforms = command.uniforms;
     for (std::size_t i = 0; i < uniforms._count; ++i) {
         const UniformValues::Entry& entry = uniforms.entry(i);
         if (entry.cachedProgramSerial != programSerial) [[unlikely]] {
-            entry.cachedSlot = ShaderProgramAccess::findSlot(*program, uniforms._names[i]);
+            entry.cachedSlot = ShaderProgramAccess::findSlot(program, uniforms._names[i]);
             entry.cachedProgramSerial = programSerial;
         }
         if (entry.cachedSlot < 0) [[unlikely]] {
             entry.cachedProgramSerial = 0;
-            program->uniformIndex(uniforms._names[i]); // throws, naming the active uniforms
+            program.uniformIndex(uniforms._names[i]); // throws, naming the active uniforms
         }
-        if (!ShaderProgramAccess::assignBytes(*program, entry.cachedSlot, entry.type, uniforms.bytes(entry), entry.size,
+        if (!ShaderProgramAccess::assignBytes(program, entry.cachedSlot, entry.type, uniforms.bytes(entry), entry.size,
                                               source)) {
             ++state.statistics.uniformUploadsAvoided;
         }
     }
-    setAutomaticUniforms(*program, scene, command.modelMatrix, viewport, command.renderState.depthRange,
-                         state.matrices, state.statistics);
-    if (ShaderProgramAccess::unsetCount(*program) != 0) {
-        ShaderProgramAccess::checkAllSet(*program, commandLabel(command));
+    setAutomaticUniforms(program, scene, command.modelMatrix, viewport, command.renderState.depthRange, state.matrices,
+                         state.statistics);
+    if (ShaderProgramAccess::unsetCount(program) != 0) {
+        ShaderProgramAccess::checkAllSet(program, commandLabel(command));
     }
-    for (const int slot : ShaderProgramAccess::samplerSlots(*program)) {
-        const int unit = ShaderProgramAccess::samplerUnitOfSlot(*program, slot);
+    for (const int slot : ShaderProgramAccess::samplerSlots(program)) {
+        const int unit = ShaderProgramAccess::samplerUnitOfSlot(program, slot);
         if (unit < 0 || unit >= 32 || !(boundUnits & (1u << unit))) {
-            throw Error(commandLabel(command) + ": shader program '" + program->name() + "' samples " +
-                        ShaderProgramAccess::uniformName(*program, slot) + " from texture unit " + std::to_string(unit) +
+            throw Error(commandLabel(command) + ": shader program '" + program.name() + "' samples " +
+                        ShaderProgramAccess::uniformName(program, slot) + " from texture unit " + std::to_string(unit) +
                         " but the command binds no texture there");
         }
     }
-    state.statistics.uniformUploads += ShaderProgramAccess::flush(*program, state.gl);
+    state.statistics.uniformUploads += ShaderProgramAccess::flush(program, state.gl);
+}
 
+void Context::draw(const DrawCommand& command, const SceneState& scene)
+{
+    prefetchFollowing(command, 2);
+    // Check, set the state, bind, set the uniforms, then draw: nothing reaches GL for a command
+    // that fails its checks.
+    const std::size_t count = checkDrawable(command, scene);
+    const ErrorSource source{"DrawCommand", command.debugName};
+    const PixelRectangle viewport = applyDrawState(command, scene, source);
+    const std::uint32_t boundUnits = bindTextures(command);
+    setUniforms(command, scene, viewport, boundUnits, source);
     if (count == 0) {
         return;
     }
+    detail::ContextState& state = *_state;
+    const VertexArray& array = *command.vertexArray;
     const GLenum mode = detail::toGl(command.primitiveType);
-    if (array->indexed()) {
-        const std::size_t offset = command.first * indexSize(array->indexType());
-        state.gl.glDrawElements(mode, static_cast<GLsizei>(count), detail::toGl(array->indexType()),
+    if (array.indexed()) {
+        const std::size_t offset = command.first * indexSize(array.indexType());
+        state.gl.glDrawElements(mode, static_cast<GLsizei>(count), detail::toGl(array.indexType()),
                                 reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset)));
     } else {
         state.gl.glDrawArrays(mode, static_cast<GLint>(command.first), static_cast<GLsizei>(count));

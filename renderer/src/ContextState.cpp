@@ -206,6 +206,111 @@ void ContextState::ensureKnown()
     statistics.stateChangesMade += 30;
 }
 
+namespace {
+
+/// Brings one item of GL's state to what a draw wants, counting the calls made and avoided.
+class StateDiff {
+public:
+    explicit StateDiff(const GlApi& gl) noexcept : _gl(gl) {}
+
+    /// Enables or disables a capability when `current` differs from `want`.
+    void enable(bool& current, bool want, GLenum capability)
+    {
+        change(current == want, [&] {
+            if (want) {
+                _gl.glEnable(capability);
+            } else {
+                _gl.glDisable(capability);
+            }
+            current = want;
+        });
+    }
+
+    /// Sets `current` to `want` with `apply` when they differ.
+    template <class T, class Apply>
+    void update(T& current, const T& want, Apply&& apply)
+    {
+        change(current == want, [&] {
+            apply();
+            current = want;
+        });
+    }
+
+    /// Runs `apply` (which makes one GL call and records it in the shadow state) unless `same`.
+    template <class Apply>
+    void change(bool same, Apply&& apply)
+    {
+        if (same) {
+            ++avoided;
+            return;
+        }
+        apply();
+        ++made;
+    }
+
+    const GlApi& gl() const noexcept { return _gl; }
+
+    std::uint64_t made = 0;
+    std::uint64_t avoided = 0;
+
+private:
+    const GlApi& _gl;
+};
+
+void applyStencilFace(StateDiff& diff, StencilTestFace& current, const StencilTestFace& want, GLenum glFace)
+{
+    const GlApi& gl = diff.gl();
+    diff.change(current.function == want.function && current.referenceValue == want.referenceValue &&
+                    current.mask == want.mask,
+                [&] {
+                    gl.glStencilFuncSeparate(glFace, toGl(want.function), want.referenceValue, want.mask);
+                    current.function = want.function;
+                    current.referenceValue = want.referenceValue;
+                    current.mask = want.mask;
+                });
+    diff.change(current.stencilFailOperation == want.stencilFailOperation &&
+                    current.depthFailStencilPassOperation == want.depthFailStencilPassOperation &&
+                    current.depthPassStencilPassOperation == want.depthPassStencilPassOperation,
+                [&] {
+                    gl.glStencilOpSeparate(glFace, toGl(want.stencilFailOperation),
+                                           toGl(want.depthFailStencilPassOperation),
+                                           toGl(want.depthPassStencilPassOperation));
+                    current.stencilFailOperation = want.stencilFailOperation;
+                    current.depthFailStencilPassOperation = want.depthFailStencilPassOperation;
+                    current.depthPassStencilPassOperation = want.depthPassStencilPassOperation;
+                });
+    diff.update(current.writeMask, want.writeMask, [&] { gl.glStencilMaskSeparate(glFace, want.writeMask); });
+}
+
+void applyBlending(StateDiff& diff, Blending& current, const Blending& want)
+{
+    const GlApi& gl = diff.gl();
+    diff.enable(current.enabled, want.enabled, GL_BLEND);
+    if (!want.enabled) {
+        return; // the function is left alone while blending is off
+    }
+    diff.change(current.sourceRgbFactor == want.sourceRgbFactor && current.sourceAlphaFactor == want.sourceAlphaFactor &&
+                    current.destinationRgbFactor == want.destinationRgbFactor &&
+                    current.destinationAlphaFactor == want.destinationAlphaFactor,
+                [&] {
+                    gl.glBlendFuncSeparate(toGl(want.sourceRgbFactor), toGl(want.destinationRgbFactor),
+                                           toGl(want.sourceAlphaFactor), toGl(want.destinationAlphaFactor));
+                    current.sourceRgbFactor = want.sourceRgbFactor;
+                    current.sourceAlphaFactor = want.sourceAlphaFactor;
+                    current.destinationRgbFactor = want.destinationRgbFactor;
+                    current.destinationAlphaFactor = want.destinationAlphaFactor;
+                });
+    diff.change(current.rgbEquation == want.rgbEquation && current.alphaEquation == want.alphaEquation, [&] {
+        gl.glBlendEquationSeparate(toGl(want.rgbEquation), toGl(want.alphaEquation));
+        current.rgbEquation = want.rgbEquation;
+        current.alphaEquation = want.alphaEquation;
+    });
+    diff.update(current.color, want.color,
+                [&] { gl.glBlendColor(want.color.r, want.color.g, want.color.b, want.color.a); });
+}
+
+} // namespace
+
 void ContextState::applyRenderState(const RenderState& wanted)
 {
     if (_lastWantedValid && std::memcmp(&_lastWanted, &wanted, sizeof wanted) == 0) {
@@ -214,163 +319,66 @@ void ContextState::applyRenderState(const RenderState& wanted)
     }
     ensureKnown();
     RenderState& s = _state;
-    std::uint64_t made = 0;
-    std::uint64_t avoided = 0;
-    auto enable = [&](bool& current, bool want, GLenum capability) {
-        if (current == want) {
-            ++avoided;
-            return;
-        }
-        if (want) {
-            gl.glEnable(capability);
-        } else {
-            gl.glDisable(capability);
-        }
-        current = want;
-        ++made;
-    };
-    // Sets `current` to `want` with `apply` when they differ.
-    auto update = [&](auto& current, const auto& want, auto&& apply) {
-        if (current == want) {
-            ++avoided;
-            return;
-        }
-        apply();
-        current = want;
-        ++made;
-    };
-
+    StateDiff diff(gl);
+    // Items of a disabled group (the cull face while culling is off) are left alone.
     const PrimitiveRestart& restart = wanted.primitiveRestart;
-    enable(s.primitiveRestart.enabled, restart.enabled, GL_PRIMITIVE_RESTART);
+    diff.enable(s.primitiveRestart.enabled, restart.enabled, GL_PRIMITIVE_RESTART);
     if (restart.enabled) {
-        update(s.primitiveRestart.index, restart.index, [&] { gl.glPrimitiveRestartIndex(restart.index); });
+        diff.update(s.primitiveRestart.index, restart.index, [&] { gl.glPrimitiveRestartIndex(restart.index); });
     }
-
     const FacetCulling& culling = wanted.facetCulling;
-    enable(s.facetCulling.enabled, culling.enabled, GL_CULL_FACE);
+    diff.enable(s.facetCulling.enabled, culling.enabled, GL_CULL_FACE);
     if (culling.enabled) {
-        update(s.facetCulling.face, culling.face, [&] { gl.glCullFace(toGl(culling.face)); });
+        diff.update(s.facetCulling.face, culling.face, [&] { gl.glCullFace(toGl(culling.face)); });
     }
     // The winding also decides gl_FrontFacing and which stencil face applies: set it always.
-    update(s.facetCulling.frontFaceWindingOrder, culling.frontFaceWindingOrder,
-           [&] { gl.glFrontFace(toGl(culling.frontFaceWindingOrder)); });
-
-    update(s.rasterizationMode, wanted.rasterizationMode,
-           [&] { gl.glPolygonMode(GL_FRONT_AND_BACK, toGl(wanted.rasterizationMode)); });
-
+    diff.update(s.facetCulling.frontFaceWindingOrder, culling.frontFaceWindingOrder,
+                [&] { gl.glFrontFace(toGl(culling.frontFaceWindingOrder)); });
+    diff.update(s.rasterizationMode, wanted.rasterizationMode,
+                [&] { gl.glPolygonMode(GL_FRONT_AND_BACK, toGl(wanted.rasterizationMode)); });
     const ScissorTest& scissor = wanted.scissorTest;
-    enable(s.scissorTest.enabled, scissor.enabled, GL_SCISSOR_TEST);
+    diff.enable(s.scissorTest.enabled, scissor.enabled, GL_SCISSOR_TEST);
     if (scissor.enabled) {
-        update(s.scissorTest.rectangle, scissor.rectangle, [&] {
+        diff.update(s.scissorTest.rectangle, scissor.rectangle, [&] {
             const PixelRectangle& r = scissor.rectangle;
             gl.glScissor(r.x, r.y, r.width, r.height);
         });
     }
-
     const StencilTest& stencil = wanted.stencilTest;
-    enable(s.stencilTest.enabled, stencil.enabled, GL_STENCIL_TEST);
+    diff.enable(s.stencilTest.enabled, stencil.enabled, GL_STENCIL_TEST);
     if (stencil.enabled) {
-        auto face = [&](StencilTestFace& current, const StencilTestFace& want, GLenum glFace) {
-            const bool sameFunction = current.function == want.function &&
-                                      current.referenceValue == want.referenceValue && current.mask == want.mask;
-            if (sameFunction) {
-                ++avoided;
-            } else {
-                gl.glStencilFuncSeparate(glFace, toGl(want.function), want.referenceValue, want.mask);
-                current.function = want.function;
-                current.referenceValue = want.referenceValue;
-                current.mask = want.mask;
-                ++made;
-            }
-            const bool sameOperations = current.stencilFailOperation == want.stencilFailOperation &&
-                                        current.depthFailStencilPassOperation == want.depthFailStencilPassOperation &&
-                                        current.depthPassStencilPassOperation == want.depthPassStencilPassOperation;
-            if (sameOperations) {
-                ++avoided;
-            } else {
-                gl.glStencilOpSeparate(glFace, toGl(want.stencilFailOperation),
-                                       toGl(want.depthFailStencilPassOperation),
-                                       toGl(want.depthPassStencilPassOperation));
-                current.stencilFailOperation = want.stencilFailOperation;
-                current.depthFailStencilPassOperation = want.depthFailStencilPassOperation;
-                current.depthPassStencilPassOperation = want.depthPassStencilPassOperation;
-                ++made;
-            }
-            update(current.writeMask, want.writeMask, [&] { gl.glStencilMaskSeparate(glFace, want.writeMask); });
-        };
-        face(s.stencilTest.frontFace, stencil.frontFace, GL_FRONT);
-        face(s.stencilTest.backFace, stencil.backFace, GL_BACK);
+        applyStencilFace(diff, s.stencilTest.frontFace, stencil.frontFace, GL_FRONT);
+        applyStencilFace(diff, s.stencilTest.backFace, stencil.backFace, GL_BACK);
     }
-
     const DepthTest& depth = wanted.depthTest;
-    enable(s.depthTest.enabled, depth.enabled, GL_DEPTH_TEST);
+    diff.enable(s.depthTest.enabled, depth.enabled, GL_DEPTH_TEST);
     if (depth.enabled) {
-        update(s.depthTest.function, depth.function, [&] { gl.glDepthFunc(toGl(depth.function)); });
+        diff.update(s.depthTest.function, depth.function, [&] { gl.glDepthFunc(toGl(depth.function)); });
     }
-
-    update(s.depthRange, wanted.depthRange,
-           [&] { gl.glDepthRange(wanted.depthRange.nearValue, wanted.depthRange.farValue); });
-
-    const Blending& blending = wanted.blending;
-    enable(s.blending.enabled, blending.enabled, GL_BLEND);
-    if (blending.enabled) {
-        Blending& current = s.blending;
-        const bool sameFactors = current.sourceRgbFactor == blending.sourceRgbFactor &&
-                                 current.sourceAlphaFactor == blending.sourceAlphaFactor &&
-                                 current.destinationRgbFactor == blending.destinationRgbFactor &&
-                                 current.destinationAlphaFactor == blending.destinationAlphaFactor;
-        if (sameFactors) {
-            ++avoided;
-        } else {
-            gl.glBlendFuncSeparate(toGl(blending.sourceRgbFactor), toGl(blending.destinationRgbFactor),
-                                   toGl(blending.sourceAlphaFactor), toGl(blending.destinationAlphaFactor));
-            current.sourceRgbFactor = blending.sourceRgbFactor;
-            current.sourceAlphaFactor = blending.sourceAlphaFactor;
-            current.destinationRgbFactor = blending.destinationRgbFactor;
-            current.destinationAlphaFactor = blending.destinationAlphaFactor;
-            ++made;
-        }
-        const bool sameEquations =
-            current.rgbEquation == blending.rgbEquation && current.alphaEquation == blending.alphaEquation;
-        if (sameEquations) {
-            ++avoided;
-        } else {
-            gl.glBlendEquationSeparate(toGl(blending.rgbEquation), toGl(blending.alphaEquation));
-            current.rgbEquation = blending.rgbEquation;
-            current.alphaEquation = blending.alphaEquation;
-            ++made;
-        }
-        update(current.color, blending.color,
-               [&] { gl.glBlendColor(blending.color.r, blending.color.g, blending.color.b, blending.color.a); });
-    }
-
-    update(s.colorMask, wanted.colorMask, [&] {
+    diff.update(s.depthRange, wanted.depthRange,
+                [&] { gl.glDepthRange(wanted.depthRange.nearValue, wanted.depthRange.farValue); });
+    applyBlending(diff, s.blending, wanted.blending);
+    diff.update(s.colorMask, wanted.colorMask, [&] {
         const ColorMask& m = wanted.colorMask;
         gl.glColorMask(m.red, m.green, m.blue, m.alpha);
     });
-    update(s.depthMask, wanted.depthMask, [&] { gl.glDepthMask(wanted.depthMask); });
-
+    diff.update(s.depthMask, wanted.depthMask, [&] { gl.glDepthMask(wanted.depthMask); });
     const PolygonOffset& offset = wanted.polygonOffset;
-    enable(s.polygonOffset.enabled, offset.enabled, GL_POLYGON_OFFSET_FILL);
+    diff.enable(s.polygonOffset.enabled, offset.enabled, GL_POLYGON_OFFSET_FILL);
     if (offset.enabled) {
-        const bool same = s.polygonOffset.factor == offset.factor && s.polygonOffset.units == offset.units;
-        if (same) {
-            ++avoided;
-        } else {
+        diff.change(s.polygonOffset.factor == offset.factor && s.polygonOffset.units == offset.units, [&] {
             gl.glPolygonOffset(offset.factor, offset.units);
             s.polygonOffset.factor = offset.factor;
             s.polygonOffset.units = offset.units;
-            ++made;
-        }
+        });
     }
+    diff.enable(s.programPointSize, wanted.programPointSize, GL_PROGRAM_POINT_SIZE);
 
-    enable(s.programPointSize, wanted.programPointSize, GL_PROGRAM_POINT_SIZE);
-
-    statistics.stateChangesMade += made;
-    statistics.stateChangesAvoided += avoided;
+    statistics.stateChangesMade += diff.made;
+    statistics.stateChangesAvoided += diff.avoided;
     // Copied whole, padding included, so that the next memcmp of an equal copy can match.
     std::memcpy(static_cast<void*>(&_lastWanted), &wanted, sizeof wanted);
-    _lastWantedItems = made + avoided;
+    _lastWantedItems = diff.made + diff.avoided;
     _lastWantedValid = true;
 }
 

@@ -335,12 +335,14 @@ std::string ShaderProgramDescription::cacheKey() const
     return key;
 }
 
-ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& description)
-{
-    detail::ContextState& state = detail::requireCurrent(this, "Device::createShaderProgram");
-    const detail::GlApi& gl = state.gl;
-    const std::string programName = description.name.empty() ? description.vertex.name : description.name;
+namespace {
 
+/// Compiles the description's stages and links them into `handle`, with the standard attribute
+/// locations and the transform-feedback outputs. Throws orbis::Error with the compiler's or the
+/// linker's log, naming the files.
+void linkProgram(const detail::GlApi& gl, GLuint handle, const ShaderProgramDescription& description,
+                 const std::string& programName)
+{
     if (description.vertex.text.empty() || description.fragment.text.empty()) {
         throw Error("shader program '" + programName + "': the " +
                     (description.vertex.text.empty() ? "vertex" : "fragment") + " shader " +
@@ -352,13 +354,6 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
                                     ? compile(gl, GL_GEOMETRY_SHADER, *description.geometry, description, programName)
                                     : 0u};
     CompiledShader fragment{gl, compile(gl, GL_FRAGMENT_SHADER, description.fragment, description, programName)};
-
-    ShaderProgram program;
-    program._device = this;
-    program._handle = gl.glCreateProgram();
-    program._serial = detail::nextObjectSerial();
-    program._name = programName;
-    const GLuint handle = program._handle;
     gl.glAttachShader(handle, vertex.name);
     if (geometry.name) {
         gl.glAttachShader(handle, geometry.name);
@@ -393,11 +388,15 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
             files += ", " + description.geometry->name;
         }
         files += ", " + description.fragment.name;
-        throw Error("shader program '" + programName + "' (" + files + ") does not link:\n" +
-                    programLog(gl, handle));
+        throw Error("shader program '" + programName + "' (" + files + ") does not link:\n" + programLog(gl, handle));
     }
+}
 
-    // Reflection: what transform feedback captures, in floats per vertex.
+/// What transform feedback captures, in floats per vertex.
+int capturedComponents(const detail::GlApi& gl, GLuint handle, const ShaderProgramDescription& description,
+                       const std::string& programName)
+{
+    int total = 0;
     for (std::size_t i = 0; i < description.transformFeedbackVaryings.size(); ++i) {
         GLchar varyingName[256];
         GLsizei length = 0;
@@ -415,15 +414,20 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
             throw Error("shader program '" + programName + "': captured output " +
                         description.transformFeedbackVaryings[i] + " is not a float, vec2, vec3 or vec4");
         }
-        program._capturedComponents += components * size;
+        total += components * size;
     }
+    return total;
+}
 
-    // Reflection: vertex attributes.
+/// The active vertex attributes (built-ins left out), by location.
+std::vector<ShaderVertexAttribute> activeAttributes(const detail::GlApi& gl, GLuint handle)
+{
     GLint count = 0;
     GLint maxLength = 0;
     gl.glGetProgramiv(handle, GL_ACTIVE_ATTRIBUTES, &count);
     gl.glGetProgramiv(handle, GL_ACTIVE_ATTRIBUTE_MAX_LENGTH, &maxLength);
     std::vector<GLchar> nameBuffer(static_cast<std::size_t>(std::max(maxLength, 1)) + 1);
+    std::vector<ShaderVertexAttribute> attributes;
     for (GLint i = 0; i < count; ++i) {
         GLsizei length = 0;
         GLint size = 0;
@@ -434,19 +438,23 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
         if (name.rfind("gl_", 0) == 0) {
             continue;
         }
-        const GLint location = gl.glGetAttribLocation(handle, name.c_str());
-        program._attributes.push_back({name, location, fromGl(type)});
-        if (location >= 0 && location < 32) {
-            program._attributeMask |= 1u << location;
-        }
+        attributes.push_back({name, gl.glGetAttribLocation(handle, name.c_str()), fromGl(type)});
     }
-    std::sort(program._attributes.begin(), program._attributes.end(),
+    std::sort(attributes.begin(), attributes.end(),
               [](const ShaderVertexAttribute& a, const ShaderVertexAttribute& b) { return a.location < b.location; });
+    return attributes;
+}
 
-    // Reflection: uniforms (those in the default block; blocks are not supported yet).
+/// The active uniforms of the default block (blocks are not supported yet), arrays named without
+/// their "[0]"; `automatic` not yet decided.
+std::vector<ShaderUniform> activeUniforms(const detail::GlApi& gl, GLuint handle)
+{
+    GLint count = 0;
+    GLint maxLength = 0;
     gl.glGetProgramiv(handle, GL_ACTIVE_UNIFORMS, &count);
     gl.glGetProgramiv(handle, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLength);
-    nameBuffer.assign(static_cast<std::size_t>(std::max(maxLength, 1)) + 1, 0);
+    std::vector<GLchar> nameBuffer(static_cast<std::size_t>(std::max(maxLength, 1)) + 1, 0);
+    std::vector<ShaderUniform> uniforms;
     for (GLint i = 0; i < count; ++i) {
         GLsizei length = 0;
         GLint size = 0;
@@ -461,12 +469,64 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
         if (name.size() > 3 && name.compare(name.size() - 3, 3, "[0]") == 0) {
             name.resize(name.size() - 3);
         }
-        ShaderUniform uniform{name, location, fromGl(type), size, false};
+        uniforms.push_back({name, location, fromGl(type), size, false});
+    }
+    return uniforms;
+}
+
+/// The automatic uniform an og_ uniform (other than og_textureN) is; throws orbis::Error for a name
+/// that is none, or the wrong type.
+int automaticUniformOf(const ShaderUniform& uniform, const std::string& programName)
+{
+    const int id = detail::automaticUniformId(uniform.name);
+    if (id < 0) {
+        std::string known;
+        for (const detail::AutomaticUniformInfo& info : detail::kAutomaticUniforms) {
+            known += std::string(known.empty() ? "" : ", ") + info.name;
+        }
+        throw Error("shader program '" + programName + "': uniform " + uniform.name +
+                    " uses the og_ prefix kept for automatic uniforms but is not one (they are " + known +
+                    ", og_texture0.." + std::to_string(detail::kMaxTrackedTextureUnits - 2) + ")");
+    }
+    const UniformType expected = detail::kAutomaticUniforms[id].type;
+    if (uniform.type != expected || uniform.arraySize != 1) {
+        throw Error("shader program '" + programName + "': automatic uniform " + uniform.name + " must be " +
+                    uniformTypeName(expected) + ", not " + uniformTypeName(uniform.type) +
+                    (uniform.arraySize != 1 ? " array" : ""));
+    }
+    return id;
+}
+
+} // namespace
+
+ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& description)
+{
+    detail::ContextState& state = detail::requireCurrent(this, "Device::createShaderProgram");
+    const detail::GlApi& gl = state.gl;
+    const std::string programName = description.name.empty() ? description.vertex.name : description.name;
+
+    ShaderProgram program;
+    program._device = this;
+    program._handle = gl.glCreateProgram(); // deleted by the program's destructor if a step below throws
+    program._serial = detail::nextObjectSerial();
+    program._name = programName;
+    const GLuint handle = program._handle;
+    linkProgram(gl, handle, description, programName);
+    program._capturedComponents = capturedComponents(gl, handle, description, programName);
+    program._attributes = activeAttributes(gl, handle);
+    for (const ShaderVertexAttribute& attribute : program._attributes) {
+        if (attribute.location >= 0 && attribute.location < 32) {
+            program._attributeMask |= 1u << attribute.location;
+        }
+    }
+
+    // A slot per uniform: automatic ones set by the Context at draw time, the others by the user.
+    for (ShaderUniform& uniform : activeUniforms(gl, handle)) {
         ShaderProgram::Slot slot;
-        slot.location = location;
+        slot.location = uniform.location;
         slot.type = uniform.type;
-        const int textureUnit = ogTextureUnit(name);
-        if (name.rfind("og_", 0) == 0) {
+        const int textureUnit = ogTextureUnit(uniform.name);
+        if (uniform.name.rfind("og_", 0) == 0) {
             uniform.automatic = true;
             if (textureUnit >= 0 && isSampler(uniform.type)) {
                 // og_textureN reads texture unit N: set once, here.
@@ -475,32 +535,16 @@ ShaderProgram Device::createShaderProgram(const ShaderProgramDescription& descri
                 slot.hasValue = true;
                 slot.dirty = true;
             } else {
-                const int id = detail::automaticUniformId(name);
-                if (id < 0) {
-                    std::string known;
-                    for (const detail::AutomaticUniformInfo& info : detail::kAutomaticUniforms) {
-                        known += std::string(known.empty() ? "" : ", ") + info.name;
-                    }
-                    throw Error("shader program '" + programName + "': uniform " + name +
-                                " uses the og_ prefix kept for automatic uniforms but is not one (they are " + known +
-                                ", og_texture0.." + std::to_string(detail::kMaxTrackedTextureUnits - 2) + ")");
-                }
-                const UniformType expected = detail::kAutomaticUniforms[id].type;
-                if (uniform.type != expected || size != 1) {
-                    throw Error("shader program '" + programName + "': automatic uniform " + name + " must be " +
-                                uniformTypeName(expected) + ", not " + uniformTypeName(uniform.type) +
-                                (size != 1 ? " array" : ""));
-                }
-                slot.automatic = id;
-                program._automaticSlots.emplace_back(id, static_cast<int>(program._uniforms.size()));
+                slot.automatic = automaticUniformOf(uniform, programName);
+                program._automaticSlots.emplace_back(slot.automatic, static_cast<int>(program._uniforms.size()));
             }
-        } else if (uniform.type == UniformType::Unsupported || (size != 1 && isSampler(uniform.type))) {
+        } else if (uniform.type == UniformType::Unsupported || (uniform.arraySize != 1 && isSampler(uniform.type))) {
             slot.hasValue = true; // not settable (other types, sampler arrays): GL's zero stays
         } else {
             slot.settable = true;
-            slot.count = size;
-            if (size != 1) {
-                slot.arrayValue.assign(static_cast<std::size_t>(size) * elementSize(uniform.type), 0);
+            slot.count = uniform.arraySize;
+            if (uniform.arraySize != 1) {
+                slot.arrayValue.assign(static_cast<std::size_t>(uniform.arraySize) * elementSize(uniform.type), 0);
             }
             ++program._unsetCount;
         }

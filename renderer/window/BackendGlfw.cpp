@@ -215,6 +215,11 @@ void Window::swapBuffers()
     glfwSwapBuffers(static_cast<GLFWwindow*>(_native));
 }
 
+void Window::setTitle(const std::string& title)
+{
+    glfwSetWindowTitle(static_cast<GLFWwindow*>(_native), title.c_str());
+}
+
 int Window::framebufferWidth() const
 {
     int width = 0;

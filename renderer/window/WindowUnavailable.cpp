@@ -31,6 +31,7 @@ bool Window::isKeyDown(char) const
     return false;
 }
 void Window::swapBuffers() {}
+void Window::setTitle(const std::string&) {}
 int Window::framebufferWidth() const
 {
     return 0;

@@ -1,5 +1,6 @@
 #include "orbis/scene/CameraControllers.h"
 
+#include <orbis/core/Math.h>
 #include <orbis/core/Transforms.h>
 
 #include <glm/geometric.hpp>
@@ -96,10 +97,7 @@ void FlyController::handle(const InputEvent& event) noexcept
 
 void FlyController::apply(Camera& camera) const noexcept
 {
-    const ViewOrientation view = headingPitchRollToView(_ellipsoid, _position, _heading, _pitch, 0.0);
-    // A target as far off as the eye is from the centre, so that target - eye keeps the direction
-    // to the last bits (one metre off, it would keep it to 1e-9 rad).
-    camera.lookAt(_position, _position + view.direction * std::max(1.0, glm::length(_position)), view.up);
+    camera.setView(_ellipsoid, _position, {_heading, _pitch, 0.0});
 }
 
 namespace {
@@ -114,7 +112,7 @@ OrbitController orbitFrom(const Ellipsoid& ellipsoid, const glm::dvec3& eye) noe
 
 FlyController flyFrom(const Ellipsoid& ellipsoid, const Camera& camera) noexcept
 {
-    const HeadingPitch view = viewToHeadingPitch(ellipsoid, camera.eye(), camera.target() - camera.eye());
+    const HeadingPitchRoll view = camera.headingPitchRoll(ellipsoid);
     return FlyController(ellipsoid, camera.eye(), view.heading, view.pitch);
 }
 
@@ -153,6 +151,90 @@ void ViewerController::apply(Camera& camera) const noexcept
     } else {
         _fly.apply(camera);
     }
+}
+
+namespace {
+
+/// `v` turned by `angle` about the unit `axis`, which is perpendicular to it.
+glm::dvec3 turn(const glm::dvec3& v, const glm::dvec3& axis, double angle) noexcept
+{
+    return std::cos(angle) * v + std::sin(angle) * glm::cross(axis, v);
+}
+
+/// 0 to 1 with zero speed at both ends.
+double ease(double t) noexcept
+{
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/// The direction of travel at a point of the flight, as a heading there.
+double travelHeading(const Ellipsoid& ellipsoid, const glm::dvec3& position, const glm::dvec3& axis,
+                     const glm::dvec3& normal) noexcept
+{
+    return viewToHeadingPitch(ellipsoid, position, glm::cross(axis, normal)).heading;
+}
+
+} // namespace
+
+CameraFlight::CameraFlight(const Ellipsoid& ellipsoid, const Camera& start, const Geodetic3D& destination,
+                           const HeadingPitchRoll& orientation, double seconds)
+    : _ellipsoid(ellipsoid)
+    , _destination(destination)
+    , _duration(std::isfinite(seconds) ? std::max(0.0, seconds) : 0.0)
+{
+    const Geodetic3D from = ellipsoid.toGeodetic3D(start.eye());
+    _startNormal = Ellipsoid::geodeticSurfaceNormal(from);
+    const glm::dvec3 endNormal = Ellipsoid::geodeticSurfaceNormal(destination);
+    const glm::dvec3 across = glm::cross(_startNormal, endNormal);
+    const double acrossLength = glm::length(across);
+    _angle = std::atan2(acrossLength, glm::dot(_startNormal, endNormal));
+    // Staying put or going to the antipode, any great circle through the start serves.
+    _axis = acrossLength > 1e-15 ? across / acrossLength : anyPerpendicular(_startNormal);
+    _startHeight = from.height;
+    _endHeight = destination.height;
+    // At mid-flight at least half the distance covered above the ground.
+    const double distance = _angle * ellipsoid.maximumRadius();
+    _arcHeight = std::max(0.0, 0.5 * distance - 0.5 * (_startHeight + _endHeight));
+
+    // Headings are kept relative to the direction of travel, which turns smoothly over a pole
+    // where the east-north-up frame spins.
+    _startOrientation = start.headingPitchRoll(ellipsoid);
+    _startOrientation.heading -= travelHeading(ellipsoid, start.eye(), _axis, _startNormal);
+    _endOrientation = orientation;
+    _endOrientation.heading -= travelHeading(ellipsoid, ellipsoid.toCartesian(destination), _axis, endNormal);
+}
+
+double CameraFlight::progress(double seconds) const noexcept
+{
+    // NaN seconds count as the end, where the camera is well defined.
+    const double t = _duration > 0.0 && seconds == seconds ? std::clamp(seconds / _duration, 0.0, 1.0) : 1.0;
+    return ease(t);
+}
+
+Geodetic3D CameraFlight::positionAt(double seconds) const noexcept
+{
+    const double s = progress(seconds);
+    if (s == 1.0) {
+        return _destination; // exactly, not to the rounding of the turn
+    }
+    const glm::dvec3 normal = turn(_startNormal, _axis, s * _angle);
+    const double height = _startHeight + s * (_endHeight - _startHeight) + 4.0 * s * (1.0 - s) * _arcHeight;
+    return {std::atan2(normal.y, normal.x), std::atan2(normal.z, std::hypot(normal.x, normal.y)), height};
+}
+
+void CameraFlight::apply(double seconds, Camera& camera) const noexcept
+{
+    const double s = progress(seconds);
+    const Geodetic3D geodetic = positionAt(seconds);
+    const glm::dvec3 position = _ellipsoid.toCartesian(geodetic);
+    const glm::dvec3 normal = Ellipsoid::geodeticSurfaceNormal(geodetic);
+    auto between = [s](double from, double to) { return from + s * std::remainder(to - from, kTwoPi); };
+    const HeadingPitchRoll orientation{
+        travelHeading(_ellipsoid, position, _axis, normal) +
+            between(_startOrientation.heading, _endOrientation.heading),
+        _startOrientation.pitch + s * (_endOrientation.pitch - _startOrientation.pitch),
+        between(_startOrientation.roll, _endOrientation.roll)};
+    camera.setView(_ellipsoid, position, orientation);
 }
 
 void CameraPath::add(const Keyframe& keyframe)

@@ -128,65 +128,87 @@ renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, rende
     return _floatDepthTarget.get();
 }
 
-FrameStatistics Scene::render(renderer::Context& context)
+/// What one frame looks through: its target, the camera's view, and the volume it sees.
+struct Scene::FrameView {
+    renderer::Framebuffer* target;
+    int width;
+    int height;
+    double aspect;
+    glm::dmat4 view;
+    glm::dvec3 eye;
+    glm::dvec3 viewDirection;
+    Frustum cullingVolume;  ///< the whole view, from the near to the far limit
+    double cosHalfDiagonal; ///< between the view direction and the frustum's corners
+};
+
+/// The depth the primitives that survived culling span by their spheres, for Automatic's first guess.
+struct Scene::SurvivorDepth {
+    double nearest = std::numeric_limits<double>::infinity();
+    double farthest = 0.0;
+    bool logarithmicAvailable = true; ///< every survivor writes logarithmic depth
+};
+
+Scene::FrameView Scene::frameView(renderer::Framebuffer* target) const
 {
-    FrameStatistics statistics;
-    statistics.frameNumber = ++_frameNumber;
-    renderer::Framebuffer* target = context.framebuffer();
     const int width = target ? target->width() : 0;
     const int height = target ? target->height() : 0;
     const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
-
     const MultiFrustumOptions& limits = _options.multiFrustum;
     const glm::dmat4 view = _camera.viewMatrix();
     const glm::dmat4 wholeProjection = _camera.projectionMatrix(aspect, limits.nearLimit, limits.farLimit);
-    const glm::dvec3 eye = _camera.eye();
-    const glm::dvec3 viewDirection = _camera.direction();
-    const Frustum cullingVolume = Frustum::fromViewProjection(wholeProjection * view);
+    const double tanHalfY = std::tan(0.5 * _camera.fieldOfViewY());
+    return {target,
+            width,
+            height,
+            aspect,
+            view,
+            _camera.eye(),
+            _camera.direction(),
+            Frustum::fromViewProjection(wholeProjection * view),
+            1.0 / std::sqrt(1.0 + tanHalfY * tanHalfY * (1.0 + aspect * aspect))};
+}
 
-    renderer::Device& device = context.device();
-    const std::uint64_t compilesBefore = device.shaderCache().compiles();
-    context.resetStatistics();
-
-    // Cull primitives whole: those culled are never asked for commands, so they allocate nothing.
-    // The survivors' spheres are what Automatic weighs on a first frame, before anything updates.
-    auto phase = std::chrono::steady_clock::now();
+Scene::SurvivorDepth Scene::cullPrimitives(const FrameView& frame, FrameStatistics& statistics)
+{
+    // Primitives culled whole are never asked for commands, so they allocate nothing.
+    const MultiFrustumOptions& limits = _options.multiFrustum;
     _survivors.clear();
-    double nearest = std::numeric_limits<double>::infinity();
-    double farthest = 0.0;
-    bool logarithmicAvailable = true;
+    SurvivorDepth depth;
     for (const std::shared_ptr<Primitive>& primitive : _primitives) {
         const std::optional<BoundingSphere> sphere = primitive->boundingSphere();
-        if (sphere && cullingVolume.intersect(*sphere) == Intersect::Outside) {
+        if (sphere && frame.cullingVolume.intersect(*sphere) == Intersect::Outside) {
             ++statistics.primitivesCulled;
             continue;
         }
         _survivors.push_back(primitive.get());
-        const double centre = sphere ? glm::dot(sphere->centre - eye, viewDirection) : 0.0;
-        nearest = std::min(nearest, sphere ? centre - sphere->radius : limits.nearLimit);
-        farthest = std::max(farthest, sphere ? centre + sphere->radius : limits.farLimit);
-        logarithmicAvailable = logarithmicAvailable && primitive->supportsLogarithmicDepth();
+        const double centre = sphere ? glm::dot(sphere->centre - frame.eye, frame.viewDirection) : 0.0;
+        depth.nearest = std::min(depth.nearest, sphere ? centre - sphere->radius : limits.nearLimit);
+        depth.farthest = std::max(depth.farthest, sphere ? centre + sphere->radius : limits.farLimit);
+        depth.logarithmicAvailable = depth.logarithmicAvailable && primitive->supportsLogarithmicDepth();
     }
-    const double tanHalfY = std::tan(0.5 * _camera.fieldOfViewY());
-    const double cosHalfDiagonal = 1.0 / std::sqrt(1.0 + tanHalfY * tanHalfY * (1.0 + aspect * aspect));
-    statistics.updateMilliseconds = millisecondsSince(phase);
+    return depth;
+}
 
+DepthStrategy Scene::startingDepthStrategy(renderer::Context& context, const FrameView& frame,
+                                           const SurvivorDepth& depth) const
+{
     // Automatic decides from the commands' own depth bounds, sharper than the primitives' spheres
     // (a globe bounds its depth by the eye's height and its horizon). Primitives choose their shader
     // variants in update(), so the frame starts with last frame's choice (the spheres' on the first)
     // and updates once more only when the commands call for another: never in a steady view. Any
     // choice draws correctly meanwhile: multi-frustum adds frustums as the commands need them.
-    const bool automatic = _options.depthStrategy == DepthStrategy::Automatic;
-    const double sphereNear = std::clamp(nearest, limits.nearLimit, limits.farLimit);
-    const double sphereFar = std::clamp(farthest, sphereNear, limits.farLimit);
-    DepthStrategy strategy = chooseDepthStrategy(context, target, sphereNear, sphereFar, logarithmicAvailable);
-    if (automatic && _lastAutomaticDepth) {
+    const MultiFrustumOptions& limits = _options.multiFrustum;
+    const double sphereNear = std::clamp(depth.nearest, limits.nearLimit, limits.farLimit);
+    const double sphereFar = std::clamp(depth.farthest, sphereNear, limits.farLimit);
+    DepthStrategy strategy =
+        chooseDepthStrategy(context, frame.target, sphereNear, sphereFar, depth.logarithmicAvailable);
+    if (_options.depthStrategy == DepthStrategy::Automatic && _lastAutomaticDepth) {
         // Last frame's choice, while this frame can still have it (a primitive added since may not
         // write logarithmic depth).
         const bool logarithmic = *_lastAutomaticDepth == DepthStrategy::Logarithmic;
         const bool complementary = *_lastAutomaticDepth == DepthStrategy::Complementary;
-        if ((!logarithmic || logarithmicAvailable) &&
-            (!complementary || (context.device().info().clipControl && target != nullptr))) {
+        if ((!logarithmic || depth.logarithmicAvailable) &&
+            (!complementary || (context.device().info().clipControl && frame.target != nullptr))) {
             strategy = *_lastAutomaticDepth;
         }
     }
@@ -198,42 +220,60 @@ FrameStatistics Scene::render(renderer::Context& context)
             }
         }
     }
+    return strategy;
+}
 
-    FrameState frameState{context,      device,        _camera,
-                          _ellipsoid,   width,         height,
-                          _sunDirection, _timeSeconds, _frameNumber,
-                          cullingVolume, EllipsoidalOccluder(_ellipsoid, eye), strategy};
+detail::DepthPlan Scene::updateAndBin(FrameState& frameState, DepthStrategy strategy, const FrameView& frame,
+                                      FrameStatistics& statistics, FrameStatistics& binning)
+{
+    const detail::DepthPlan plan = detail::DepthPlan::of(strategy, _options.multiFrustum);
+    frameState.depthStrategy = plan.strategy;
+    auto start = std::chrono::steady_clock::now();
+    _commands.clear();
+    for (Primitive* primitive : _survivors) {
+        primitive->update(frameState, _commands);
+    }
+    statistics.updateMilliseconds += millisecondsSince(start);
+    // Cull, then bin what survives into frustums by its extent along the view direction.
+    start = std::chrono::steady_clock::now();
+    if (_binner.multiFrustum().options() != plan.binning) {
+        _binner.multiFrustum().setOptions(plan.binning);
+    }
+    binning = FrameStatistics();
+    _binner.cullAndBin(_commands, frame.cullingVolume, frameState.occluder, frame.eye, frame.viewDirection,
+                       frame.cosHalfDiagonal, binning);
+    statistics.cullMilliseconds += millisecondsSince(start);
+    return plan;
+}
+
+detail::DepthPlan Scene::prepareCommands(renderer::Context& context, const FrameView& frame, const SurvivorDepth& depth,
+                                         FrameStatistics& statistics)
+{
+    const bool automatic = _options.depthStrategy == DepthStrategy::Automatic;
+    FrameState frameState{context,
+                          context.device(),
+                          _camera,
+                          _ellipsoid,
+                          frame.width,
+                          frame.height,
+                          _sunDirection,
+                          _timeSeconds,
+                          _frameNumber,
+                          frame.cullingVolume,
+                          EllipsoidalOccluder(_ellipsoid, frame.eye),
+                          startingDepthStrategy(context, frame, depth)};
     FrameStatistics binning;
-    detail::DepthPlan plan;
-    auto updateAndBin = [&](DepthStrategy chosen) {
-        plan = detail::DepthPlan::of(chosen, limits);
-        frameState.depthStrategy = plan.strategy;
-        auto start = std::chrono::steady_clock::now();
-        _commands.clear();
-        for (Primitive* primitive : _survivors) {
-            primitive->update(frameState, _commands);
-        }
-        statistics.updateMilliseconds += millisecondsSince(start);
-        // Cull, then bin what survives into frustums by its extent along the view direction.
-        start = std::chrono::steady_clock::now();
-        if (_binner.multiFrustum().options() != plan.binning) {
-            _binner.multiFrustum().setOptions(plan.binning);
-        }
-        binning = FrameStatistics();
-        _binner.cullAndBin(_commands, cullingVolume, frameState.occluder, eye, viewDirection, cosHalfDiagonal,
-                           binning);
-        statistics.cullMilliseconds += millisecondsSince(start);
-    };
-    updateAndBin(strategy);
+    detail::DepthPlan plan = updateAndBin(frameState, frameState.depthStrategy, frame, statistics, binning);
     if (automatic && !_commands.empty()) {
         const FrustumRange range = _binner.multiFrustum().desiredRange();
-        const DepthStrategy chosen =
-            chooseDepthStrategy(context, target, range.nearDistance, range.farDistance, logarithmicAvailable);
+        const DepthStrategy chosen = chooseDepthStrategy(context, frame.target, range.nearDistance, range.farDistance,
+                                                         depth.logarithmicAvailable);
         if (chosen != plan.strategy) {
-            updateAndBin(chosen);
+            plan = updateAndBin(frameState, chosen, frame, statistics, binning);
         }
         _lastAutomaticDepth = plan.strategy;
     }
+
     statistics.primitivesUpdated = _survivors.size();
     for (const Primitive* primitive : _survivors) {
         if (const TileStatistics* tiles = primitive->tileStatistics()) {
@@ -253,28 +293,16 @@ FrameStatistics Scene::render(renderer::Context& context)
     statistics.frustumsReused = binning.frustumsReused;
     statistics.commandsExecutedMoreThanOnce = binning.commandsExecutedMoreThanOnce;
     if (plan.fixedRange && !statistics.frustums.empty()) {
+        const MultiFrustumOptions& limits = _options.multiFrustum;
         statistics.frustums.front() = {limits.nearLimit, limits.farLimit};
     }
+    return plan;
+}
 
-    // Draw: back to front, a depth clear per frustum, opaque before translucent.
-    phase = std::chrono::steady_clock::now();
-    const FramebufferRestorer restorer{context, target};
-    if (plan.needsFloatDepth) {
-        context.setFramebuffer(floatDepthTarget(context, *target));
-    }
-    renderer::ClearState clear;
-    clear.color = _options.background;
-    clear.depth = plan.clearDepth;
-    context.clear(clear);
-
-    renderer::SceneState sceneState;
-    sceneState.viewMatrix = view;
-    sceneState.cameraEye = eye;
-    sceneState.viewport = {0, 0, width, height};
-    sceneState.sunDirection = _sunDirection;
-    sceneState.timeSeconds = _timeSeconds;
-    sceneState.depthConvention = plan.convention;
-
+void Scene::drawFrustums(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                         renderer::SceneState& sceneState, FrameStatistics& statistics) const
+{
+    // Back to front, a depth clear per frustum, opaque before translucent.
     const std::vector<FrustumRange>& frustums = statistics.frustums;
     const auto& bins = _binner.multiFrustum().bins();
     const auto& visible = _binner.visible();
@@ -292,7 +320,7 @@ FrameStatistics Scene::render(renderer::Context& context)
         }
         sceneState.nearDistance = frustums[f].nearDistance;
         sceneState.farDistance = frustums[f].farDistance;
-        sceneState.projectionMatrix = plan.projection(_camera, aspect, frustums[f]);
+        sceneState.projectionMatrix = plan.projection(_camera, frame.aspect, frustums[f]);
         // Where frustums overlap the nearer one owns the overlap (blended draws keep only their own).
         sceneState.ownedNearDistance = plan.ownedRanges && f > 0 ? frustums[f - 1].farDistance : 0.0;
         sceneState.ownedFarDistance = plan.ownedRanges && f + 1 < frustums.size()
@@ -314,24 +342,74 @@ FrameStatistics Scene::render(renderer::Context& context)
         }
         depthDirty = true;
     }
+}
+
+void Scene::drawOverlay(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                        renderer::SceneState& sceneState, FrameStatistics& statistics) const
+{
     const auto& overlay = _binner.overlay();
-    if (!overlay.empty()) {
-        // Screen-space commands, after every frustum: the whole depth range, in the frame's depth
-        // convention (a complementary frame's depth buffer is cleared to 0, which a Less test
-        // against GL's convention would never pass).
-        sceneState.nearDistance = limits.nearLimit;
-        sceneState.farDistance = limits.farLimit;
-        sceneState.projectionMatrix = plan.projection(_camera, aspect, {limits.nearLimit, limits.farLimit});
-        sceneState.ownedNearDistance = 0.0;
-        sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
-        for (const std::uint32_t index : overlay) {
-            context.draw(_commands[index].draw, sceneState);
-            statistics.effects |= _commands[index].tags;
-        }
-        statistics.commandsExecuted += overlay.size();
-        statistics.overlayPasses = 1;
+    if (overlay.empty()) {
+        return;
     }
+    // Screen-space commands, after every frustum: the whole depth range, in the frame's depth
+    // convention (a complementary frame's depth buffer is cleared to 0, which a Less test against
+    // GL's convention would never pass).
+    const MultiFrustumOptions& limits = _options.multiFrustum;
+    sceneState.nearDistance = limits.nearLimit;
+    sceneState.farDistance = limits.farLimit;
+    sceneState.projectionMatrix = plan.projection(_camera, frame.aspect, {limits.nearLimit, limits.farLimit});
+    sceneState.ownedNearDistance = 0.0;
+    sceneState.ownedFarDistance = std::numeric_limits<double>::infinity();
+    for (const std::uint32_t index : overlay) {
+        context.draw(_commands[index].draw, sceneState);
+        statistics.effects |= _commands[index].tags;
+    }
+    statistics.commandsExecuted += overlay.size();
+    statistics.overlayPasses = 1;
+}
+
+void Scene::drawFrame(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                      FrameStatistics& statistics)
+{
+    const FramebufferRestorer restorer{context, frame.target};
+    if (plan.needsFloatDepth) {
+        context.setFramebuffer(floatDepthTarget(context, *frame.target));
+    }
+    renderer::ClearState clear;
+    clear.color = _options.background;
+    clear.depth = plan.clearDepth;
+    context.clear(clear);
+
+    renderer::SceneState sceneState;
+    sceneState.viewMatrix = frame.view;
+    sceneState.cameraEye = frame.eye;
+    sceneState.viewport = {0, 0, frame.width, frame.height};
+    sceneState.sunDirection = _sunDirection;
+    sceneState.timeSeconds = _timeSeconds;
+    sceneState.depthConvention = plan.convention;
+    drawFrustums(context, frame, plan, sceneState, statistics);
+    drawOverlay(context, frame, plan, sceneState, statistics);
     context.finish();
+}
+
+FrameStatistics Scene::render(renderer::Context& context)
+{
+    FrameStatistics statistics;
+    statistics.frameNumber = ++_frameNumber;
+    const FrameView frame = frameView(context.framebuffer());
+    renderer::Device& device = context.device();
+    const std::uint64_t compilesBefore = device.shaderCache().compiles();
+    context.resetStatistics();
+
+    // The steps of a frame as data (docs/architecture.md): cull primitives, update the survivors into
+    // commands and bin them, then draw the bins.
+    auto phase = std::chrono::steady_clock::now();
+    const SurvivorDepth depth = cullPrimitives(frame, statistics);
+    statistics.updateMilliseconds = millisecondsSince(phase);
+    const detail::DepthPlan plan = prepareCommands(context, frame, depth, statistics);
+
+    phase = std::chrono::steady_clock::now();
+    drawFrame(context, frame, plan, statistics);
     statistics.drawMilliseconds = millisecondsSince(phase);
     statistics.programsCompiled = device.shaderCache().compiles() - compilesBefore;
     statistics.renderer = context.statistics();

@@ -56,10 +56,14 @@ enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed 
 
 /// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    MeshContent(TileMesh mesh_, std::vector<float> normals_) : mesh(std::move(mesh_)), normals(std::move(normals_)) {}
+    MeshContent(TileMesh mesh_, std::vector<float> normals_, std::uint32_t generation_)
+        : mesh(std::move(mesh_)), normals(std::move(normals_)), generation(generation_)
+    {
+    }
     std::size_t byteSize() const noexcept override { return mesh.byteSize() + normals.size() * sizeof(float); }
     TileMesh mesh;
     std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
+    std::uint32_t generation;   ///< of the exaggeration it was made with
 };
 
 /// The terrain tiles the loader's workers cut surface tiles from, shared by all of them: a child
@@ -238,6 +242,8 @@ struct TiledGlobe::Impl {
     /// Forgets a load's result unuploaded; the view asks for it again if it comes back.
     void drop(PendingUpload pending);
     bool makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics);
+    /// Drops a surface tile's mesh (GPU and CPU); it is loaded again when the view wants it.
+    void evictSurface(QuadtreeTile& tile);
     std::shared_ptr<renderer::Texture2D> reproject(FrameState& frameState, const Layer& layer, const TileKey& key,
                                                    const Image& image);
     renderer::ShaderProgram& program(FrameState& frameState, int textureCount);
@@ -270,6 +276,7 @@ struct TiledGlobe::Impl {
     const TiledGlobeOptions* options = nullptr;
     std::vector<Layer> layers;
     std::shared_ptr<TerrainCache> terrain; ///< with TiledGlobeOptions::terrain
+    std::uint32_t meshGeneration = 0;      ///< counts the exaggeration's changes
     TileQuadtree quadtree;
     world::TileLoader loader;
     std::map<std::pair<int, TileKey>, std::uint64_t> tickets;
@@ -290,6 +297,17 @@ struct TiledGlobe::Impl {
     std::vector<std::vector<TextureUse>> drawnTextures; ///< parallel to selection.drawn
     std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
     std::map<std::array<int, 4>, renderer::IndexBuffer> indexBuffers;
+    /// The triangles of each coarsening without skirts, for heights and tests, made on first use.
+    mutable std::map<std::array<int, 4>, std::vector<std::uint32_t>> surfaceIndices;
+    const std::vector<std::uint32_t>& surfaceTriangles(const EdgeCoarsening& coarsening) const
+    {
+        const std::array<int, 4> name{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
+        auto found = surfaceIndices.find(name);
+        if (found == surfaceIndices.end()) {
+            found = surfaceIndices.emplace(name, TileMesh::indices(options->samplesLog2, coarsening, false)).first;
+        }
+        return found->second;
+    }
     std::optional<renderer::Sampler> sampler;
     std::optional<MercatorReprojection> reprojection;
 };
@@ -346,6 +364,16 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
 }
 
 namespace {
+
+/// Eight colours, told apart at a glance, for tiles shown by their level.
+glm::vec4 levelColor(std::uint32_t level)
+{
+    static constexpr std::array<glm::vec4, 8> kPalette{{{0.90f, 0.30f, 0.25f, 1.0f}, {0.95f, 0.65f, 0.20f, 1.0f},
+                                                         {0.90f, 0.90f, 0.30f, 1.0f}, {0.40f, 0.80f, 0.35f, 1.0f},
+                                                         {0.30f, 0.75f, 0.85f, 1.0f}, {0.30f, 0.45f, 0.90f, 1.0f},
+                                                         {0.65f, 0.40f, 0.85f, 1.0f}, {0.90f, 0.45f, 0.70f, 1.0f}}};
+    return kPalette[level % kPalette.size()];
+}
 
 enum EdgeSide { NorthEdge, EastEdge, SouthEdge, WestEdge };
 
@@ -560,7 +588,9 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         const double skirtDepth = options->skirts ? quadtree.geometricErrorOf(key.level) : 0.0;
         const std::shared_ptr<TerrainCache> heightsFrom = terrain;
         const double exaggeration = options->terrainExaggeration;
-        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration]() -> std::unique_ptr<world::TileContent> {
+        const std::uint32_t generation = meshGeneration;
+        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration,
+                generation]() -> std::unique_ptr<world::TileContent> {
             std::vector<float> heights;
             if (heightsFrom) {
                 if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
@@ -574,7 +604,7 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
             }
             TileMesh mesh = TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, heights, skirtDepth);
             std::vector<float> normals = heightsFrom ? mesh.normals() : std::vector<float>{};
-            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals));
+            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), generation);
         };
     }
     const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
@@ -655,6 +685,24 @@ std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcep
     return bytes;
 }
 
+void TiledGlobe::Impl::evictSurface(QuadtreeTile& tile)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    gpuBytes -= surface.bytes;
+    cpuBytes -= surface.cpuBytes;
+    surface.vertexArray.reset();
+    surface.vertexBuffer.reset();
+    surface.normalBuffer.reset();
+    surface.coarsening.reset();
+    surface.drawnMesh = TileMesh{};
+    surface.heights = {};
+    surface.bytes = 0;
+    surface.cpuBytes = 0; // its bounds stay: they still hold
+    surface.mesh = LoadState::Unloaded;
+    tile.renderable = false;
+    residentTiles.erase(std::find(residentTiles.begin(), residentTiles.end(), &tile));
+}
+
 bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStatistics& statistics)
 {
     if (residentBytes() + bytes <= options->cacheBytes) {
@@ -701,20 +749,7 @@ bool TiledGlobe::Impl::makeRoom(std::size_t bytes, std::uint64_t frame, TileStat
             break;
         }
         if (candidate.layer < 0) {
-            SurfaceTile& surface = surfaceOf(*candidate.tile);
-            gpuBytes -= surface.bytes;
-            cpuBytes -= surface.cpuBytes;
-            surface.vertexArray.reset();
-            surface.vertexBuffer.reset();
-            surface.normalBuffer.reset();
-            surface.coarsening.reset();
-            surface.drawnMesh = TileMesh{};
-            surface.heights = {};
-            surface.bytes = 0;
-            surface.cpuBytes = 0; // its bounds stay: they still hold
-            surface.mesh = LoadState::Unloaded;
-            candidate.tile->renderable = false;
-            residentTiles.erase(std::find(residentTiles.begin(), residentTiles.end(), candidate.tile));
+            evictSurface(*candidate.tile);
         } else {
             auto& tiles = layers[static_cast<std::size_t>(candidate.layer)].tiles;
             gpuBytes -= tiles[candidate.key].bytes;
@@ -772,6 +807,10 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
     if (target.layer < 0) {
         SurfaceTile& surface = surfaceOf(*target.tile);
         MeshContent& content = static_cast<MeshContent&>(*pending.content);
+        if (content.generation != meshGeneration) {
+            surface.mesh = LoadState::Unloaded; // made with another exaggeration: asked for again
+            return;
+        }
         const TileMesh& mesh = content.mesh;
         const std::span<const std::byte> bytes = std::as_bytes(std::span(mesh.vertices));
         const std::span<const std::byte> normalBytes = std::as_bytes(std::span(content.normals));
@@ -1210,7 +1249,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.vertexArray = &*surface.vertexArray;
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
-        command.draw.uniforms.set("u_baseColor", _options.baseColor);
+        command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
         if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
         }
@@ -1246,6 +1285,62 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
     }
 }
 
+void TiledGlobe::setTerrainExaggeration(double exaggeration)
+{
+    if (!(std::isfinite(exaggeration) && exaggeration >= 0.0)) {
+        throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
+    }
+    Impl& impl = *_impl;
+    const double before = _options.terrainExaggeration;
+    if (!impl.terrain || exaggeration == before) {
+        _options.terrainExaggeration = exaggeration;
+        return;
+    }
+    _options.terrainExaggeration = exaggeration;
+    ++impl.meshGeneration; // loads under way were made with the old one
+    const TilingScheme& scheme = impl.quadtree.scheme();
+    std::vector<QuadtreeTile*> resident = impl.residentTiles;
+    for (QuadtreeTile* tile : resident) {
+        SurfaceTile& surface = surfaceOf(*tile);
+        if (before == 0.0) {
+            impl.evictSurface(*tile); // flat tiles keep no heights to scale: loaded again (the roots at once)
+            continue;
+        }
+        for (float& height : surface.heights) {
+            height = static_cast<float>(static_cast<double>(height) * (exaggeration / before));
+        }
+        const double skirtDepth = _options.skirts ? impl.quadtree.geometricErrorOf(tile->key.level) : 0.0;
+        surface.drawnMesh = TileMesh::build(impl.ellipsoid, scheme, tile->key, surface.drawnMesh.samplesLog2,
+                                            surface.heights, skirtDepth);
+        const std::vector<float> normals = surface.drawnMesh.normals();
+        surface.vertexBuffer->copyFromSystemMemory(std::as_bytes(std::span(surface.drawnMesh.vertices)));
+        surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
+        tile->region = impl.quadtree.regionOf(tile->key, surface.drawnMesh.minimumHeight, surface.drawnMesh.maximumHeight);
+        surface.edgesFrom = {};
+        ++surface.meshVersion;
+    }
+    // Tiles bounded by an ancestor's heights take the new ones at their next visit.
+    std::vector<QuadtreeTile*> stack;
+    for (auto& root : impl.quadtree.roots()) {
+        stack.push_back(root.get());
+    }
+    while (!stack.empty()) {
+        QuadtreeTile* tile = stack.back();
+        stack.pop_back();
+        SurfaceTile& surface = surfaceOf(*tile);
+        surface.boundsFromLevel = ~0u;
+        surface.heightsKnown = surface.heightsKnown && surface.mesh == LoadState::Ready;
+        for (auto& child : tile->children) {
+            if (child) {
+                stack.push_back(child.get());
+            }
+        }
+    }
+    if (before == 0.0) {
+        impl.rootsLoaded = false;
+    }
+}
+
 std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
 {
     const Impl& impl = *_impl;
@@ -1268,8 +1363,7 @@ std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
     const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile->key, position), 0.0, 1.0);
     const double column = uv.x * (size - 1);
     const double row = (1.0 - uv.y) * (size - 1);
-    const std::vector<std::uint32_t> indices =
-        TileMesh::indices(mesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false);
+    const std::vector<std::uint32_t>& indices = impl.surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}));
     auto heightOn = [&](std::size_t first) -> std::optional<double> {
         std::array<glm::dvec2, 3> corner;
         std::array<double, 3> height{};
@@ -1317,8 +1411,7 @@ std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const
     std::vector<glm::dvec3> points;
     for (const QuadtreeTile* tile : _impl->selection.drawn) {
         const SurfaceTile& surface = surfaceOf(*tile);
-        for (const std::uint32_t vertex :
-             TileMesh::indices(surface.drawnMesh.samplesLog2, surface.coarsening.value_or(EdgeCoarsening{}), false)) {
+        for (const std::uint32_t vertex : _impl->surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}))) {
             points.push_back(surface.drawnMesh.position(vertex));
         }
     }

@@ -91,9 +91,13 @@ TEST_CASE("The golden comparison allows the stated tolerance and no more", "[ren
     changed.pixel(1, 1)[1] += 40; // one pixel of 100 beyond the tolerance
     CHECK_FALSE(test::compareWithGolden(changed, "tolerance", {2, 0.0}, directory.path).passed);
     CHECK(test::compareWithGolden(changed, "tolerance", {2, 0.01}, directory.path).passed);
-    const test::GoldenResult failed = test::compareWithGolden(changed, "tolerance", {50, -1.0}, directory.path);
-    CHECK_FALSE(failed.passed); // a negative fraction allows nothing... but 40 < 50, so no pixel differs
-    CHECK_THAT(failed.message, Contains("0 pixels"));
+    // The fraction is a bound: one pixel of 100 is 1 %, refused just below it, and counted.
+    const test::GoldenResult failed = test::compareWithGolden(changed, "tolerance", {2, 0.0099}, directory.path);
+    CHECK_FALSE(failed.passed);
+    CHECK_THAT(failed.message, Contains(": 1 pixels (1 %) differ by more than 2") && Contains("largest channel difference 40"));
+    // A channel tolerance above the change lets the pixel match.
+    CHECK(test::compareWithGolden(changed, "tolerance", {40, 0.0}, directory.path).passed);
+    CHECK_FALSE(test::compareWithGolden(changed, "tolerance", {39, 0.0}, directory.path).passed);
 
     const test::GoldenResult sizes = test::compareWithGolden(gradient(9, 10), "tolerance", {}, directory.path);
     CHECK_FALSE(sizes.passed);

@@ -4,6 +4,9 @@
 
 #include <glm/geometric.hpp>
 
+#include <cmath>
+#include <utility>
+
 #include <catch2/catch.hpp>
 
 using namespace orbis;
@@ -21,11 +24,18 @@ TEST_CASE("Camera builds a right-handed view looking down -z", "[scene][camera]"
     const glm::dvec4 target = camera.viewMatrix() * glm::dvec4(0, 0, 0, 1);
     REQUIRE_THAT(target.z, WithinRel(-10.0, 1e-12));
     REQUIRE(glm::length(camera.right() - glm::dvec3(1, 0, 0)) < 1e-15);
-    // An up vector parallel to the view is replaced, never left to produce NaN.
+    // An up vector parallel to the view is replaced by a unit one perpendicular to it, so that the
+    // view is a rotation that still puts the target 10 m ahead on the axis.
     const Camera straightDown({0, 0, 10}, {0, 0, 0}, {0, 0, 1}, 1.0);
-    REQUIRE(isFinite(straightDown.right()));
+    REQUIRE_THAT(glm::length(straightDown.up()), WithinAbs(1.0, 1e-15));
+    REQUIRE_THAT(glm::dot(straightDown.up(), straightDown.direction()), WithinAbs(0.0, 1e-15));
+    REQUIRE_THAT(glm::length(straightDown.right()), WithinAbs(1.0, 1e-15));
+    REQUIRE_THAT(glm::dot(straightDown.right(), straightDown.direction()), WithinAbs(0.0, 1e-15));
     const glm::dmat4 view = straightDown.viewMatrix();
-    REQUIRE(std::isfinite(view[0][0]));
+    const glm::dvec4 ahead = view * glm::dvec4(0, 0, 0, 1);
+    REQUIRE(glm::distance(glm::dvec3(ahead), glm::dvec3(0, 0, -10)) < 1e-14);
+    const glm::dvec4 aside = view * glm::dvec4(straightDown.right(), 0.0); // right maps to +x
+    REQUIRE(glm::distance(glm::dvec3(aside), glm::dvec3(1, 0, 0)) < 1e-15);
 }
 
 TEST_CASE("Orbit controller keeps its range, clamps elevation and never zooms below the surface", "[scene][camera]")
@@ -130,4 +140,145 @@ TEST_CASE("Viewer controller orbits from the camera's eye and flies on from the 
     controller.apply(back);
     REQUIRE(glm::distance(back.eye(), flying.eye()) < 1e-6);
     REQUIRE(glm::length(back.target()) < 1e-6);
+}
+
+namespace {
+
+Camera viewFrom(const Geodetic3D& position, const HeadingPitchRoll& orientation)
+{
+    Camera camera;
+    camera.setView(kEarth, position, orientation);
+    return camera;
+}
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b)
+{
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+} // namespace
+
+TEST_CASE("A camera flight starts at the camera, ends at the destination and eases in between", "[scene][camera]")
+{
+    const Camera start = viewFrom(Geodetic3D::fromDegrees(2.35, 48.85, 5000.0), {0.3, -0.5, 0.1});
+    const Geodetic3D destination = Geodetic3D::fromDegrees(-74.0, 40.7, 2000.0);
+    const HeadingPitchRoll orientation{toRadians(-100.0), toRadians(-20.0), 0.0};
+    const CameraFlight flight(kEarth, start, destination, orientation, 8.0);
+    REQUIRE(flight.duration() == 8.0);
+
+    Camera camera = start;
+    camera.setFieldOfViewY(0.9);
+    flight.apply(0.0, camera);
+    CHECK(glm::distance(camera.eye(), start.eye()) < 1e-6);
+    CHECK(angleBetween(camera.direction(), start.direction()) < 1e-9);
+    CHECK(angleBetween(camera.up(), start.up()) < 1e-9);
+    CHECK(camera.fieldOfViewY() == 0.9);
+
+    const Camera arrived = viewFrom(destination, orientation);
+    for (const double after : {8.0, 100.0}) {
+        flight.apply(after, camera);
+        CHECK(camera.eye() == arrived.eye());
+        CHECK(angleBetween(camera.direction(), arrived.direction()) < 1e-9);
+        CHECK(angleBetween(camera.up(), arrived.up()) < 1e-9);
+    }
+    // Eased: the first tenth of the time covers a few per cent of the way (2.8 % for smoothstep).
+    const double firstTenth = kEarth.toGeodetic3D(start.eye()).longitude - flight.positionAt(0.8).longitude;
+    const double wholeLongitude = kEarth.toGeodetic3D(start.eye()).longitude - destination.longitude;
+    CHECK(firstTenth > 0.0);
+    CHECK(firstTenth < 0.05 * wholeLongitude);
+
+    // 5,800 km from Paris to New York: at least half of that up at mid-flight.
+    const double middle = flight.positionAt(4.0).height;
+    CHECK(middle > 0.5 * 5.8e6);
+    CHECK(middle < 0.5 * 5.9e6);
+    for (double t = 0.0; t <= 8.0; t += 0.05) {
+        flight.apply(t, camera);
+        REQUIRE(isFinite(camera.eye()));
+        REQUIRE(isFinite(camera.right()));
+        // Never below the lower end.
+        REQUIRE(kEarth.toGeodetic3D(camera.eye()).height >= 2000.0 - 1e-6);
+    }
+}
+
+TEST_CASE("A short camera flight stays low; one from orbit does not climb", "[scene][camera]")
+{
+    const Camera street = viewFrom(Geodetic3D::fromDegrees(11.575, 48.137, 300.0), {0.0, -0.3, 0.0});
+    const CameraFlight hop(kEarth, street, Geodetic3D::fromDegrees(11.585, 48.137, 300.0), {0.0, -0.3, 0.0}, 2.0);
+    // 743 m east: at mid-flight half of that up, 72 m above the start's height.
+    CHECK_THAT(hop.arcHeight(), WithinAbs(71.6, 0.5));
+    CHECK_THAT(hop.positionAt(1.0).height, WithinAbs(371.6, 0.5));
+
+    const Camera orbit = viewFrom(Geodetic3D::fromDegrees(0.0, 0.0, 2e7), {0.0, -kHalfPi, 0.0});
+    const CameraFlight descent(kEarth, orbit, Geodetic3D::fromDegrees(30.0, 10.0, 1e4), {0.0, -0.5, 0.0}, 5.0);
+    CHECK(descent.arcHeight() == 0.0);
+    double previous = 2e7 + 1.0;
+    for (double t = 0.0; t <= 5.0; t += 0.1) {
+        const double height = descent.positionAt(t).height;
+        CHECK(height < previous); // straight down the heights
+        previous = height;
+    }
+}
+
+TEST_CASE("A camera flight crosses the antimeridian and a pole the short way, turning smoothly", "[scene][camera]")
+{
+    SECTION("antimeridian")
+    {
+        const Camera start = viewFrom(Geodetic3D::fromDegrees(175.0, -10.0, 1e5), {kHalfPi, -0.4, 0.0});
+        const CameraFlight flight(kEarth, start, Geodetic3D::fromDegrees(-175.0, -12.0, 1e5), {kHalfPi, -0.4, 0.0},
+                                  3.0);
+        for (double t = 0.0; t <= 3.0; t += 0.01) {
+            CHECK(std::abs(flight.positionAt(t).longitude) >= toRadians(175.0) - 1e-9); // never via 0
+        }
+    }
+    SECTION("over the north pole, and to the antipode")
+    {
+        // Looking along the way from 80 N 0 E to 80 N 180 E: over the pole, still looking ahead.
+        const Camera start = viewFrom(Geodetic3D::fromDegrees(0.0, 80.0, 1e6), {0.0, -0.3, 0.0});
+        const Geodetic3D destination = Geodetic3D::fromDegrees(180.0, 80.0, 1e6);
+        const HeadingPitchRoll ahead{kPi, -0.3, 0.0}; // south, on the far side of the pole
+        const Geodetic3D antipode = Geodetic3D::fromDegrees(180.0, -80.0, 1e6); // any great circle will do
+        for (const Geodetic3D& to : {destination, antipode}) {
+            const HeadingPitchRoll orientation = ahead;
+            const CameraFlight flight(kEarth, start, to, orientation, 10.0);
+            Camera camera = start;
+            Camera previous = start;
+            double highestLatitude = -kHalfPi;
+            constexpr int kSteps = 2000;
+            for (int i = 0; i <= kSteps; ++i) {
+                flight.apply(10.0 * i / kSteps, camera);
+                REQUIRE(isFinite(camera.eye()));
+                REQUIRE(isFinite(camera.right()));
+                highestLatitude = std::max(highestLatitude, kEarth.toGeodetic3D(camera.eye()).latitude);
+                // No spin where the local frame turns round the pole: the view moves a little each step.
+                CHECK(angleBetween(camera.direction(), previous.direction()) < 0.01);
+                CHECK(angleBetween(camera.up(), previous.up()) < 0.01);
+                previous = camera;
+            }
+            if (to == destination) {
+                CHECK(highestLatitude > toRadians(89.99));
+            }
+            CHECK(angleBetween(camera.direction(), viewFrom(to, orientation).direction()) < 1e-9);
+        }
+    }
+}
+
+TEST_CASE("A camera flight with no time, no distance or NaN time is finite and there at once", "[scene][camera]")
+{
+    const Geodetic3D here = Geodetic3D::fromDegrees(-180.0, 90.0, 500.0);
+    const Camera start = viewFrom(here, {0.0, -kHalfPi, 0.0});
+    for (const double seconds : {0.0, -1.0, std::nan("")}) {
+        const CameraFlight flight(kEarth, start, Geodetic3D::fromDegrees(10.0, 10.0, 10.0), {}, seconds);
+        Camera camera;
+        flight.apply(0.0, camera);
+        CHECK(glm::distance(camera.eye(), kEarth.toCartesian(Geodetic3D::fromDegrees(10.0, 10.0, 10.0))) < 1e-6);
+    }
+    const CameraFlight stay(kEarth, start, here, {1.0, -0.2, 0.3}, 4.0);
+    CHECK(stay.arcHeight() == 0.0);
+    Camera camera;
+    for (const double t : {0.0, 1.0, 2.0, std::nan(""), 4.0}) {
+        stay.apply(t, camera);
+        REQUIRE(isFinite(camera.eye()));
+        REQUIRE(isFinite(camera.right()));
+        CHECK(glm::distance(camera.eye(), start.eye()) < 1e-6);
+    }
 }

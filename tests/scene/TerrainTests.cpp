@@ -1,5 +1,6 @@
 #include "SceneTestSupport.h"
 
+#include <orbis/core/Error.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/Effect.h>
 #include <orbis/scene/TiledGlobe.h>
@@ -315,4 +316,53 @@ TEST_CASE("Terrain shades the tiles by their own normals and a globe without ter
     plain.add(std::make_shared<TiledGlobe>(kEarth, options));
     const RenderedFrame frame = renderFrame(plain, 64, 64);
     CHECK_FALSE(hasEffect(frame.statistics.effects, Effect::Terrain));
+}
+
+TEST_CASE("The exaggeration changes at run time: tiles rebuilt at once, bounds following, no crack", "[scene][tiles][terrain][gl]")
+{
+    // Levels that agree: the next frame may pick other levels (the bounds grew), which then
+    // differ only by the interpolation between their samples.
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 0.0));
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 30000.0), 0.0, -30.0);
+    REQUIRE(terrain.converge(256, 192).statistics.tiles->converged);
+    const Geodetic2D probe = Geodetic2D::fromDegrees(10.0, 46.2);
+    const std::optional<double> before = terrain.globe->heightAt(probe);
+    REQUIRE(before);
+    // The drawn surface's height at the probe, from the triangles the GPU gets.
+    auto drawnHeightNear = [&] {
+        double nearest = 1e300;
+        double height = 0.0;
+        const glm::dvec3 target = kEarth.toCartesian(Geodetic3D(probe.longitude, probe.latitude, 0.0));
+        for (const glm::dvec3& point : terrain.globe->drawnTriangles()) {
+            const double distance = glm::distance(kEarth.scaleToGeodeticSurface(point), target);
+            if (distance < nearest) {
+                nearest = distance;
+                height = kEarth.toGeodetic3D(point).height;
+            }
+        }
+        return height;
+    };
+    const double drawnBefore = drawnHeightNear();
+
+    terrain.globe->setTerrainExaggeration(3.0);
+    // At once: the tiles drawn are rebuilt three times as high, the terrain's height the same.
+    REQUIRE(terrain.globe->heightAt(probe));
+    CHECK(std::abs(*terrain.globe->heightAt(probe) - *before) < 0.01);
+    CHECK(std::abs(drawnHeightNear() - 3.0 * drawnBefore) < 0.05);
+    // The next frame may want finer tiles near the eye (the bounds grew): what stands in for
+    // them covers the view.
+    CHECK(magentaBelowSky(renderFrame(terrain.scene, 256, 192).image, 60) == 0);
+    REQUIRE(terrain.converge(256, 192).statistics.tiles->converged);
+    CHECK(std::abs(*terrain.globe->heightAt(probe) - *before) < 5.0);
+
+    // From 0 the tiles have no heights to scale: they load again, with the heights.
+    terrain.globe->setTerrainExaggeration(0.0);
+    REQUIRE(terrain.converge(256, 192).statistics.tiles->converged);
+    CHECK(std::abs(drawnHeightNear()) < 0.01);
+    terrain.globe->setTerrainExaggeration(2.0);
+    const RenderedFrame reloaded = terrain.converge(256, 192);
+    REQUIRE(reloaded.statistics.tiles->converged);
+    CHECK(magentaBelowSky(reloaded.image, 60) == 0);
+    CHECK(std::abs(*terrain.globe->heightAt(probe) - *before) < 5.0);
+    CHECK_THROWS_AS(terrain.globe->setTerrainExaggeration(-1.0), Error);
 }

@@ -210,47 +210,52 @@ std::string faultAt(const std::string& source, std::size_t line, std::string whe
     return Diagnostic{source, line, 0, std::move(where), std::move(what)}.text();
 }
 
-} // namespace
+constexpr std::size_t kNoColumn = static_cast<std::size_t>(-1);
 
-CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const CsvPointsOptions& options)
-{
-    const std::string source(sourceName);
-    CsvReader reader(text, options.delimiter);
-    std::vector<std::string_view> fields;
-    CsvPoints result;
-
-    auto unterminated = [&](const Unterminated& u) {
-        return faultAt(source, u.line, "column " + std::to_string(u.column),
-                       "unterminated quoted field (the closing quote is missing before the end of the file)");
-    };
-
-    // The header.
+/// The header's columns and which of them the options read.
+struct CsvLayout {
     std::vector<std::string> header;
+    std::size_t longitude = kNoColumn;
+    std::size_t latitude = kNoColumn;
+    std::size_t height = kNoColumn;
+    std::vector<std::size_t> properties;
+};
+
+std::string unterminatedFault(const std::string& source, const Unterminated& u)
+{
+    return faultAt(source, u.line, "column " + std::to_string(u.column),
+                   "unterminated quoted field (the closing quote is missing before the end of the file)");
+}
+
+/// Reads the header row and finds the columns the options name. Throws orbis::Error naming the
+/// file for an empty file, a malformed header or a column it lacks.
+CsvLayout readLayout(CsvReader& reader, const std::string& source, const CsvPointsOptions& options)
+{
+    std::vector<std::string_view> fields;
     try {
         if (!reader.next(fields)) {
             throw Error(faultAt(source, 0, "", "the file is empty; expected a header row"));
         }
     } catch (const Unterminated& u) {
-        throw Error(unterminated(u));
+        throw Error(unterminatedFault(source, u));
     } catch (const BadRow& bad) {
         throw Error(faultAt(source, reader.recordLine(), bad.where, bad.what));
     }
+    CsvLayout layout;
     for (std::string_view field : fields) {
-        header.emplace_back(trim(field));
+        layout.header.emplace_back(trim(field));
     }
-    auto listColumns = [&] {
-        std::string list;
-        for (const std::string& name : header) {
-            list += (list.empty() ? "" : ", ") + quote(name);
-        }
-        return list;
-    };
+    const std::vector<std::string>& header = layout.header;
     auto find = [&](const std::string& name, const char* role) -> std::size_t {
         const auto it = std::find(header.begin(), header.end(), name);
         if (it == header.end()) {
+            std::string columns;
+            for (const std::string& column : header) {
+                columns += (columns.empty() ? "" : ", ") + quote(column);
+            }
             throw Error(faultAt(source, reader.recordLine(), "",
                                 std::string("no ") + role + " column " + quote(name) + " in the header (columns: " +
-                                    listColumns() + ")"));
+                                    columns + ")"));
         }
         return static_cast<std::size_t>(it - header.begin());
     };
@@ -269,26 +274,62 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
         }
         return find(std::string(accepted.front()), role);
     };
-    const std::size_t longitudeIndex = findNamed(options.longitudeColumn, kLongitudeColumnNames, "longitude");
-    const std::size_t latitudeIndex = findNamed(options.latitudeColumn, kLatitudeColumnNames, "latitude");
-    constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-    const std::size_t heightIndex = options.heightColumn.empty() ? kNone : find(options.heightColumn, "height");
-    std::vector<std::size_t> propertyIndices;
+    layout.longitude = findNamed(options.longitudeColumn, kLongitudeColumnNames, "longitude");
+    layout.latitude = findNamed(options.latitudeColumn, kLatitudeColumnNames, "latitude");
+    layout.height = options.heightColumn.empty() ? kNoColumn : find(options.heightColumn, "height");
     if (options.propertyColumns) {
         for (const std::string& name : *options.propertyColumns) {
-            propertyIndices.push_back(find(name, "property"));
+            layout.properties.push_back(find(name, "property"));
         }
     } else {
         for (std::size_t c = 0; c < header.size(); ++c) {
-            if (c != longitudeIndex && c != latitudeIndex && c != heightIndex) {
-                propertyIndices.push_back(c);
+            if (c != layout.longitude && c != layout.latitude && c != layout.height) {
+                layout.properties.push_back(c);
             }
         }
     }
-    for (std::size_t c : propertyIndices) {
-        result.propertyNames.push_back(header[c]);
+    return layout;
+}
+
+/// Reads one row's position into `result`, and its kept fields; throws BadRow.
+void readRow(const std::vector<std::string_view>& fields, const CsvLayout& layout, CsvPoints& result)
+{
+    const std::vector<std::string>& header = layout.header;
+    if (fields.size() != header.size()) {
+        throw BadRow{"", "expected " + std::to_string(header.size()) + " fields as in the header, got " +
+                             std::to_string(fields.size())};
     }
-    result.properties.resize(propertyIndices.size());
+    const ColumnRef longitudeColumn{layout.longitude, header[layout.longitude]};
+    const ColumnRef latitudeColumn{layout.latitude, header[layout.latitude]};
+    const double longitude = readNumber(fields[layout.longitude], longitudeColumn, "longitude");
+    const double latitude = readNumber(fields[layout.latitude], latitudeColumn, "latitude");
+    const double height = layout.height == kNoColumn
+                              ? 0.0
+                              : readNumber(fields[layout.height], {layout.height, header[layout.height]}, "height");
+    if (longitude < -180.0 || longitude > 180.0) {
+        throw BadRow{longitudeColumn.describe(), "longitude " + formatNumber(longitude) + " out of range [-180, 180]"};
+    }
+    if (latitude < -90.0 || latitude > 90.0) {
+        throw BadRow{latitudeColumn.describe(), "latitude " + formatNumber(latitude) + " out of range [-90, 90]"};
+    }
+    result.positions.push_back(Geodetic3D::fromDegrees(longitude, latitude, height));
+    for (std::size_t k = 0; k < layout.properties.size(); ++k) {
+        result.properties[k].emplace_back(fields[layout.properties[k]]);
+    }
+}
+
+} // namespace
+
+CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const CsvPointsOptions& options)
+{
+    const std::string source(sourceName);
+    CsvReader reader(text, options.delimiter);
+    const CsvLayout layout = readLayout(reader, source, options);
+    CsvPoints result;
+    for (std::size_t c : layout.properties) {
+        result.propertyNames.push_back(layout.header[c]);
+    }
+    result.properties.resize(layout.properties.size());
 
     // The rows: the count of line ends bounds their number, so the columns never reallocate.
     const auto estimate = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
@@ -296,31 +337,13 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
     for (auto& column : result.properties) {
         column.reserve(estimate);
     }
-    const ColumnRef longitudeColumn{longitudeIndex, header[longitudeIndex]};
-    const ColumnRef latitudeColumn{latitudeIndex, header[latitudeIndex]};
+    std::vector<std::string_view> fields;
     for (;;) {
         try {
             if (!reader.next(fields)) {
                 break;
             }
-            if (fields.size() != header.size()) {
-                throw BadRow{"", "expected " + std::to_string(header.size()) + " fields as in the header, got " +
-                                     std::to_string(fields.size())};
-            }
-            const double longitude = readNumber(fields[longitudeIndex], longitudeColumn, "longitude");
-            const double latitude = readNumber(fields[latitudeIndex], latitudeColumn, "latitude");
-            const double height =
-                heightIndex == kNone ? 0.0 : readNumber(fields[heightIndex], {heightIndex, header[heightIndex]}, "height");
-            if (longitude < -180.0 || longitude > 180.0) {
-                throw BadRow{longitudeColumn.describe(), "longitude " + formatNumber(longitude) + " out of range [-180, 180]"};
-            }
-            if (latitude < -90.0 || latitude > 90.0) {
-                throw BadRow{latitudeColumn.describe(), "latitude " + formatNumber(latitude) + " out of range [-90, 90]"};
-            }
-            result.positions.push_back(Geodetic3D::fromDegrees(longitude, latitude, height));
-            for (std::size_t k = 0; k < propertyIndices.size(); ++k) {
-                result.properties[k].emplace_back(fields[propertyIndices[k]]);
-            }
+            readRow(fields, layout, result);
         } catch (const BadRow& bad) {
             const std::string message = faultAt(source, reader.recordLine(), bad.where, bad.what);
             if (!options.skipInvalidRows) {
@@ -330,9 +353,9 @@ CsvPoints parseCsvPoints(std::string text, std::string_view sourceName, const Cs
             reader.skipRestOfLine();
         } catch (const Unterminated& u) {
             if (!options.skipInvalidRows) {
-                throw Error(unterminated(u));
+                throw Error(unterminatedFault(source, u));
             }
-            result.warnings.push_back("skipped the rest of the file: " + unterminated(u));
+            result.warnings.push_back("skipped the rest of the file: " + unterminatedFault(source, u));
             break;
         }
     }
@@ -369,7 +392,7 @@ std::vector<std::string> readCsvHeader(const std::filesystem::path& path, char d
             throw Error(faultAt(source, 0, "", "has no header row"));
         }
     } catch (const Unterminated& u) {
-        throw Error(faultAt(source, u.line, "column " + std::to_string(u.column), "unterminated quoted field"));
+        throw Error(unterminatedFault(source, u));
     } catch (const BadRow& bad) {
         throw Error(faultAt(source, 1, bad.where, bad.what));
     }

@@ -5,6 +5,7 @@
 #include <orbis/core/Error.h>
 
 #include <spng.h>
+#include <zlib.h>
 #include <turbojpeg.h>
 #include <webp/decode.h>
 #include <webp/encode.h>
@@ -272,6 +273,12 @@ std::vector<std::uint8_t> encodePngSamples(const void* samples, std::size_t size
     if (level == 0) {
         // Nothing to compress: filtering would only cost time.
         spng_set_option(png.context, SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_NONE);
+    } else if (level == 1) {
+        // The fast level, for frames: one filter instead of trying all five on every row, and
+        // run-length matches only. A 1280x720 rendered frame: 61 ms and 704 KB here against 207 ms
+        // and 767 KB with every filter at zlib level 1.
+        spng_set_option(png.context, SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_SUB);
+        spng_set_option(png.context, SPNG_IMG_COMPRESSION_STRATEGY, Z_RLE);
     }
     spng_ihdr header{};
     header.width = static_cast<std::uint32_t>(width);

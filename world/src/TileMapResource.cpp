@@ -226,7 +226,12 @@ private:
             tileSet.level = static_cast<std::uint32_t>(integer(*set, "order", 0, kMaximumTileLevel));
             tileSet.unitsPerPixel = number(*set, "units-per-pixel");
             const double expected = tileMapUnitsPerPixel(resource.scheme, tileSet.level, resource.tileWidth);
-            if (!(std::abs(tileSet.unitsPerPixel - expected) <= expected * 1e-6)) {
+            // Height tiles of 2^k + 1 samples (neighbours sharing their edge samples) span k intervals.
+            const double pointRegistered =
+                resource.tileWidth % 2 == 1 ? tileMapUnitsPerPixel(resource.scheme, tileSet.level, resource.tileWidth - 1)
+                                            : expected;
+            const auto matches = [&](double value) { return std::abs(tileSet.unitsPerPixel - value) <= value * 1e-6; };
+            if (!matches(expected) && !matches(pointRegistered)) {
                 char numbers[96];
                 std::snprintf(numbers, sizeof numbers, "units-per-pixel=\"%.10g\" does not match level %u", tileSet.unitsPerPixel,
                               tileSet.level);

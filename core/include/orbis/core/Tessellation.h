@@ -53,12 +53,13 @@ struct TessellationResult {
 ///
 /// Method: each triangle is sampled on a barycentric grid of 6 steps per edge (28 points: the
 /// corners, the edge midpoints and thirds, the centroid), plus the point where the triangle is
-/// deepest if the ellipsoid were scaled to a unit sphere. The distance of a point is
-/// |Ellipsoid::toGeodetic3D(p).height| (exact to nanometres). From the best sample a compass search
-/// in barycentric coordinates refines the maximum down to steps of 2^-13 of the edges. A triangle
-/// whose corners lie on the surface lies inside the ellipsoid, where the depth is a concave function,
-/// so the search finds its global maximum to about 1e-7 relative; for a triangle outside (a box, a
-/// tangent plane) the distance is convex and its maximum is at a corner, which is sampled exactly.
+/// deepest if the ellipsoid were scaled to a unit sphere. The distance of a point is the absolute
+/// value of its height from Ellipsoid::toGeodetic3D (exact to nanometres). From the best sample a
+/// compass search in barycentric coordinates refines the maximum down to steps of 2^-13 of the
+/// edges. A triangle whose corners lie on the surface lies inside the ellipsoid, where the depth is
+/// a concave function, so the search finds its global maximum to about 1e-7 relative; for a
+/// triangle outside (a box, a tangent plane) the distance is convex and its maximum is at a
+/// corner, which is sampled exactly.
 double maxDeviationFromEllipsoid(const Mesh& mesh, const Ellipsoid& ellipsoid);
 
 /// Which surface point stands for a direction from the centre, for the tessellators that start

@@ -136,6 +136,17 @@ private:
     /// The framebuffer a draw or clear goes to, bound, its attachments updated and checked.
     Framebuffer* bindTarget(Framebuffer* requested, const detail::ErrorSource& source);
     PixelRectangle targetRectangle(const Framebuffer* framebuffer) const noexcept;
+    // The steps of draw(), in order (Context.cpp).
+    /// Throws orbis::Error for a command that cannot be drawn; the count of indices or vertices.
+    std::size_t checkDrawable(const DrawCommand& command, const SceneState& scene) const;
+    /// Binds the target, program and vertex array, applies the render state; the viewport.
+    PixelRectangle applyDrawState(const DrawCommand& command, const SceneState& scene,
+                                  const detail::ErrorSource& source);
+    /// Binds the command's textures and samplers; the units bound, one bit each.
+    std::uint32_t bindTextures(const DrawCommand& command);
+    /// The command's and the automatic uniforms, checked and sent.
+    void setUniforms(const DrawCommand& command, const SceneState& scene, const PixelRectangle& viewport,
+                     std::uint32_t boundUnits, const detail::ErrorSource& source);
 
     std::unique_ptr<detail::ContextState> _state;
     Framebuffer* _framebuffer = nullptr;

@@ -22,7 +22,7 @@ struct ShaderProgramAccess;
 /// The text of one shader stage and the name its errors are reported under.
 struct ShaderSource {
     std::string name; ///< for messages: the file ("shaders/scene/globe/globe.vert.glsl") or a name given
-    std::string text; ///< GLSL; a #version line is ignored: the renderer puts "#version 330 core" first
+    std::string text; ///< GLSL; a `#version` line is ignored: the renderer puts `#version 330 core` first
 
     /// A file a library or program embedded at build time (orbis_embed_shaders, EmbeddedShaders.h),
     /// by its embedded path ("examples/triangle/triangle.vert.glsl"). Throws orbis::Error naming the
@@ -49,7 +49,7 @@ struct ShaderProgramDescription {
     std::optional<ShaderSource> geometry;
     ShaderSource fragment;
     std::vector<ShaderDefine> defines;
-    /// GLSL extensions each stage requires ("#extension NAME : require" after #version), e.g.
+    /// GLSL extensions each stage requires (`#extension NAME : require` after `#version`), e.g.
     /// "GL_ARB_gpu_shader5" for `precise` (DeviceInfo::gpuShader5 says whether it is there).
     std::vector<std::string> extensions;
     /// Vertex (or geometry) shader outputs that Context::captureVertexOutputs reads back,

@@ -44,6 +44,8 @@ public:
     bool isKeyDown(char letter) const;
     /// Shows what was drawn into the default framebuffer.
     void swapBuffers();
+    /// Sets the text of the window's title bar (UTF-8).
+    void setTitle(const std::string& title);
     /// The default framebuffer's size in pixels (which may differ from the window's size in
     /// screen coordinates on high-density displays).
     int framebufferWidth() const;

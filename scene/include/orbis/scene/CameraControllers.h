@@ -107,6 +107,44 @@ private:
     FlyController _fly;
 };
 
+/// A camera's flight to a destination over a duration, as a viewer's "fly to" plays it: the eye
+/// follows the great circle between the start and the destination (over a pole or across the
+/// antimeridian as the short way goes), eased in and out, and rises on the way to a height that
+/// follows the distance covered (a short hop stays low, a flight to the far side of the Earth
+/// goes out to see it whole); heading, pitch and roll turn the short way from the start's to the
+/// destination's. Sample it with apply() once a frame.
+class CameraFlight final {
+public:
+    /// From `start` to the eye at `destination` looking with `orientation` (Camera::setView),
+    /// taking `seconds` (0 or less: there at once).
+    CameraFlight(const Ellipsoid& ellipsoid, const Camera& start, const Geodetic3D& destination,
+                 const HeadingPitchRoll& orientation, double seconds);
+
+    double duration() const noexcept { return _duration; }
+    /// The camera `seconds` after the start, clamped to 0..duration; the field of view is kept.
+    void apply(double seconds, Camera& camera) const noexcept;
+    /// The eye's position `seconds` after the start.
+    Geodetic3D positionAt(double seconds) const noexcept;
+    /// The highest the arc goes above the straight interpolation of the two heights, metres.
+    double arcHeight() const noexcept { return _arcHeight; }
+
+private:
+    /// The eased fraction of the way done after `seconds`.
+    double progress(double seconds) const noexcept;
+
+    Ellipsoid _ellipsoid;
+    Geodetic3D _destination;
+    glm::dvec3 _startNormal;
+    glm::dvec3 _axis;  ///< of the turn from the start's surface normal to the destination's
+    double _angle;     ///< of that turn, radians, 0..pi
+    double _startHeight;
+    double _endHeight;
+    double _arcHeight;
+    HeadingPitchRoll _startOrientation;
+    HeadingPitchRoll _endOrientation;
+    double _duration;
+};
+
 /// A scripted camera flight: keyframes of geodetic eye and target positions at times, sampled
 /// with linear interpolation (longitude the short way round the antimeridian). Tests and
 /// benchmarks drive the scene with it.

@@ -20,7 +20,7 @@ namespace orbis::scene {
 
 struct TileStatistics;
 
-/// What a primitive sees of the frame it takes part in (ARCHITECTURE.md, "One frame, as data").
+/// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {
     renderer::Context& context;
     renderer::Device& device;

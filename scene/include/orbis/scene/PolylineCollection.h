@@ -24,7 +24,7 @@ namespace detail {
 class VectorBatch;
 } // namespace detail
 
-/// How a vector collection's positions reach the GPU (ARCHITECTURE.md, precision rules).
+/// How a vector collection's positions reach the GPU (docs/precision.md).
 enum class VertexEncoding {
     /// positionHigh and positionLow, subtracted from the eye's on the GPU (book section 5.4):
     /// millimetres anywhere, 24 bytes a vertex.

@@ -18,10 +18,15 @@
 namespace orbis::renderer {
 class Context;
 class Framebuffer;
+struct SceneState;
 class Texture2D;
 } // namespace orbis::renderer
 
 namespace orbis::scene {
+
+namespace detail {
+struct DepthPlan; // scene/src/DepthPlan.h
+} // namespace detail
 
 struct SceneOptions {
     /// The near and far limits of every strategy; the ratio and overlap of MultiFrustum.
@@ -81,6 +86,28 @@ private:
     /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
     /// is already Depth32F.
     renderer::Framebuffer* floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target);
+
+    // The steps of render(), in order (Scene.cpp).
+    struct FrameView;
+    struct SurvivorDepth;
+    FrameView frameView(renderer::Framebuffer* target) const;
+    /// Culls primitives whole by their spheres; the survivors go to _survivors.
+    SurvivorDepth cullPrimitives(const FrameView& frame, FrameStatistics& statistics);
+    /// Last frame's choice under Automatic while it still fits, else chooseDepthStrategy's.
+    DepthStrategy startingDepthStrategy(renderer::Context& context, const FrameView& frame,
+                                        const SurvivorDepth& depth) const;
+    /// The survivors' commands under a strategy, culled and binned into _commands and _binner.
+    detail::DepthPlan updateAndBin(FrameState& frameState, DepthStrategy strategy, const FrameView& frame,
+                                   FrameStatistics& statistics, FrameStatistics& binning);
+    /// updateAndBin, again when Automatic's choice changes with the commands; the statistics filled.
+    detail::DepthPlan prepareCommands(renderer::Context& context, const FrameView& frame, const SurvivorDepth& depth,
+                                      FrameStatistics& statistics);
+    void drawFrame(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                   FrameStatistics& statistics);
+    void drawFrustums(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                      renderer::SceneState& sceneState, FrameStatistics& statistics) const;
+    void drawOverlay(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
+                     renderer::SceneState& sceneState, FrameStatistics& statistics) const;
 
     Ellipsoid _ellipsoid;
     SceneOptions _options;

