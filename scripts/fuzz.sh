@@ -3,12 +3,14 @@
 # AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time from a seed corpus.
 # Targets: scene (the scene-file and camera-path parsers, seeded with data/scenes/*.json and
 # data/paths/*.json), tms (tilemapresource.xml, seeded with data/imagery/*/tilemapresource.xml),
-# tiles (the JPEG, PNG and WebP tile decoders, seeded with tests/fuzz/seeds/tiles), geojson (GeoJSON
-# and TopoJSON, their polygons triangulated, seeded with tests/fuzz/seeds/geojson), csv (CSV points,
-# seeded with tests/fuzz/seeds/csv and data/scenes/*.csv), gltf (glTF and glb models, seeded with
-# data/models). Exit status: 0 no crash, 1 a crash (input saved in the build
-# folder), 77 no usable clang here (CTest reports the test as skipped).
-# Usage: scripts/fuzz.sh [--target scene|tms|tiles|geojson|csv|gltf] [--build-dir DIR] [--seconds N] [more libFuzzer options]
+# tiles (the JPEG, PNG and WebP tile decoders, seeded with tests/fuzz/seeds/tiles), terrain (the
+# quantized-mesh, heightmap-1.0, height-image and .hgt decoders and layer.json, seeded with
+# tests/fuzz/seeds/terrain), geojson (GeoJSON and TopoJSON, their polygons triangulated, seeded
+# with tests/fuzz/seeds/geojson), csv (CSV points, seeded with tests/fuzz/seeds/csv and
+# data/scenes/*.csv), gltf (glTF and glb models, seeded with data/models). Exit status: 0 no crash,
+# 1 a crash (input saved in the build folder), 77 no usable clang here (CTest reports the test as
+# skipped).
+# Usage: scripts/fuzz.sh [--target scene|tms|tiles|terrain|geojson|csv|gltf] [--build-dir DIR] [--seconds N] [more libFuzzer options]
 # Environment: ORBIS_FUZZ_CXX (default clang++-14, else clang++).
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -53,6 +55,13 @@ case "$target" in
     libraries="-lturbojpeg -lspng -lwebp"
     seeds="$root/tests/fuzz/seeds/tiles/*.*"
     ;;
+  terrain)
+    sources="tests/fuzz/TerrainDecoderFuzz.cpp world/src/TerrainCodec.cpp world/src/TerrainLayer.cpp
+      world/src/JsonLocator.cpp world/src/ImageCodec.cpp world/src/FileAccess.cpp world/src/Diagnostics.cpp
+      core/src/TilingScheme.cpp core/src/GeodeticExtent.cpp core/src/Ellipsoid.cpp core/src/Math.cpp"
+    libraries="-lturbojpeg -lspng -lwebp -lz"
+    seeds="$root/tests/fuzz/seeds/terrain/*"
+    ;;
   geojson)
     sources="tests/fuzz/GeoJsonFuzz.cpp world/src/GeoJson.cpp world/src/TopoJsonDocument.cpp world/src/RingConvention.cpp
       world/src/JsonText.cpp world/src/JsonLocator.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp
@@ -73,7 +82,7 @@ case "$target" in
     companions="$root/data/models/*.bin $root/data/models/*.png" # the .gltf seed's buffer and image
     ;;
   *)
-    echo "fuzz: unknown target $target (scene, tms, tiles, geojson, csv or gltf)"
+    echo "fuzz: unknown target $target (scene, tms, tiles, terrain, geojson, csv or gltf)"
     exit 2
     ;;
 esac
