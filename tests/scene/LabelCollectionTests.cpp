@@ -303,7 +303,7 @@ TEST_CASE("Labels over billboards on a globe render as their golden image", "[sc
     const RenderedFrame frame = renderFrame(scene, 192, 128);
     REQUIRE(frame.statistics.translucentPasses == 1);
     // Exact on llvmpipe; a GPU may round the globe's edge and blends differently.
-    ORBIS_REQUIRE_GOLDEN(frame.image, "scene/labels", GoldenTolerance{2, 0.01});
+    ORBIS_REQUIRE_GOLDEN(frame.image, "scene/labels", test::exactOnLlvmpipe(test::sharedDevice(), {2, 0.01}));
 }
 
 TEST_CASE("Decluttering hides a label that overlaps an earlier one shown, and nothing else", "[scene][label][declutter]")

@@ -280,29 +280,6 @@ TEST_CASE("A wide line seen at a grazing angle keeps its whole width on the glob
     REQUIRE(without < with);
 }
 
-TEST_CASE("A line running behind the eye is clipped at the near plane, not smeared across the view", "[polyline][clipping]")
-{
-    // The eye 100 m up looks north along a meridian line that starts 111 km behind it: the segments
-    // behind the eye are cut where they cross the near plane before the geometry shader divides by
-    // w, so the line runs from the bottom edge up the middle of the view to the horizon. (At 0.01
-    // degree granularity it is lifted 2.5 cm; at the default 1 degree it would float 243 m up,
-    // over the eye.)
-    PolylineCollectionOptions options;
-    options.granularityRadians = toRadians(0.01);
-    const Geodetic3D ends[] = {Geodetic3D::fromDegrees(0, -1), Geodetic3D::fromDegrees(0, 1)};
-    Scene scene(kEarth);
-    addRedLineOverGlobe(scene, ends, 5.0f, options);
-    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 100)),
-                          kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0.05, 0)), {0, 0, 1});
-    const int size = 64;
-    const Image image = renderFrame(scene, size, size).image;
-    INFO("bottom middle " << describePixel(image, size / 2, size - 1));
-    REQUIRE(pixelNear(image, size / 2, size - 1, kRedPixel, 2));
-    // Nothing red away from the middle: no triangle thrown across the view.
-    REQUIRE(countPixelsNear(image, kRedPixel, 60, 0, 0, size / 2 - 10, size) == 0);
-    REQUIRE(countPixelsNear(image, kRedPixel, 60, size / 2 + 10, 0, size, size) == 0);
-}
-
 TEST_CASE("A world of borders is drawn in groups the scene culls, and setStyle recolours and hides one line", "[polyline][culling]")
 {
     FeatureStyle style;

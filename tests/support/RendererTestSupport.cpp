@@ -7,6 +7,11 @@ using namespace orbis::renderer;
 
 namespace orbis::test {
 
+GoldenTolerance exactOnLlvmpipe(const Device& device, const GoldenTolerance& elsewhere)
+{
+    return device.info().renderer.find("llvmpipe") != std::string::npos ? GoldenTolerance{2, 0.0} : elsewhere;
+}
+
 Device& sharedDevice()
 {
     static std::unique_ptr<Device> device = std::make_unique<Device>();

@@ -3,6 +3,8 @@
 // Small helpers for rendering tests: a device shared by the tests of one process, simple meshes
 // and programs, and pixel checks.
 
+#include "GoldenImage.h"
+
 #include <orbis/renderer/Device.h>
 
 #include <glm/vec4.hpp>
@@ -14,6 +16,11 @@ namespace orbis::test {
 /// One device for the tests of this process (EGL, or OSMesa when EGL fails), its main context made
 /// current on the calling thread.
 renderer::Device& sharedDevice();
+
+/// The golden tolerance of an image llvmpipe renders exactly: 2 a channel and not one pixel beyond
+/// on llvmpipe (where CI runs and the goldens were made, so a misspelt label fails), `elsewhere` on
+/// other drivers, which round edges and blend their own way.
+GoldenTolerance exactOnLlvmpipe(const renderer::Device& device, const GoldenTolerance& elsewhere);
 
 /// A quad covering [x0, x1] x [y0, y1] at depth z (clip coordinates with the default SceneState),
 /// counter-clockwise, indexed.
