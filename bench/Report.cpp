@@ -100,6 +100,18 @@ double nanosecondsPerItem(std::size_t items, const std::function<void()>& run, i
     return best / static_cast<double>(std::max<std::size_t>(items, 1));
 }
 
+double threadCpuNanosecondsPerItem(std::size_t items, const std::function<void()>& run)
+{
+    timespec start{};
+    timespec stop{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
+    run();
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &stop);
+    const double nanoseconds =
+        static_cast<double>(stop.tv_sec - start.tv_sec) * 1e9 + static_cast<double>(stop.tv_nsec - start.tv_nsec);
+    return nanoseconds / static_cast<double>(std::max<std::size_t>(items, 1));
+}
+
 std::string formatNumber(double value, int significantDigits)
 {
     if (value == 0.0 || !std::isfinite(value)) {

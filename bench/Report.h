@@ -39,6 +39,10 @@ inline void doNotOptimize(const T& value)
 /// Best wall-clock time of `repeats` runs of `run`, divided by `items`, in nanoseconds.
 double nanosecondsPerItem(std::size_t items, const std::function<void()>& run, int repeats = 5);
 
+/// This thread's CPU time for `run`, per item, in nanoseconds: time the machine's other work
+/// takes from the thread does not count (the figures are for one core, whoever else runs).
+double threadCpuNanosecondsPerItem(std::size_t items, const std::function<void()>& run);
+
 /// A length in metres with a readable unit ("3.2 nm", "7.1 mm", "12 km").
 std::string formatLength(double meters);
 /// A number with the given significant digits.

@@ -59,20 +59,6 @@ Image mosaic(std::uint32_t level)
     return image;
 }
 
-/// This thread's CPU time for `run`, per item, in nanoseconds: time the machine's other work
-/// takes from the thread does not count (the figures here are for one core, whoever else runs).
-double threadCpuNanosecondsPerItem(std::size_t items, const std::function<void()>& run)
-{
-    timespec start{};
-    timespec stop{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &start);
-    run();
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &stop);
-    const double nanoseconds =
-        static_cast<double>(stop.tv_sec - start.tv_sec) * 1e9 + static_cast<double>(stop.tv_nsec - start.tv_nsec);
-    return nanoseconds / static_cast<double>(std::max<std::size_t>(items, 1));
-}
-
 std::vector<Table> decoding(const Options& options)
 {
     const auto tiles = readLevel(4);

@@ -3,9 +3,10 @@
 # AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time from a seed corpus.
 # Targets: scene (the scene-file parser, seeded with data/scenes/*.json), tms (tilemapresource.xml,
 # seeded with data/imagery/*/tilemapresource.xml), tiles (the JPEG, PNG and WebP tile decoders,
-# seeded with tests/fuzz/seeds/tiles). Exit status: 0 no crash, 1 a crash (input saved in the build
+# seeded with tests/fuzz/seeds/tiles), terrain (the quantized-mesh, heightmap-1.0, height-image and
+# .hgt decoders and layer.json, seeded with tests/fuzz/seeds/terrain). Exit status: 0 no crash, 1 a crash (input saved in the build
 # folder), 77 no usable clang here (CTest reports the test as skipped).
-# Usage: scripts/fuzz.sh [--target scene|tms|tiles] [--build-dir DIR] [--seconds N] [more libFuzzer options]
+# Usage: scripts/fuzz.sh [--target scene|tms|tiles|terrain] [--build-dir DIR] [--seconds N] [more libFuzzer options]
 # Environment: ORBIS_FUZZ_CXX (default clang++-14, else clang++).
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -48,8 +49,15 @@ case "$target" in
     libraries="-lturbojpeg -lspng -lwebp"
     seeds="$root/tests/fuzz/seeds/tiles/*.*"
     ;;
+  terrain)
+    sources="tests/fuzz/TerrainDecoderFuzz.cpp world/src/TerrainCodec.cpp world/src/TerrainLayer.cpp
+      world/src/JsonLocator.cpp world/src/ImageCodec.cpp world/src/FileAccess.cpp world/src/Diagnostics.cpp
+      core/src/TilingScheme.cpp core/src/GeodeticExtent.cpp core/src/Ellipsoid.cpp core/src/Math.cpp"
+    libraries="-lturbojpeg -lspng -lwebp -lz"
+    seeds="$root/tests/fuzz/seeds/terrain/*"
+    ;;
   *)
-    echo "fuzz: unknown target $target (scene, tms or tiles)"
+    echo "fuzz: unknown target $target (scene, tms, tiles or terrain)"
     exit 2
     ;;
 esac

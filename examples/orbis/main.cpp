@@ -6,17 +6,22 @@
 #include "../common/Viewer.h"
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/core/Error.h>
+#include <orbis/core/Math.h>
 #include <orbis/renderer/Device.h>
 #include <orbis/scene/CameraControllers.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/core/TileKey.h>
 #include <orbis/world/AsyncPngWriter.h>
+#include <orbis/world/CsvPoints.h>
 #include <orbis/world/Diagnostics.h>
 #include <orbis/world/FileAccess.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/ImageryTiler.h>
 #include <orbis/world/SceneData.h>
 #include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainHeight.h>
+#include <orbis/world/TerrainSource.h>
 #include <orbis/world/TerrainTiler.h>
 
 #include <algorithm>
@@ -748,6 +753,89 @@ int runTile(Arguments arguments)
     throw UsageError{"what to tile: \"imagery\" or \"terrain\", got " + (kind.empty() ? "nothing" : orbis::world::quote(kind))};
 }
 
+/// orbis height TERRAIN (LON LAT ... | --points FILE.csv) [--format NAME]: the most-detailed height
+/// of each point (degrees), one line each in the input's order, in metres; "nodata" where the
+/// terrain has none (then exit status 1, after every line).
+int runHeight(Arguments arguments)
+{
+    std::string terrain;
+    std::vector<orbis::Geodetic2D> points;
+    std::optional<std::filesystem::path> csv;
+    orbis::world::TerrainSourceOptions options;
+    std::vector<double> numbers;
+    constexpr std::string_view kOptions[] = {"--points", "--format"};
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        if (argument == "--points" || argument == "--format") {
+            if (i + 1 == arguments.size()) {
+                throw UsageError{format("%s needs a value", arguments[i])};
+            }
+            const std::string value = arguments[++i];
+            if (argument == "--points") {
+                csv = value;
+            } else {
+                options.format = value;
+            }
+        } else if (terrain.empty()) {
+            if (argument.starts_with("--")) {
+                throw unknownOption(argument, kOptions);
+            }
+            terrain = std::string(argument);
+        } else if (const auto number = parseFinite(argument, -1e300)) {
+            numbers.push_back(*number);
+        } else if (argument.starts_with("--")) {
+            throw unknownOption(argument, kOptions);
+        } else {
+            throw UsageError{"expected a longitude or latitude in degrees, got " + orbis::world::quote(argument)};
+        }
+    }
+    if (terrain.empty()) {
+        throw UsageError{"give the terrain source, then the points"};
+    }
+    if (numbers.empty() == !csv) {
+        throw UsageError{csv ? "give the points either on the command line or with --points, not both"
+                             : "give the points: LON LAT pairs or --points FILE.csv"};
+    }
+    if (numbers.size() % 2 != 0) {
+        throw UsageError{format("a longitude without its latitude (%zu numbers)", numbers.size())};
+    }
+    for (std::size_t i = 1; i < numbers.size(); i += 2) {
+        if (!(std::abs(numbers[i]) <= 90.0)) {
+            throw UsageError{format("latitude %g is not within -90 to 90 degrees", numbers[i])};
+        }
+    }
+    try {
+        if (csv) {
+            orbis::world::CsvPointsOptions columns;
+            columns.longitudeColumn.clear(); // the first column named lon, lng, long or longitude
+            columns.latitudeColumn.clear();
+            columns.propertyColumns = std::vector<std::string>();
+            for (const orbis::Geodetic3D& position : orbis::world::loadCsvPoints(*csv, columns).positions) {
+                points.push_back({position.longitude, position.latitude});
+            }
+        }
+        for (std::size_t i = 0; i < numbers.size(); i += 2) {
+            points.push_back({orbis::toRadians(numbers[i]), orbis::toRadians(numbers[i + 1])});
+        }
+        const auto source = orbis::world::openTerrainSource(terrain, options);
+        orbis::world::TerrainHeightQuery query(*source);
+        int exitCode = kExitOk;
+        for (const orbis::Geodetic2D& point : points) {
+            if (const auto height = query.at(point)) {
+                std::printf("%.3f\n", height->height);
+            } else {
+                std::printf("nodata\n");
+                exitCode = kExitFailed;
+            }
+        }
+        return exitCode;
+    } catch (const orbis::Error& error) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "orbis height: %s\n", error.what());
+        return kExitFailed;
+    }
+}
+
 struct Subcommand {
     std::string_view name;
     std::string_view arguments; ///< for the usage line
@@ -784,6 +872,11 @@ constexpr Subcommand kSubcommands[] = {
      "tiles with layer.json (availability, each tile's measured geometric error); --max-error: the quantized-mesh "
      "tolerance at level 0, halved per level (see docs/terrain.md)",
      runTile},
+    {"height", "TERRAIN (LON LAT [LON LAT ...] | --points FILE.csv) [--format NAME]",
+     "print the most-detailed height of each point (degrees; a CSV's lon and lat columns) in metres, one line "
+     "each in input order, from a terrain source (layer.json folder or URL, MBTiles, PNG height pyramid, .hgt, "
+     "any DEM GDAL reads); a point on a tile edge gives the same value from either tile",
+     runHeight},
     {"info", "", "the Orbis version, the OpenGL driver, its limits and the capabilities the scene's strategies use",
      runInfo},
     {"demo", "", "geodetic conversions on WGS84", runDemo},

@@ -328,13 +328,16 @@ TEST_CASE("HTTP: layer.json and tiles from a server, with the Accept header quan
 
 TEST_CASE("A 16-bit PNG height pyramid of 2^k + 1 point samples is read tile for tile", "[world][terrain][source]")
 {
+    // units-per-pixel as the shared ETOPO5 tiles give it (the spacing of the samples, 180 / 16
+    // degrees at level 0) or as imagery has it (180 / 17).
+    const double spacing = GENERATE(180.0 / 16.0, tileMapUnitsPerPixel(TilingScheme::geographic(), 0, 17));
     const TempDirectory folder;
     TileMapResource resource;
     resource.extension = "png";
     resource.mimeType = "image/png";
     resource.tileWidth = 17;
     resource.tileHeight = 17;
-    resource.tileSets = {{"0", 0, tileMapUnitsPerPixel(TilingScheme::geographic(), 0, 17)}};
+    resource.tileSets = {{"0", 0, spacing}};
     write(folder.path() / "tilemapresource.xml", formatTileMapResource(resource));
     HeightGrid grid;
     grid.width = grid.height = 17;
