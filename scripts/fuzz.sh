@@ -1,12 +1,16 @@
 #!/bin/sh
 # Fuzzes one of Orbis's readers: builds its libFuzzer target from tests/fuzz/ with clang (libFuzzer,
 # AddressSanitizer, UndefinedBehaviorSanitizer) and runs it for a bounded time from a seed corpus.
-# Targets: scene (the scene-file parser, seeded with data/scenes/*.json), tms (tilemapresource.xml,
-# seeded with data/imagery/*/tilemapresource.xml), tiles (the JPEG, PNG and WebP tile decoders,
-# seeded with tests/fuzz/seeds/tiles), terrain (the quantized-mesh, heightmap-1.0, height-image and
-# .hgt decoders and layer.json, seeded with tests/fuzz/seeds/terrain). Exit status: 0 no crash, 1 a crash (input saved in the build
-# folder), 77 no usable clang here (CTest reports the test as skipped).
-# Usage: scripts/fuzz.sh [--target scene|tms|tiles|terrain] [--build-dir DIR] [--seconds N] [more libFuzzer options]
+# Targets: scene (the scene-file and camera-path parsers, seeded with data/scenes/*.json and
+# data/paths/*.json), tms (tilemapresource.xml, seeded with data/imagery/*/tilemapresource.xml),
+# tiles (the JPEG, PNG and WebP tile decoders, seeded with tests/fuzz/seeds/tiles), terrain (the
+# quantized-mesh, heightmap-1.0, height-image and .hgt decoders and layer.json, seeded with
+# tests/fuzz/seeds/terrain), geojson (GeoJSON and TopoJSON, their polygons triangulated, seeded
+# with tests/fuzz/seeds/geojson), csv (CSV points, seeded with tests/fuzz/seeds/csv and
+# data/scenes/*.csv), gltf (glTF and glb models, seeded with data/models). Exit status: 0 no crash,
+# 1 a crash (input saved in the build folder), 77 no usable clang here (CTest reports the test as
+# skipped).
+# Usage: scripts/fuzz.sh [--target scene|tms|tiles|terrain|geojson|csv|gltf] [--build-dir DIR] [--seconds N] [more libFuzzer options]
 # Environment: ORBIS_FUZZ_CXX (default clang++-14, else clang++).
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -25,6 +29,7 @@ done
 # Each target: its sources (the reader and what it uses from core; nothing that needs OpenGL or
 # GeographicLib), the libraries it links, its seeds and its dictionary.
 libraries=""
+companions=""
 dictionary=""
 workdir=""
 case "$target" in
@@ -32,8 +37,9 @@ case "$target" in
     sources="tests/fuzz/SceneParserFuzz.cpp world/src/SceneFile.cpp world/src/JsonLocator.cpp
       world/src/JsonText.cpp world/src/Diagnostics.cpp world/src/CsvPoints.cpp world/src/FileAccess.cpp
       world/src/DepthStrategy.cpp core/src/SunPosition.cpp core/src/Ellipsoid.cpp core/src/Math.cpp
-      core/src/Transforms.cpp core/src/IntersectionTests.cpp scene/src/Camera.cpp"
-    seeds="$root/data/scenes/*.json"
+      world/src/CameraKeyframe.cpp core/src/Transforms.cpp core/src/IntersectionTests.cpp scene/src/Camera.cpp
+      scene/src/CameraControllers.cpp"
+    seeds="$root/data/scenes/*.json $root/data/paths/*.json"
     dictionary="-dict=$root/tests/fuzz/scene.dict"
     workdir="$root/data/scenes" # where the seeds' relative paths lead
     ;;
@@ -56,11 +62,33 @@ case "$target" in
     libraries="-lturbojpeg -lspng -lwebp -lz"
     seeds="$root/tests/fuzz/seeds/terrain/*"
     ;;
+  geojson)
+    sources="tests/fuzz/GeoJsonFuzz.cpp world/src/GeoJson.cpp world/src/TopoJsonDocument.cpp world/src/RingConvention.cpp
+      world/src/JsonText.cpp world/src/JsonLocator.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp
+      core/src/EllipsoidPolygon.cpp core/src/EarClipping.cpp core/src/PolygonCleanup.cpp core/src/PointIndex.cpp
+      core/src/RobustPredicates.cpp core/src/TriangleMeshSubdivision.cpp core/src/EllipsoidTangentPlane.cpp
+      core/src/Ellipsoid.cpp core/src/Math.cpp"
+    seeds="$root/tests/fuzz/seeds/geojson/*"
+    ;;
+  csv)
+    sources="tests/fuzz/CsvPointsFuzz.cpp world/src/CsvPoints.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp"
+    seeds="$root/tests/fuzz/seeds/csv/* $root/data/scenes/*.csv"
+    ;;
+  gltf)
+    sources="tests/fuzz/GltfModelFuzz.cpp world/src/GltfModel.cpp world/src/TinyGltf.cpp world/src/JsonText.cpp
+      world/src/JsonLocator.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp core/src/Math.cpp"
+    libraries="-lstb"
+    seeds="$root/data/models/*.gltf $root/data/models/*.glb"
+    companions="$root/data/models/*.bin $root/data/models/*.png" # the .gltf seed's buffer and image
+    ;;
   *)
-    echo "fuzz: unknown target $target (scene, tms, tiles or terrain)"
+    echo "fuzz: unknown target $target (scene, tms, tiles, terrain, geojson, csv or gltf)"
     exit 2
     ;;
 esac
+# Objects are shared by the targets (the same flags for all), so that a source several readers use
+# is compiled once.
+objectDir="$build/objects"
 build="$build/$target"
 [ -n "$workdir" ] || workdir="$build"
 
@@ -76,24 +104,27 @@ if [ -z "$cxx" ]; then
 fi
 
 flags="-std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-  -I$root/core/include -I$root/world/include -I$root/scene/include"
+  -I$root/core/include -I$root/world/include -I$root/scene/include -isystem /usr/include/stb"
 launcher=""
 command -v ccache >/dev/null 2>&1 && launcher=ccache
 
-mkdir -p "$build/objects" "$build/corpus"
+mkdir -p "$objectDir" "$build/corpus"
 binary="$build/${target}_fuzz"
 objects=""
 for source in $sources; do
-  object="$build/objects/$(echo "$source" | tr / _).o"
+  object="$objectDir/$(echo "$source" | tr / _).o"
   objects="$objects $object"
   # Recompile when the source or any header it may include changed.
   if [ ! -f "$object" ] || [ -n "$(find "$root/$source" "$root/core/include" "$root/world/include" "$root/world/src" "$root/scene/include" \
        -newer "$object" -type f 2>/dev/null | head -n 1)" ]; then
+    # Written under a name of its own and renamed: targets fuzzed at once may compile it together.
     # shellcheck disable=SC2086
-    if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object"; then
+    if ! $launcher "$cxx" $flags -c "$root/$source" -o "$object.$$.tmp"; then
+      rm -f "$object.$$.tmp"
       echo "fuzz: compiling $source with $cxx failed"
       exit 1
     fi
+    mv -f "$object.$$.tmp" "$object"
   fi
 done
 # shellcheck disable=SC2086
@@ -108,8 +139,13 @@ for seed in $seeds; do
   count=$((count + 1))
   cp "$seed" "$build/corpus/seed-$count-$(basename "$seed")"
 done
+for companion in $companions; do
+  cp "$companion" "$build/"
+done
 cd "$workdir"
 echo "fuzz: running $binary for $seconds s"
 # shellcheck disable=SC2086
+# libFuzzer's own exit codes for a crash (77) and a timeout (70) would read as "skipped" in CTest.
 exec "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  -error_exitcode=1 -timeout_exitcode=1 \
   $dictionary -artifact_prefix="$build/" "$@" "$build/corpus"

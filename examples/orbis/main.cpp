@@ -207,6 +207,21 @@ bool confineFiles(const std::string& folder)
     }
 }
 
+/// Builds the scene's primitives as render does, without a GPU (polygons triangulated, billboard
+/// images packed, models unfolded): what the files' readers accept but drawing them refuses. False,
+/// with the message, when that fails.
+bool buildsWithoutFault(const std::string& path, const orbis::world::SceneDescription& description)
+{
+    try {
+        orbis::scene::Scene scene;
+        orbis::scene::populateScene(description, scene);
+        return true;
+    } catch (const orbis::Error& error) {
+        std::fprintf(stderr, "%s: %s\n", path.c_str(), error.what());
+        return false;
+    }
+}
+
 /// orbis validate [--sandbox FOLDER] SCENE.json...: reads each file, and the files it names, as
 /// `orbis render` would, renders nothing; lists every fault of a file (world::validateSceneFile).
 int runValidate(Arguments arguments)
@@ -232,7 +247,9 @@ int runValidate(Arguments arguments)
     for (const std::string& path : scenes) {
         orbis::world::SceneDescription scene;
         const orbis::world::DiagnosticList faults = orbis::world::validateSceneFile(path, &scene);
-        if (faults.empty()) {
+        if (faults.empty() && !buildsWithoutFault(path, scene)) {
+            exitCode = kExitFailed;
+        } else if (faults.empty()) {
             std::printf("%s: ok (%zu %s)\n", path.c_str(), scene.layers.size(),
                         scene.layers.size() == 1 ? "layer" : "layers");
         } else {
@@ -256,6 +273,58 @@ std::string framePath(const std::string& output, int index, int count)
     std::snprintf(number, sizeof number, "_%04d", index + 1);
     return hasExtension ? output.substr(0, dot) + number + output.substr(dot) : output + number;
 }
+
+/// The files one run writes, each first under a temporary name beside it, renamed into place
+/// together once all are written: a run that fails half way leaves none of them (a flight no
+/// first frames, a picture no PNG without its --stats). What is not committed is removed.
+class StagedOutputs {
+public:
+    /// Throws orbis::Error naming the file when it exists and is no regular file (a folder in the
+    /// way), so that a run fails before it renders rather than when it renames.
+    static void checkWritable(const std::filesystem::path& path)
+    {
+        std::error_code error;
+        const std::filesystem::file_status status = std::filesystem::status(path, error);
+        if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+            throw orbis::Error(orbis::world::cutForMessage(path.string()) + ": cannot write: it exists and is not a file");
+        }
+    }
+
+    /// The temporary name to write `path` under.
+    std::filesystem::path stage(const std::filesystem::path& path)
+    {
+        std::filesystem::path temporary = path;
+        temporary += ".partial-" + std::to_string(::getpid());
+        _staged.emplace_back(temporary, path);
+        return temporary;
+    }
+
+    /// Renames every staged file into place; throws orbis::Error naming the first that fails.
+    void commit()
+    {
+        for (auto& [temporary, path] : _staged) {
+            std::error_code error;
+            std::filesystem::rename(temporary, path, error);
+            if (error) {
+                throw orbis::Error(orbis::world::cutForMessage(path.string()) + ": cannot write: " + error.message());
+            }
+            temporary.clear();
+        }
+    }
+
+    ~StagedOutputs()
+    {
+        for (const auto& staged : _staged) {
+            if (!staged.first.empty()) {
+                std::error_code ignored;
+                std::filesystem::remove(staged.first, ignored);
+            }
+        }
+    }
+
+private:
+    std::vector<std::pair<std::filesystem::path, std::filesystem::path>> _staged; // temporary, final
+};
 
 /// The command line of render and view: a scene file and options, each at most once.
 struct SceneArguments {
@@ -387,6 +456,13 @@ int runRender(Arguments arguments)
             }
         }
         const int frameCount = flight ? frames.value_or(60) : 1;
+        for (int frame = 0; frame < frameCount; ++frame) {
+            StagedOutputs::checkWritable(framePath(output, frame, frameCount));
+        }
+        if (statisticsPath) {
+            StagedOutputs::checkWritable(*statisticsPath);
+        }
+        StagedOutputs outputs;
 
         orbis::renderer::Device device;
         orbis::renderer::Context& context = device.context();
@@ -409,7 +485,7 @@ int runRender(Arguments arguments)
                 statistics = renderConverged(scene, context, noWait ? 1 : maxFrames.value_or(600));
             }
             const std::string path = framePath(output, frame, frameCount);
-            writer.write(context.readPixels(), path);
+            writer.write(context.readPixels(), outputs.stage(path));
             if (frame == 0) {
                 std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
                             device.info().renderer.c_str(), statistics.toText().c_str());
@@ -438,13 +514,9 @@ int runRender(Arguments arguments)
                         framePath(output, frameCount - 1, frameCount).c_str());
         }
         if (statisticsPath) {
-            std::ofstream file(*statisticsPath);
-            file << statisticsJson;
-            if (!file) {
-                std::fprintf(stderr, "orbis render: cannot write %s\n", statisticsPath->c_str());
-                return kExitFailed;
-            }
+            orbis::world::writeFileAtomically(outputs.stage(*statisticsPath), statisticsJson);
         }
+        outputs.commit();
         return kExitOk;
     } catch (const orbis::Error& error) {
         std::fprintf(stderr, "orbis render: %s\n", error.what());

@@ -248,15 +248,6 @@ double CameraPath::duration() const noexcept
     return _keyframes.empty() ? 0.0 : _keyframes.back().seconds - _keyframes.front().seconds;
 }
 
-namespace {
-Geodetic3D interpolate(const Geodetic3D& a, const Geodetic3D& b, double t) noexcept
-{
-    const double deltaLongitude = std::remainder(b.longitude - a.longitude, kTwoPi);
-    return {std::remainder(a.longitude + t * deltaLongitude, kTwoPi), a.latitude + t * (b.latitude - a.latitude),
-            a.height + t * (b.height - a.height)};
-}
-} // namespace
-
 void CameraPath::apply(double seconds, Camera& camera) const
 {
     if (_keyframes.empty()) {
@@ -275,9 +266,9 @@ void CameraPath::apply(double seconds, Camera& camera) const
     } else {
         const Keyframe& a = *(after - 1);
         const Keyframe& b = *after;
-        const double t = (seconds - a.seconds) / (b.seconds - a.seconds);
-        eye = interpolate(a.eye, b.eye, t);
-        target = interpolate(a.target, b.target, t);
+        const Keyframe between = world::interpolateKeyframes(a, b, (seconds - a.seconds) / (b.seconds - a.seconds));
+        eye = between.eye;
+        target = between.target;
     }
     const glm::dvec3 eyePosition = _ellipsoid.toCartesian(eye);
     camera.lookAt(eyePosition, _ellipsoid.toCartesian(target), _ellipsoid.geodeticSurfaceNormal(eyePosition));

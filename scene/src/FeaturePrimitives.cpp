@@ -3,6 +3,7 @@
 #include "orbis/scene/Scene.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/world/Diagnostics.h>
 
 #include <cmath>
 #include <variant>
@@ -81,8 +82,10 @@ private:
             options.encoding = _style.encoding;
             _out.fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
         }
-        const std::string name = _feature->stringProperty("name").value_or("feature") + " (feature " +
-                                 std::to_string(_feature->index) + ", polygon " + std::to_string(part) + ")";
+        // A feature's name is data: cut, so that a hostile one cannot make a message megabytes long.
+        std::string name = world::cutForMessage(_feature->stringProperty("name").value_or("feature"), 80);
+        name.append(" (feature ").append(std::to_string(_feature->index));
+        name.append(", polygon ").append(std::to_string(part)).append(")");
         const glm::vec4 color = _style.fillColorOf ? _style.fillColorOf(*_feature) : _style.fillColor;
         try {
             _out.fills->add(polygon, color, name);

@@ -5,9 +5,11 @@
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/CubeMapEllipsoidTessellator.h>
 #include <orbis/core/GeographicGridEllipsoidTessellator.h>
+#include <orbis/core/Error.h>
 #include <orbis/core/SubdivisionEllipsoidTessellator.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/world/Diagnostics.h>
 #include <orbis/world/TileMapService.h>
 
 #include <glm/geometric.hpp>
@@ -102,11 +104,20 @@ void Globe::createResources(FrameState& frameState)
                               : tessellate(_ellipsoid, _options.tessellation, _options.tessellationLevel).mesh;
     _vertexArray = frameState.context.createVertexArray(mesh, program(frameState));
 
+    // Read here, at the first frame: an error names the file, as the GPU's size limit is known only now.
+    auto texture = [&](const std::filesystem::path& path, const char* what) {
+        const Image image = world::readGlobeImage(path);
+        try {
+            return frameState.device.createTexture2D(image, true);
+        } catch (const Error& error) {
+            throw Error(world::cutForMessage(path.string()) + ": " + what + ": " + error.what());
+        }
+    };
     if (!_options.dayTexture.empty()) {
-        _dayTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.dayTexture), true);
+        _dayTexture = texture(_options.dayTexture, "globe texture");
     }
     if (!_options.nightTexture.empty()) {
-        _nightTexture = frameState.device.createTexture2D(world::readGlobeImage(_options.nightTexture), true);
+        _nightTexture = texture(_options.nightTexture, "globe night texture");
     }
     SamplerDescription sampler;
     sampler.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;

@@ -9,6 +9,7 @@
 #include "orbis/scene/VirtualTextureGlobe.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/world/Diagnostics.h>
 #include <orbis/world/GeoJson.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/SceneData.h>
@@ -46,7 +47,13 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
     }
     style.granularityRadians = layer.path.granularityRadians;
     style.curve = layer.path.curve;
-    buildFeaturePrimitives(scene.ellipsoid(), world::loadGeoJson(layer.source), style).addTo(scene);
+    const world::FeatureCollection features = world::loadGeoJson(layer.source);
+    try {
+        buildFeaturePrimitives(scene.ellipsoid(), features, style).addTo(scene);
+    } catch (const Error& error) {
+        // What the triangulation refuses names the feature; the file is named here.
+        throw Error(world::cutForMessage(layer.source.string()) + ": " + error.what());
+    }
 }
 
 void addPolylineLayer(const world::PolylineLayer& layer, Scene& scene)
@@ -107,7 +114,15 @@ void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
     auto billboards = std::make_shared<BillboardCollection>();
     Image image = style.image ? world::readImage(*style.image) : roundDot(size);
     const float scale = static_cast<float>(style.sizePixels / std::max(image.width, image.height));
-    const std::size_t imageIndex = billboards->addImage(image);
+    const std::size_t imageIndex = [&] {
+        try {
+            return billboards->addImage(image);
+        } catch (const Error& error) {
+            // Too large for the atlas: the message names the image file and its key.
+            throw Error(style.image ? world::cutForMessage(style.image->string()) + ": billboard image: " + error.what()
+                                    : std::string("billboard: ") + error.what());
+        }
+    }();
     const auto [horizontal, vertical] = splitOrigin(style.origin);
     const glm::ivec2 offset(static_cast<int>(std::lround(style.offsetPixels.x)),
                             static_cast<int>(std::lround(style.offsetPixels.y)));

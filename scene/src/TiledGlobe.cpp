@@ -285,7 +285,8 @@ struct TiledGlobe::Impl {
     std::deque<PendingUpload> uploads;
     std::vector<QuadtreeTile*> residentTiles; ///< tiles whose mesh is on the GPU
     std::size_t gpuBytes = 0;
-    std::size_t cpuBytes = 0;
+    std::size_t cpuBytes = 0;    ///< all the tiles hold here: loads waiting to be uploaded, meshes and heights kept
+    std::size_t queuedBytes = 0; ///< of those, the loads waiting to be uploaded
     std::size_t failedCount = 0;
     std::size_t missingCount = 0;
     double effectiveScreenSpaceError;
@@ -655,6 +656,7 @@ void TiledGlobe::Impl::receive(world::TileLoadResult result, TileStatistics& sta
     case world::TileLoadResult::Status::Loaded:
         ++statistics.loadedThisFrame;
         cpuBytes += result.content->byteSize();
+        queuedBytes += result.content->byteSize();
         uploads.push_back({target, std::move(result.content)});
         break;
     case world::TileLoadResult::Status::Missing:
@@ -673,9 +675,9 @@ void TiledGlobe::Impl::receive(world::TileLoadResult result, TileStatistics& sta
 std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcept
 {
     const std::uint64_t since = frame > 0 ? frame - 1 : 0;
-    std::size_t bytes = cpuBytes;
+    std::size_t bytes = queuedBytes;
     for (const QuadtreeTile* tile : residentTiles) {
-        bytes += tile->lastVisitedFrame >= since ? surfaceOf(*tile).bytes : 0;
+        bytes += tile->lastVisitedFrame >= since ? surfaceOf(*tile).bytes + surfaceOf(*tile).cpuBytes : 0;
     }
     for (const Layer& layer : layers) {
         for (const auto& [key, imagery] : layer.tiles) {
@@ -790,6 +792,7 @@ bool TiledGlobe::Impl::unwanted(const LoadTarget& target, std::uint64_t frame) c
 void TiledGlobe::Impl::drop(PendingUpload pending)
 {
     cpuBytes -= pending.content->byteSize();
+    queuedBytes -= pending.content->byteSize();
     const LoadTarget& target = pending.target;
     if (target.layer < 0) {
         surfaceOf(*target.tile).mesh = LoadState::Unloaded;
@@ -802,6 +805,7 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
 {
     const std::size_t cpu = pending.content->byteSize();
     cpuBytes -= cpu;
+    queuedBytes -= cpu;
     const LoadTarget& target = pending.target;
     renderer::Device& device = frameState.device;
     if (target.layer < 0) {
@@ -1106,7 +1110,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
 
         // No new loads while more arrived than four frames' uploads: what the view asks for later
         // is more useful than what it asked for while the queue was long.
-        const bool mayStart = impl.cpuBytes < 4 * _options.uploadBytesPerFrame;
+        const bool mayStart = impl.queuedBytes < 4 * _options.uploadBytesPerFrame;
         for (const TileLoadCandidate& candidate : impl.selection.loads) {
             SurfaceTile& surface = surfaceOf(*candidate.tile);
             if (surface.mesh == LoadState::Unloaded && mayStart) {

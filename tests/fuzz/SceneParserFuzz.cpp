@@ -1,9 +1,12 @@
 // libFuzzer target for the scene-file parser: any input either parses into a description that
 // keeps the documented invariants or throws orbis::world::SceneFileError with a well-formed message.
+// Each input is read as a camera path too: one that parses flies a camera that looks somewhere
+// (finite directions) at every time.
 // Any other exception, a crash, a sanitizer report or a broken invariant is a bug.
 // Built and run by scripts/fuzz.sh (clang, -fsanitize=fuzzer,address,undefined).
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/scene/Camera.h>
+#include <orbis/scene/CameraControllers.h>
 #include <orbis/world/SceneFile.h>
 
 #include <glm/geometric.hpp>
@@ -87,6 +90,29 @@ void parseOnce(std::string_view text, bool checkFiles)
     }
 }
 
+/// The camera along a parsed path, sampled finely between each pair of keyframes.
+void flyPath(std::string_view text)
+{
+    constexpr std::string_view kOrigin = "fuzz-path.json";
+    orbis::scene::CameraPath path(orbis::Ellipsoid::wgs84());
+    try {
+        for (const orbis::scene::CameraPath::Keyframe& keyframe : orbis::world::parseCameraPathText(text, kOrigin)) {
+            path.add(keyframe);
+        }
+    } catch (const orbis::world::SceneFileError& error) {
+        checkError(error, kOrigin);
+        return;
+    }
+    require(path.keyframes().size() >= 2);
+    orbis::scene::Camera camera;
+    const double start = path.keyframes().front().seconds;
+    constexpr int kSamples = 256;
+    for (int i = 0; i <= kSamples; ++i) {
+        path.apply(start + path.duration() * i / kSamples, camera);
+        require(orbis::isFinite(camera.direction()) && orbis::isFinite(camera.up()) && orbis::isFinite(camera.right()));
+    }
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
@@ -94,5 +120,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     parseOnce(text, true);
     parseOnce(text, false);
+    flyPath(text);
     return 0;
 }

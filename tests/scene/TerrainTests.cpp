@@ -366,3 +366,27 @@ TEST_CASE("The exaggeration changes at run time: tiles rebuilt at once, bounds f
     CHECK(std::abs(*terrain.globe->heightAt(probe) - *before) < 5.0);
     CHECK_THROWS_AS(terrain.globe->setTerrainExaggeration(-1.0), Error);
 }
+
+TEST_CASE("Meshes kept for stitching do not count as uploads waiting: a small upload budget still converges",
+          "[scene][tiles][terrain][gl]")
+{
+    TiledGlobeOptions options;
+    options.terrain = std::make_shared<SyntheticTerrain>(ridges, 0.0);
+    options.loader.workerThreads = 0;
+    options.loader.latencyFrames = 0;
+    // Four frames of this budget are less than the meshes the view keeps: loads must go on anyway.
+    options.uploadBytesPerFrame = 256 * 1024;
+    Scene scene(kEarth);
+    auto globe = std::make_shared<TiledGlobe>(kEarth, options);
+    scene.add(globe);
+    const glm::dvec3 eye = kEarth.toCartesian(Geodetic3D::fromDegrees(10.0, 46.0, 9000.0));
+    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(30.0), toRadians(-20.0), 0.0);
+    scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
+    TileStatistics tiles;
+    for (int frame = 0; frame < 400 && !tiles.converged; ++frame) {
+        tiles = *renderFrame(scene, 160, 120).statistics.tiles;
+    }
+    CHECK(tiles.converged);
+    CHECK(tiles.drawn > 10);
+    CHECK(tiles.residentBytesCpu > 4 * options.uploadBytesPerFrame);
+}

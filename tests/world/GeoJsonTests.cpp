@@ -196,6 +196,11 @@ TEST_CASE("GeoJSON syntax errors name the file, line and column, as scene files'
 
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("", "empty.json"); }),
                Equals("empty.json: the file is empty; expected a JSON object"));
+
+    // The parser stops at a NUL byte: what follows would be ignored without a word.
+    const std::string nul("{\"type\": \"FeatureCollection\", \"features\": []}\n\0{{{", 50);
+    CHECK_THAT(test::errorMessage([&] { parseGeoJson(nul, "nul.json"); }),
+               Equals("nul.json:2:1: invalid JSON: a NUL byte (JSON text has none; is this a binary file?)"));
 }
 
 TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected with a path", "[world][geojson]")

@@ -15,6 +15,7 @@
 
 using namespace orbis;
 using namespace orbis::world;
+using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
 using Catch::Matchers::WithinRel;
 namespace fs = std::filesystem;
@@ -404,6 +405,10 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
     CHECK(errorOf(R"({"version": 1, "depth": ")" + std::string(100, 'x') + "\"}") ==
             R"(test.json:1:25: /depth: unknown value ")" + std::string(60, 'x') +
                 R"(..."; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+    // So is a key of a megabyte, in the JSON pointer as in the quote.
+    const std::string longKey = errorOf(R"({"version": 1, ")" + std::string(1 << 20, 'k') + "\": 1}");
+    CHECK_THAT(longKey, Contains("test.json:1:16: /kkkk") && Contains("... (1048577 bytes): unknown key \"kkkk"));
+    CHECK(longKey.size() < 1000);
 }
 
 TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][scenefile][errors]")
@@ -477,6 +482,9 @@ TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[wo
     CHECK(errorOf(" \n ") == "test.json: the file is empty; expected a JSON object");
     CHECK(errorOf(std::string(100, '[') + std::string(100, ']')) ==
             "test.json:1:65: invalid JSON: nested deeper than 64 levels");
+    // Everything after a NUL byte would be ignored without a word.
+    CHECK(errorOf(std::string("{\"version\": 1}\0{\"width\": -1}", 28)) ==
+            "test.json:1:15: invalid JSON: a NUL byte (JSON text has none; is this a binary file?)");
 }
 
 TEST_CASE("A key given twice is an error at the second", "[world][scenefile][errors]")
@@ -648,6 +656,33 @@ TEST_CASE("virtualTexture values out of range are errors naming the key", "[worl
     CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {}}],
         "terrain": {"source": "t"}}})"),
                Contains("/globe/terrain: a virtual texture is drawn on the ellipsoid's surface"));
+}
+
+TEST_CASE("A camera path whose eye meets its target, at a keyframe or between two, is refused", "[world][scenefile][errors]")
+{
+    auto pathError = [](std::string_view keyframes) {
+        try {
+            parseCameraPathText("{\"version\": 1, \"keyframes\": [" + std::string(keyframes) + "]}", "path.json");
+        } catch (const SceneFileError& error) {
+            return std::string(error.what());
+        }
+        return std::string("no error");
+    };
+    const std::string above = R"({"time": 0, "position": {"lon": 0, "lat": 0, "height": 2000000}, "target": {"lon": 0, "lat": 0}})";
+    CHECK(pathError(above + R"(, {"time": 1, "position": {"lon": 5, "lat": 5, "height": 10}, "target": {"lon": 5, "lat": 5, "height": 10}})") ==
+          "path.json:1:198: /keyframes/1/target: the target is the camera's position; the camera would look nowhere");
+    // Eye and target swap places: halfway, both are 1,000 km above (0, 0).
+    CHECK(pathError(above + R"(, {"time": 4, "position": {"lon": 0, "lat": 0}, "target": {"lon": 0, "lat": 0, "height": 2000000}})") ==
+          "path.json:1:128: /keyframes/1: flying here from the keyframe before, the camera passes through its target at 2 s "
+          "and would look nowhere; move a position or a target");
+    // Crossing paths that meet off the samples (at a third of the way) are found too.
+    CHECK_THAT(pathError(above + R"(, {"time": 3, "position": {"lon": 0, "lat": 0}, "target": {"lon": 0, "lat": 0, "height": 4000000}})"),
+               Contains("/keyframes/1: flying here from the keyframe before, the camera passes through its target at 1 s"));
+    // Passing a metre from the target is a flight, not a fault.
+    CHECK(parseCameraPathText(R"({"version": 1, "keyframes": [)" + above +
+                                  R"(, {"time": 4, "position": {"lon": 0, "lat": 0}, "target": {"lon": 0.00001, "lat": 0, "height": 2000000}}]})",
+                              "path.json")
+              .size() == 2);
 }
 
 TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cache folder, each checked",

@@ -180,7 +180,7 @@ TEST_CASE("Hostile XML is refused quickly, without recursion or expansion", "[wo
     const auto start = std::chrono::steady_clock::now();
     // About 50 KB without a '>' after <Origin: the regex reader overflowed its stack here.
     REQUIRE_THAT(parseError(description(levels(1), "", "<Origin x=\"-180\" y=\"-90\" " + std::string(50000, 'a'))),
-                 Contains("pyramid/tilemapresource.xml:6:"));
+                 Contains("pyramid/tilemapresource.xml:6:") && Contains(": an attribute name longer than 256 characters"));
     REQUIRE_THAT(parseError("<TileMap>" + std::string(200000, '<') + "</TileMap>"), Contains("expected an element name"));
     std::string deep;
     for (int i = 0; i < 100000; ++i) {

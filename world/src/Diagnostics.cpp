@@ -67,7 +67,8 @@ std::string Diagnostic::text() const
     }
     message += ": ";
     if (!where.empty()) {
-        message += where + ": ";
+        // A JSON pointer holds the file's keys, which may be megabytes long.
+        message.append(cutForMessage(where)).append(": ");
     }
     return message + what;
 }

@@ -858,7 +858,15 @@ std::string_view jsonOf(std::span<const std::uint8_t> bytes, bool binary)
     }
     std::uint32_t length = 0;
     std::memcpy(&length, bytes.data() + 12, 4); // little-endian, as the specification and x86 are
-    return length <= bytes.size() - 20 ? all.substr(20, length) : std::string_view{};
+    if (length > bytes.size() - 20) {
+        return {};
+    }
+    // The chunk is padded with spaces; some writers pad with NUL bytes: padding, not content.
+    std::string_view json = all.substr(20, length);
+    while (!json.empty() && json.back() == '\0') {
+        json.remove_suffix(1);
+    }
+    return json;
 }
 
 // tinygltf reads buffers and images through these, so that every file it opens is checked as

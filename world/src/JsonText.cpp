@@ -101,6 +101,10 @@ std::optional<Diagnostic> jsonSyntaxFault(std::string_view text, const std::stri
     if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
         return Diagnostic{origin, 0, 0, "", "the file is empty; expected a JSON object"};
     }
+    // The parser would stop at a NUL byte and take what came before for the whole file.
+    if (const std::size_t offset = text.find('\0'); offset != std::string_view::npos) {
+        return at(origin, text, offset, "invalid JSON: a NUL byte (JSON text has none; is this a binary file?)");
+    }
     if (const std::size_t offset = tooDeep(text, maxDepth); offset != std::string_view::npos) {
         return at(origin, text, offset, "invalid JSON: nested deeper than " + std::to_string(maxDepth) + " levels");
     }

@@ -45,8 +45,8 @@ std::string describeJson(const Json& value)
     }
 }
 
-/// The fault of text that is not JSON (or nests deeper than maxDepth), at its line and column;
-/// empty when `text` parses. `what` is "invalid JSON: ..." with a hint for the common mistakes.
+/// The fault of text that is not JSON (or holds a NUL byte, or nests deeper than maxDepth), at its
+/// line and column; empty when `text` parses. `what` is "invalid JSON: ..." with a hint for the common mistakes.
 std::optional<Diagnostic> jsonSyntaxFault(std::string_view text, const std::string& origin, std::size_t maxDepth,
                                           const nlohmann::json::exception* error);
 

@@ -29,17 +29,7 @@ namespace orbis::world {
 
 SceneFileError::SceneFileError(std::string origin, std::string pointer, std::size_t line, std::size_t column,
                                std::string reason)
-    : Error([&] {
-          std::string message = origin;
-          if (line > 0) {
-              message += ':' + std::to_string(line) + ':' + std::to_string(column);
-          }
-          message += ": ";
-          if (!pointer.empty()) {
-              message += pointer + ": ";
-          }
-          return message + reason;
-      }()),
+    : Error(Diagnostic{origin, line, column, pointer, reason}.text()),
       _origin(std::move(origin)), _pointer(std::move(pointer)), _line(line), _column(column), _reason(std::move(reason))
 {
 }
@@ -281,8 +271,30 @@ public:
             }
             path.push_back({seconds, readPosition(required(keyframe, pointer, "position"), pointer + "/position"),
                             readPosition(required(keyframe, pointer, "target"), pointer + "/target")});
+            checkEyeAvoidsTarget(path, pointer);
         }
         return path;
+    }
+
+    /// Fails where the last keyframe's eye is its target, or where the flight from the one before
+    /// passes through its target: the camera would look nowhere (NaN views, blank frames).
+    void checkEyeAvoidsTarget(const std::vector<CameraKeyframe>& path, const std::string& pointer) const
+    {
+        constexpr double kToleranceMetres = 1e-3; // as for the scene's camera
+        const Ellipsoid earth = Ellipsoid::wgs84();
+        const CameraKeyframe& last = path.back();
+        if (glm::distance(earth.toCartesian(last.eye), earth.toCartesian(last.target)) < kToleranceMetres) {
+            fail(pointer + "/target", "the target is the camera's position; the camera would look nowhere");
+        }
+        if (path.size() < 2) {
+            return;
+        }
+        if (const std::optional<double> meets = eyeMeetsTarget(earth, path[path.size() - 2], last, kToleranceMetres)) {
+            std::string what = "flying here from the keyframe before, the camera passes through its target at ";
+            const double milliseconds = std::round(*meets * 1000.0);
+            what.append(formatNumber(milliseconds / 1000.0)).append(" s and would look nowhere; move a position or a target");
+            fail(pointer, what);
+        }
     }
 
     /// Thrown by fail() when faults are collected: the value being read is given up, and the

@@ -169,7 +169,7 @@ private:
         }
         if (_position - start > 256) {
             _position = start;
-            fail(std::string("a ") + what + " longer than 256 characters");
+            fail(std::string(what) + " longer than 256 characters");
         }
         return std::string(_text.substr(start, _position - start));
     }
