@@ -93,8 +93,8 @@ std::vector<BaselineDraw> mixedDraws(int count)
 }
 
 struct Timing {
-    double best = INFINITY;    ///< wall clock, seconds
-    double bestCpu = INFINITY; ///< process CPU time, seconds
+    double best = HUGE_VAL;    ///< wall clock, seconds
+    double bestCpu = HUGE_VAL; ///< process CPU time, seconds
     std::uint64_t glCalls = 0;
 };
 

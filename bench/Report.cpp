@@ -90,7 +90,7 @@ SectionRegistration::SectionRegistration(const char* name, int order, SectionFun
 
 double nanosecondsPerItem(std::size_t items, const std::function<void()>& run, int repeats)
 {
-    double best = INFINITY;
+    double best = HUGE_VAL;
     for (int i = 0; i < repeats; ++i) {
         const auto start = std::chrono::steady_clock::now();
         run();

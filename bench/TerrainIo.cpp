@@ -99,7 +99,7 @@ std::vector<Table> decoding(const Options& options)
     };
     constexpr int kSteps = 4;
     double best[kSteps];
-    std::fill_n(best, kSteps, INFINITY);
+    std::fill_n(best, kSteps, HUGE_VAL);
     for (int r = 0; r < repeats; ++r) {
         for (int s = 0; s < kSteps; ++s) {
             best[s] = std::min(best[s], threadCpuNanosecondsPerItem(count, steps[s]));
@@ -177,7 +177,7 @@ std::vector<Table> tiling(const Options& options)
     double oneThread = 0.0;
     for (const int threads : {1, 2}) {
         world::TerrainTilerSummary summary;
-        double bestWall = INFINITY;
+        double bestWall = HUGE_VAL;
         double cpuOfBest = 0.0;
         for (int r = 0; r < (options.quick ? 1 : 2); ++r) {
             std::filesystem::remove_all(scratch / "out");

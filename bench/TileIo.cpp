@@ -91,7 +91,7 @@ std::vector<Table> decoding(const Options& options)
                                               [&] { turboAlone(TJPF_RGBA); }, [&] { ours(4); }};
     constexpr int kDecoders = 4;
     double best[kDecoders];
-    std::fill_n(best, kDecoders, INFINITY);
+    std::fill_n(best, kDecoders, HUGE_VAL);
     for (int r = 0; r < repeats; ++r) {
         for (int d = 0; d < kDecoders; ++d) {
             best[d] = std::min(best[d], threadCpuNanosecondsPerItem(count, decoders[d]));
@@ -149,7 +149,7 @@ std::vector<Table> tiling(const Options& options)
     double oneThread = 0.0;
     for (const int threads : {1, 2}) {
         world::TilerSummary summary;
-        double bestWall = INFINITY;
+        double bestWall = HUGE_VAL;
         double cpuOfBest = 0.0;
         for (int r = 0; r < (options.quick ? 1 : 3); ++r) {
             std::filesystem::remove_all(scratch / "out");

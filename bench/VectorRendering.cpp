@@ -222,7 +222,7 @@ std::vector<Table> run(const Options& options)
                 style.granularityRadians = toRadians(setup.granularityDegrees);
                 buildFeaturePrimitives(kEarth, countries, style).addTo(scene);
             }
-            scene.setSunDirection(glm::normalize(kEarth.toCartesian(Geodetic2D(setup.eye.longitude, setup.eye.latitude))));
+            scene.setSunDirection(glm::normalize(kEarth.toCartesian(Geodetic2D{setup.eye.longitude, setup.eye.latitude})));
             scene.camera().lookAt(kEarth.toCartesian(setup.eye), glm::dvec3(0), {0, 0, 1});
             scene.render(context);
             double total = 0.0;

@@ -33,7 +33,7 @@ double floatAbove(double x) noexcept
 Mesh facingSquare(const glm::dvec3& eye, double distance, double half, double tilt)
 {
     auto at = [&](double x, double y) {
-        const double z = static_cast<float>(distance + tilt * y / half);
+        const double z = static_cast<double>(static_cast<float>(distance + tilt * y / half));
         return eye + glm::dvec3(x, y, z);
     };
     Mesh mesh;
@@ -139,7 +139,7 @@ ZFightingResult measureZFighting(renderer::Context& context, DepthStrategy strat
     // The near square reaches 0.6 of the view each way; sizes are floats, and not powers of two:
     // round numbers were seen to round the depths of two parallel squares alike (a single frustum
     // then "resolved" a hundredth of a depth step at 100 m).
-    const double half = static_cast<float>(0.6 * halfView);
+    const double half = static_cast<double>(static_cast<float>(0.6 * halfView));
     // Tilted by about 1.4 % of the distance across the square, so that the counted pixels sample
     // depths across many of the buffer's steps rather than one.
     const double tilt = options.tilted ? static_cast<double>(static_cast<float>(0.0137 * distance)) : 0.0;

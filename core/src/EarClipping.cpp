@@ -304,7 +304,7 @@ private:
             return 0.5 * std::abs(p.x * q.y - p.y * q.x);
         };
         int gone = -1;
-        double smallest = INFINITY;
+        double smallest = HUGE_VAL;
         for (int i = node(first).next; i != node(last).next; i = node(i).next) {
             if (triangleArea(i) < smallest) {
                 smallest = triangleArea(i);
@@ -451,7 +451,7 @@ private:
     void checkHoles()
     {
         struct Box {
-            glm::dvec2 lo{INFINITY}, hi{-INFINITY};
+            glm::dvec2 lo{HUGE_VAL}, hi{-HUGE_VAL};
         };
         std::vector<Box> boxes(_cycles.size());
         for (std::size_t k = 0; k < _cycles.size(); ++k) {
@@ -627,7 +627,7 @@ private:
         // +x, its endpoint of larger x, or the reflex vertex inside the triangle (m, hit, endpoint)
         // closest in angle to the ray.
         int candidate = -1;
-        double bestX = INFINITY;
+        double bestX = HUGE_VAL;
         forEachInCycle(_cycles[0], [&](int i) {
             const glm::dvec2& u = pos(i);
             const glm::dvec2& v = pos(node(i).next);
@@ -665,7 +665,7 @@ private:
             const glm::dvec2 b = ccw ? hit : end;
             const glm::dvec2 c = ccw ? end : hit;
             double bestCos = -2.0;
-            double bestDistance = INFINITY;
+            double bestDistance = HUGE_VAL;
             forEachInCycle(_cycles[0], [&](int i) {
                 const glm::dvec2& q = pos(i);
                 if (i == candidate || q == mp || !inClosedTriangle(a, b, c, q)) {

@@ -491,8 +491,8 @@ void clipOctant(const Ellipsoid& ellipsoid, const Region& region, const glm::dve
         }
         // Loops with no area (a ring running along the cut and back) are dropped whole: they hold
         // nothing, and their vertices lie on the boundary of the piece on the other side.
-        glm::dvec2 lo(INFINITY);
-        glm::dvec2 hi(-INFINITY);
+        glm::dvec2 lo(HUGE_VAL);
+        glm::dvec2 hi(-HUGE_VAL);
         for (const glm::dvec2& q : *points) {
             lo = glm::min(lo, q);
             hi = glm::max(hi, q);

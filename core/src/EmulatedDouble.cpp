@@ -41,7 +41,7 @@ EmulatedDouble split(float a) noexcept
 
 EmulatedDouble EmulatedDouble::fromDouble(double value) noexcept
 {
-    constexpr double largest = std::numeric_limits<float>::max();
+    constexpr double largest = static_cast<double>(std::numeric_limits<float>::max());
     if (std::abs(value) > largest) {
         return {static_cast<float>(std::copysign(largest, value)), 0.0f};
     }
@@ -124,7 +124,7 @@ glm::vec3 relativeToEye(const EmulatedDVec3& position, const EmulatedDVec3& eye)
 
 EmulatedDouble splitAt65536(double value) noexcept
 {
-    constexpr double largest = std::numeric_limits<float>::max();
+    constexpr double largest = static_cast<double>(std::numeric_limits<float>::max());
     if (!(std::abs(value) <= largest)) {
         return std::isnan(value) ? EmulatedDouble{static_cast<float>(value), 0.0f}
                                  : EmulatedDouble{static_cast<float>(std::copysign(largest, value)), 0.0f};

@@ -62,7 +62,7 @@ TessellationResult GeographicGridEllipsoidTessellator::compute(const Ellipsoid& 
         const double latitude = -kHalfPi + kPi * i / stacks;
         const auto ringStart = mesh.positions.size();
         for (std::uint32_t j = 0; j < ringSize; ++j) {
-            const Geodetic2D g(-kPi + kTwoPi * j / slices, latitude);
+            const Geodetic2D g{-kPi + kTwoPi * j / slices, latitude};
             // The duplicated antimeridian vertex takes the first one's position bit for bit.
             glm::dvec3 position = ellipsoid.toCartesian(g);
             glm::dvec3 normal = Ellipsoid::geodeticSurfaceNormal(g);

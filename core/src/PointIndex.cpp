@@ -23,8 +23,8 @@ std::uint32_t spread(std::uint32_t v) noexcept
 
 PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> present) : _points(points)
 {
-    glm::dvec2 lo(INFINITY);
-    glm::dvec2 hi(-INFINITY);
+    glm::dvec2 lo(HUGE_VAL);
+    glm::dvec2 hi(-HUGE_VAL);
     for (const int id : present) {
         lo = glm::min(lo, points[static_cast<std::size_t>(id)]);
         hi = glm::max(hi, points[static_cast<std::size_t>(id)]);

@@ -154,8 +154,8 @@ struct EllipsoidGeometry {
 
 std::vector<std::size_t> cleanRing(std::span<const glm::dvec2> ring, double relativeTolerance)
 {
-    glm::dvec2 lo(INFINITY);
-    glm::dvec2 hi(-INFINITY);
+    glm::dvec2 lo(HUGE_VAL);
+    glm::dvec2 hi(-HUGE_VAL);
     for (const glm::dvec2& p : ring) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);

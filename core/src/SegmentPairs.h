@@ -23,8 +23,8 @@ class SegmentGrid {
 public:
     SegmentGrid(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to) : _from(from), _to(to)
     {
-        glm::dvec2 lo(INFINITY);
-        glm::dvec2 hi(-INFINITY);
+        glm::dvec2 lo(HUGE_VAL);
+        glm::dvec2 hi(-HUGE_VAL);
         std::vector<double> lengths(from.size());
         double total = 0.0;
         for (std::size_t k = 0; k < from.size(); ++k) {

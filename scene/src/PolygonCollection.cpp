@@ -51,7 +51,7 @@ std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec
         std::vector<glm::dvec3>& cartesian = rings.emplace_back();
         cartesian.reserve(ring.size());
         for (const Geodetic3D& position : ring) {
-            cartesian.push_back(_ellipsoid.toCartesian(Geodetic2D(position.longitude, position.latitude)));
+            cartesian.push_back(_ellipsoid.toCartesian(Geodetic2D{position.longitude, position.latitude}));
         }
     }
     return add(rings, color, name);

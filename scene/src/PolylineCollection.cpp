@@ -82,13 +82,13 @@ std::size_t PolylineCollection::add(std::span<const glm::dvec3> positions, const
             continue;
         }
         const Geodetic3D g = _ellipsoid.toGeodetic3D(position);
-        const SurfacePoint point{_ellipsoid.toCartesian(Geodetic2D(g.longitude, g.latitude)), g.height};
+        const SurfacePoint point{_ellipsoid.toCartesian(Geodetic2D{g.longitude, g.latitude}), g.height};
         if (!points.empty() && glm::distance(points.back().surface, point.surface) < 1e-6 &&
             std::abs(points.back().height - point.height) < 1e-6) {
             continue;
         }
         points.push_back(point);
-        geodetic.emplace_back(g.longitude, g.latitude);
+        geodetic.push_back(Geodetic2D{g.longitude, g.latitude});
     }
     if (loop && points.size() > 1 && glm::distance(points.back().surface, points.front().surface) < 1e-6 &&
         std::abs(points.back().height - points.front().height) < 1e-6) {

@@ -432,7 +432,7 @@ void TiledGlobe::Impl::conformEdges(QuadtreeTile& tile, const EdgeCoarsening& co
     for (int edge = 0; edge < 4; ++edge) {
         for (int k = 0; k < size; ++k) {
             const auto [i, j] = edgeVertexAt(edge, size, k);
-            mesh.setVertexHeight(ellipsoid, scheme, i, j, surface.heights[static_cast<std::size_t>(j * size + i)]);
+            mesh.setVertexHeight(ellipsoid, scheme, i, j, static_cast<double>(surface.heights[static_cast<std::size_t>(j * size + i)]));
         }
     }
     std::array<int, 4> order{NorthEdge, EastEdge, SouthEdge, WestEdge};

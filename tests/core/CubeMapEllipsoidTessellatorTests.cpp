@@ -107,8 +107,8 @@ TEST_CASE("CubeMapEllipsoidTessellator puts the poles on face centres and the an
 TEST_CASE("CubeMapEllipsoidTessellator deviation falls as the faces refine and equal angles do better",
           "[core][tessellation]")
 {
-    double previousUniform = INFINITY;
-    double previousEqualAngle = INFINITY;
+    double previousUniform = HUGE_VAL;
+    double previousEqualAngle = HUGE_VAL;
     for (int n = 1; n <= 32; n *= 2) {
         INFO("partitions " << n);
         const double uniform = *CubeMapEllipsoidTessellator::compute(kEarth, n, CubeMapSpacing::Uniform).maxDeviationMeters;

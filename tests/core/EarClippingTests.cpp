@@ -21,8 +21,8 @@ using Rings = std::vector<Ring>;
 /// Orientation in 80-bit long double: exact for the small integers and the 1e-15 offsets here.
 long double orient(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c)
 {
-    return (static_cast<long double>(b.x) - a.x) * (static_cast<long double>(c.y) - a.y) -
-           (static_cast<long double>(b.y) - a.y) * (static_cast<long double>(c.x) - a.x);
+    using Long = long double;
+    return (Long(b.x) - Long(a.x)) * (Long(c.y) - Long(a.y)) - (Long(b.y) - Long(a.y)) * (Long(c.x) - Long(a.x));
 }
 
 long double ringArea(const Ring& ring)
@@ -31,7 +31,8 @@ long double ringArea(const Ring& ring)
     for (std::size_t i = 0; i < ring.size(); ++i) {
         const glm::dvec2& a = ring[i];
         const glm::dvec2& b = ring[(i + 1) % ring.size()];
-        twice += static_cast<long double>(a.x) * b.y - static_cast<long double>(a.y) * b.x;
+        using Long = long double;
+        twice += Long(a.x) * Long(b.y) - Long(a.y) * Long(b.x);
     }
     return 0.5L * twice;
 }

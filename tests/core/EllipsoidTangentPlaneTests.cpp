@@ -71,7 +71,7 @@ TEST_CASE("EllipsoidTangentPlane projects to the plane and back to the same posi
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (int i = 0; i < 2000; ++i) {
-        const Geodetic2D at(kPi * (2.0 * unit(random) - 1.0), std::asin(2.0 * unit(random) - 1.0));
+        const Geodetic2D at{kPi * (2.0 * unit(random) - 1.0), std::asin(2.0 * unit(random) - 1.0)};
         const EllipsoidTangentPlane plane(kEarth, kEarth.toCartesian(at));
         // A position up to 85 degrees away, in any direction.
         const double distance = toRadians(85.0) * unit(random);

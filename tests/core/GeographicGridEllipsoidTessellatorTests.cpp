@@ -109,7 +109,7 @@ TEST_CASE("GeographicGridEllipsoidTessellator duplicates the antimeridian column
 TEST_CASE("GeographicGridEllipsoidTessellator deviation falls as the grid refines and is exact on a sphere",
           "[core][tessellation]")
 {
-    double previous = INFINITY;
+    double previous = HUGE_VAL;
     for (int stacks = 4; stacks <= 64; stacks *= 2) {
         INFO("stacks " << stacks);
         const double deviation = *GeographicGridEllipsoidTessellator::compute(kEarth, 2 * stacks, stacks).maxDeviationMeters;

@@ -88,7 +88,7 @@ RayTriangleHit referenceRayTriangle(const Ray& ray, const glm::dvec3& p0, const 
     Extended o[3], d[3], e1[3], e2[3];
     for (int k = 0; k < 3; ++k) {
         o[k] = Extended(ray.origin[k]) - Extended(p0[k]);
-        d[k] = ray.direction[k];
+        d[k] = Extended(ray.direction[k]);
         e1[k] = Extended(p1[k]) - Extended(p0[k]);
         e2[k] = Extended(p2[k]) - Extended(p0[k]);
     }
@@ -293,8 +293,8 @@ TEST_CASE("Ray-ellipsoid grazing rays at Earth scale match extended precision", 
         const double halfChord = static_cast<double>(expected->farDistance - expected->nearDistance) / 2.0;
         const double tolerance = 4.0 * kEpsilon * (glm::length(ray.origin) + R) * (1.0 + R / halfChord) +
                                  4.0 * kEpsilon * static_cast<double>(expected->farDistance);
-        REQUIRE(std::abs(static_cast<double>(hit->nearDistance - expected->nearDistance)) <= tolerance);
-        REQUIRE(std::abs(static_cast<double>(hit->farDistance - expected->farDistance)) <= tolerance);
+        REQUIRE(std::abs(static_cast<double>(Extended(hit->nearDistance) - expected->nearDistance)) <= tolerance);
+        REQUIRE(std::abs(static_cast<double>(Extended(hit->farDistance) - expected->farDistance)) <= tolerance);
     }
     REQUIRE(hits > 45000); // a few origins 10 km away fall inside the Earth
 }

@@ -78,7 +78,7 @@ TEST_CASE("SubdivisionEllipsoidTessellator keeps the poles exact and finite", "[
 TEST_CASE("SubdivisionEllipsoidTessellator deviation falls with every level", "[core][tessellation]")
 {
     for (const EllipsoidProjection projection : {EllipsoidProjection::Geocentric, EllipsoidProjection::Geodetic}) {
-        double previous = INFINITY;
+        double previous = HUGE_VAL;
         for (int n = 0; n <= 6; ++n) {
             INFO("projection " << static_cast<int>(projection) << " subdivisions " << n);
             const double deviation = *SubdivisionEllipsoidTessellator::compute(kEarth, n, projection).maxDeviationMeters;

@@ -53,7 +53,7 @@ TEST_CASE("SubdivisionSphereTessellator deviation is the exact sag and falls abo
           "[core][tessellation]")
 {
     const double radius = 6378137.0;
-    double previous = INFINITY;
+    double previous = HUGE_VAL;
     for (int n = 0; n <= 6; ++n) {
         INFO("subdivisions " << n);
         const TessellationResult result = SubdivisionSphereTessellator::compute(n, radius);

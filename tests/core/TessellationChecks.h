@@ -71,7 +71,7 @@ inline void requireOutwardAndNonDegenerate(const Mesh& mesh, double minAreaFract
     REQUIRE(mesh.primitiveType == PrimitiveType::Triangles);
     REQUIRE(mesh.indices.size() % 3 == 0);
     double total = 0.0;
-    double smallest = INFINITY;
+    double smallest = HUGE_VAL;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
         REQUIRE(mesh.indices[t] < mesh.positions.size());
         REQUIRE(mesh.indices[t + 1] < mesh.positions.size());

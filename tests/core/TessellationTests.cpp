@@ -42,9 +42,9 @@ TEST_CASE("maxDeviationFromEllipsoid equals the chord sag R(1 - cos(theta/2)) of
     const double radius = 6378137.0;
     const Ellipsoid sphere(radius, radius, radius);
     for (const double theta : {1e-4, 1e-3, 0.01, 0.1, 0.5, 1.0, 2.0}) {
-        const glm::dvec3 a = sphere.toCartesian(Geodetic2D(-0.5 * theta, 0.0));
-        const glm::dvec3 b = sphere.toCartesian(Geodetic2D(0.5 * theta, 0.0));
-        const glm::dvec3 c = sphere.toCartesian(Geodetic2D(0.0, 0.1 * theta));
+        const glm::dvec3 a = sphere.toCartesian(Geodetic2D{-0.5 * theta, 0.0});
+        const glm::dvec3 b = sphere.toCartesian(Geodetic2D{0.5 * theta, 0.0});
+        const glm::dvec3 c = sphere.toCartesian(Geodetic2D{0.0, 0.1 * theta});
         const double sag = radius * (1.0 - std::cos(0.5 * theta));
         INFO("theta " << theta);
         // The midpoint is one of the samples; both sides round the 6.4e6 m distances to about 1 nm,

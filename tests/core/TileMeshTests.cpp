@@ -73,7 +73,7 @@ TEST_CASE("TileMesh puts each vertex at its longitude, latitude and height, spli
         for (int i = 0; i < 5; ++i) {
             const std::size_t index = static_cast<std::size_t>(j) * 5 + i;
             const orbis::Geodetic3D expected(extent.west + extent.width() * i / 4, extent.north - extent.height() * j / 4,
-                                             heights[index]);
+                                             static_cast<double>(heights[index]));
             INFO("i " << i << " j " << j);
             // Two floats keep 48 bits: well under a micrometre.
             CHECK(glm::length(mesh.position(index) - wgs84.toCartesian(expected)) < 1e-6);

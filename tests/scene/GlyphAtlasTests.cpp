@@ -95,7 +95,7 @@ TEST_CASE("Text layout width is the sum of the advances plus kerning", "[scene][
         }
         const TextLayout layout = glyphs.layout(utf8);
         // Float sums in the same order: equal up to rounding.
-        CHECK_THAT(layout.width, WithinAbs(expected, 1e-4));
+        CHECK_THAT(static_cast<double>(layout.width), WithinAbs(static_cast<double>(expected), 1e-4));
         CHECK(layout.lineCount == 1);
         REQUIRE(layout.quads.size() == text.size());
         // Each glyph at its pen position rounded to a whole pixel.
@@ -283,7 +283,7 @@ TEST_CASE("Accented letters of place names render their own glyphs", "[scene][fo
         CHECK(accented.atlasIndex != base.atlasIndex);
         // Same letter body, plus an accent above or below: a taller bitmap.
         CHECK(accented.height > base.height);
-        CHECK_THAT(accented.advance, WithinAbs(base.advance, 0.01));
+        CHECK_THAT(static_cast<double>(accented.advance), WithinAbs(static_cast<double>(base.advance), 0.01));
     }
 
     const TextLayout layout = glyphs.layout("Z\xC3\xBCrich");

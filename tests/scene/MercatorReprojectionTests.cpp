@@ -51,7 +51,7 @@ double reprojectionError(const TileKey& key)
         const double v = (TilingScheme::mercatorY(latitude) - south) / (north - south);
         const double expected = std::clamp(v * kSize, 0.5, kSize - 0.5);
         for (int column = 0; column < kSize; ++column) {
-            const double got = sampled[static_cast<std::size_t>(row) * kSize + column];
+            const double got = static_cast<double>(sampled[static_cast<std::size_t>(row) * kSize + column]);
             largest = std::max(largest, std::abs(got - expected));
         }
     }

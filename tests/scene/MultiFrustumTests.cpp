@@ -36,7 +36,7 @@ TEST_CASE("MultiFrustum uses ceil(log(far/near)/log(ratio)) frustums covering th
     for (int frame = 0; frame < 50; ++frame) {
         const std::vector<DepthInterval> intervals = randomIntervals(random, 20);
         multiFrustum.bin(intervals);
-        double nearest = INFINITY;
+        double nearest = HUGE_VAL;
         double farthest = 0.0;
         for (const DepthInterval& interval : intervals) {
             nearest = std::min(nearest, interval.nearDistance);

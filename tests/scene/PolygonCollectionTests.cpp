@@ -56,7 +56,7 @@ std::vector<std::pair<std::string, std::vector<std::vector<glm::dvec3>>>> polygo
         for (const LinearRing& ring : polygon.rings) {
             auto& cartesian = rings.emplace_back();
             for (const Geodetic3D& g : ring) {
-                cartesian.push_back(ellipsoid.toCartesian(Geodetic2D(g.longitude, g.latitude)));
+                cartesian.push_back(ellipsoid.toCartesian(Geodetic2D{g.longitude, g.latitude}));
             }
         }
     };

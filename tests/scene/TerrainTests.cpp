@@ -61,8 +61,8 @@ public:
             }
         }
         const auto [low, high] = std::minmax_element(tile.heights.begin(), tile.heights.end());
-        tile.minimumHeight = *low;
-        tile.maximumHeight = *high;
+        tile.minimumHeight = static_cast<double>(*low);
+        tile.maximumHeight = static_cast<double>(*high);
         return fetched;
     }
 

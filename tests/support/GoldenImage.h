@@ -50,7 +50,7 @@ GoldenResult compareWithGolden(const Image& image, std::string_view name, const 
 #define ORBIS_REQUIRE_GOLDEN(image, name, ...)                                                                         \
     do {                                                                                                               \
         const ::orbis::test::GoldenResult orbisGoldenResult_ =                                                         \
-            ::orbis::test::compareWithGolden((image), (name), ##__VA_ARGS__);                                          \
+            ::orbis::test::compareWithGolden((image), (name) __VA_OPT__(, ) __VA_ARGS__);                              \
         INFO(orbisGoldenResult_.message);                                                                              \
         REQUIRE(orbisGoldenResult_.passed);                                                                            \
     } while (false)

@@ -598,7 +598,7 @@ TEST_CASE("The horizon occlusion point is hidden only when every point it stands
     }
     CHECK(hiddenViews > 1000);
     // A tile over a hemisphere has no such point.
-    const std::vector<glm::dvec3> hemisphere = {earth.toCartesian(Geodetic2D(-kPi, 0.0)),
-                                                earth.toCartesian(Geodetic2D(0.0, 0.0))};
+    const std::vector<glm::dvec3> hemisphere = {earth.toCartesian(Geodetic2D{-kPi, 0.0}),
+                                                earth.toCartesian(Geodetic2D{0.0, 0.0})};
     CHECK_FALSE(horizonOcclusionPoint(earth, hemisphere, glm::dvec3(0.0, -1.0, 0.0)));
 }

@@ -90,7 +90,7 @@ double worstAgainstField(const TerrainTileData& tile)
     for (int row = 0; row < tile.size; ++row) {
         for (int column = 0; column < tile.size; ++column) {
             const Geodetic2D g = terrainGridPosition(tile.key, tile.size, column, row);
-            const double h = tile.heights[static_cast<std::size_t>(row * tile.size + column)];
+            const double h = static_cast<double>(tile.heights[static_cast<std::size_t>(row * tile.size + column)]);
             worst = std::max(worst, std::abs(h - field(toDegrees(g.longitude), toDegrees(g.latitude))));
         }
     }

@@ -225,8 +225,10 @@ void loadPixels(const std::filesystem::path& path, InputPlan& plan)
     }
     auto pixels = std::make_shared<std::vector<std::uint8_t>>(bytes);
     const int count = static_cast<int>(loaded.size());
-    if (GDALDatasetRasterIO(prepared.get(), GF_Read, 0, 0, plan.width, plan.height, pixels->data(), plan.width, plan.height,
-                            GDT_Byte, count, loaded.data(), count, std::int64_t{plan.width} * count, 1) != CE_None) {
+    // The Ex form: its line spacing is 64-bit, which the plain form's int would not hold for wide inputs.
+    if (GDALDatasetRasterIOEx(prepared.get(), GF_Read, 0, 0, plan.width, plan.height, pixels->data(), plan.width,
+                              plan.height, GDT_Byte, count, loaded.data(), count, GSpacing{plan.width} * count, 1,
+                              nullptr) != CE_None) {
         throw Error(where + ": cannot read the input's pixels: " + gdalMessage());
     }
     GDALGetGeoTransform(prepared.get(), plan.transform);

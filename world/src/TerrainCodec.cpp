@@ -428,8 +428,8 @@ TerrainTileData decodeQuantizedMesh(std::span<const std::uint8_t> compressed, co
         }
         // Other extensions are someone else's: skipped.
     }
-    tile.minimumHeight = minimumHeight;
-    tile.maximumHeight = maximumHeight;
+    tile.minimumHeight = static_cast<double>(minimumHeight);
+    tile.maximumHeight = static_cast<double>(maximumHeight);
     return tile;
 }
 
@@ -503,7 +503,7 @@ std::vector<std::uint8_t> encodeQuantizedMesh(const TerrainTileData& tile, const
         minimum = std::min(minimum, v.z);
         maximum = std::max(maximum, v.z);
     }
-    const double low = minimum;
+    const double low = static_cast<double>(minimum);
     const double range = static_cast<double>(maximum) - low;
     std::vector<int> qu(n), qv(n), qh(n);
     for (std::size_t i = 0; i < n; ++i) {

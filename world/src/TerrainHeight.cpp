@@ -192,7 +192,6 @@ std::optional<TerrainHeight> TerrainHeightQuery::at(const Geodetic2D& position)
         std::vector<std::uint8_t> masks;
         double sum = 0.0;
         int count = 0;
-        std::optional<double> error;
         for (const TileKey& key : terrainTilesAt(level, position)) {
             if (level > info.minimumLevel) {
                 const auto parent = std::find(present.begin(), present.end(), key.ancestor(level - 1));
