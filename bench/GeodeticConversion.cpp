@@ -121,6 +121,12 @@ struct Extended {
     long double longitude, latitude, height;
 };
 
+/// Widened explicitly: the value is exact either way, but Clang's -Wdouble-promotion asks for it.
+Extended extended(double longitude, double latitude, double height)
+{
+    return {static_cast<long double>(longitude), static_cast<long double>(latitude), static_cast<long double>(height)};
+}
+
 std::vector<Table> run(const Options& options)
 {
     const std::vector<Sample> samples = makeSamples(options.quick ? 20000 : 400000);
@@ -130,16 +136,17 @@ std::vector<Table> run(const Options& options)
 
     auto orbisReverse = [&](const glm::dvec3& p) {
         const Geodetic3D g = earth.toGeodetic3D(p);
-        return Extended{g.longitude, g.latitude, g.height};
+        return extended(g.longitude, g.latitude, g.height);
     };
     auto bookReverse = [&](const glm::dvec3& p) {
         const Geodetic3D g = earth.toGeodetic3DBook(p);
-        return Extended{g.longitude, g.latitude, g.height};
+        return extended(g.longitude, g.latitude, g.height);
     };
     auto geographicLibReverse = [&](const glm::dvec3& p) {
         double latitude, longitude, height;
         geographicLib.Reverse(p.x, p.y, p.z, latitude, longitude, height);
-        return Extended{longitude * degree, latitude * degree, height};
+        const Extended e = extended(longitude, latitude, height);
+        return Extended{e.longitude * degree, e.latitude * degree, e.height};
     };
 
     Table reverse;
@@ -171,7 +178,8 @@ std::vector<Table> run(const Options& options)
         for (const Sample& sample : samples) {
             const glm::dvec3 p = convert(sample.geodetic);
             const Geodetic3D& g = sample.geodetic;
-            const double error = distance(forwardExtended(g.longitude, g.latitude, g.height), p);
+            const Extended e = extended(g.longitude, g.latitude, g.height);
+            const double error = distance(forwardExtended(e.longitude, e.latitude, e.height), p);
             maxError = std::max(maxError, error);
             maxOverBound = std::max(maxOverBound, error / errorBound(sample.cartesian));
         }
