@@ -948,6 +948,10 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     replace("// OG_IMAGERY_UNIFORMS", uniforms);
     replace("// OG_IMAGERY_BLENDS", blends);
     renderer::ShaderProgramDescription description;
+    if (options->shading.any()) {
+        fragment.text.insert(0, terrainShadingSource());
+        addTerrainShadingDefines(options->shading, description.defines);
+    }
     description.name = "globe tile (" + std::to_string(textureCount) + " textures)";
     description.vertex = renderer::ShaderSource::embedded("scene/tiles/tile.vert.glsl");
     description.fragment = std::move(fragment);
@@ -998,6 +1002,7 @@ TiledGlobe::TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options)
     if (!(std::isfinite(_options.terrainExaggeration) && _options.terrainExaggeration >= 0.0)) {
         throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
     }
+    validateTerrainShading(_options.shading, "TiledGlobe");
     _impl = std::make_unique<Impl>(ellipsoid, _options);
     if (_options.terrain) {
         _impl->terrain = std::make_shared<TerrainCache>(_options.terrain);
@@ -1253,9 +1258,19 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.vertexArray = &*surface.vertexArray;
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
-        command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
-        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
+        if (program.hasUniform("u_baseColor")) { // not with a colour ramp in its place
+            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
+        }
+        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the ellipsoid's normals
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+        }
+        if (_options.shading.any()) {
+            setTerrainShadingUniforms(_options.shading, command.draw.uniforms);
+            const double exaggeration = _options.terrainExaggeration;
+            if (program.hasUniform("u_heightScale")) { // not for a hillshade alone
+                command.draw.uniforms.set("u_heightScale",
+                                          static_cast<float>(exaggeration > 0.0 ? 1.0 / exaggeration : 0.0));
+            }
         }
         for (std::size_t t = 0; t < uses.size(); ++t) {
             const TextureUse& use = uses[t];
@@ -1284,6 +1299,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         }
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;
+        }
+        if (_options.shading.any()) {
+            command.tags = command.tags | Effect::TerrainShading;
         }
         commands.push_back(std::move(command));
     }
