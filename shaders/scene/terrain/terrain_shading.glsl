@@ -79,10 +79,13 @@ vec3 terrainOverlays(vec3 color, float height, vec3 normal, vec3 up)
 #endif
 #ifdef SHADING_CONTOURS
     // The distance to the nearest contour in pixels, from the height's screen-space rate of change.
+    // Level ground has no contour through it, even at a contour's height (the sea at 0 m).
     float contours = height / u_contourInterval;
-    float pixels = abs(fract(contours + 0.5) - 0.5) / max(fwidth(contours), 1e-6);
-    float coverage = clamp(0.5 * u_contourWidth + 0.5 - pixels, 0.0, 1.0);
-    color = mix(color, u_contourColor, coverage);
+    float rate = fwidth(contours);
+    if (rate > 0.0) {
+        float pixels = abs(fract(contours + 0.5) - 0.5) / rate;
+        color = mix(color, u_contourColor, clamp(0.5 * u_contourWidth + 0.5 - pixels, 0.0, 1.0));
+    }
 #endif
     return color;
 }
