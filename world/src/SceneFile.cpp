@@ -95,7 +95,10 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "terrain",
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
-constexpr std::array<std::string_view, 4> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder"};
+constexpr std::array<std::string_view, 5> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading"};
+constexpr std::array<std::string_view, 4> kShadingKeys = {"color", "heightRange", "contours", "hillshade"};
+constexpr std::array<std::string_view, 3> kContourKeys = {"interval", "color", "width"};
+constexpr std::array<std::string_view, 2> kHillshadeKeys = {"azimuth", "altitude"};
 constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh", "heightmap", "png16", "terrain-rgb",
                                                                  "terrarium",      "hgt",       "gdal"};
 constexpr std::array<std::string_view, 11> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
@@ -114,9 +117,11 @@ constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "posit
                                                         "heading", "pitch", "roll"};
 constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
 constexpr std::array<std::string_view, 1> kFillKeys = {"color"};
-constexpr std::array<std::string_view, 5> kBillboardKeys = {"image", "size", "color", "origin", "offset"};
-constexpr std::array<std::string_view, 6> kLabelKeys = {"field",        "size",         "color",
-                                                        "outlineColor", "outlineWidth", "declutter"};
+constexpr std::array<std::string_view, 7> kBillboardKeys = {"image",  "shape",  "size", "color",
+                                                            "origin", "offset", "disableDepthTestDistance"};
+constexpr std::array<std::string_view, 7> kLabelKeys = {"field",        "size",         "color",
+                                                        "outlineColor", "outlineWidth", "declutter",
+                                                        "disableDepthTestDistance"};
 
 template <class T>
 struct Named {
@@ -126,7 +131,7 @@ struct Named {
 
 constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
     {"auto", DepthStrategy::Automatic},
-    {"multifrustum", DepthStrategy::MultiFrustum},
+    {"multi-frustum", DepthStrategy::MultiFrustum}, // as depthStrategyName and the statistics say it
     {"logarithmic", DepthStrategy::Logarithmic},
     {"complementary", DepthStrategy::Complementary},
     {"single", DepthStrategy::Single},
@@ -139,9 +144,18 @@ constexpr std::array<Named<TilingProjection>, 2> kTilingSchemes = {{
     {"geographic", TilingProjection::Geographic},
     {"webmercator", TilingProjection::WebMercator},
 }};
+constexpr std::array<Named<TerrainShadingDescription::Color>, 3> kShadingColors = {{
+    {"base", TerrainShadingDescription::Color::Base},
+    {"height", TerrainShadingDescription::Color::Height},
+    {"slope", TerrainShadingDescription::Color::Slope},
+}};
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
     {"geodesic", CurveType::Geodesic},
+}};
+constexpr std::array<Named<BillboardShape>, 2> kBillboardShapes = {{
+    {"dot", BillboardShape::Dot},
+    {"square", BillboardShape::Square},
 }};
 constexpr std::array<Named<Origin>, 9> kOrigins = {{
     {"center", Origin::Center},
@@ -193,6 +207,12 @@ constexpr Range kScreenSpaceErrorRange{0.1, 1000.0};
 /// The tile cache in MiB: from a few tiles to 64 GiB.
 constexpr Range kCacheMegabytesRange{1.0, 65536.0};
 constexpr Range kExaggerationRange{0.0, 100.0};
+/// Metres: from below the deepest trench to above the highest summit, with room for exaggeration.
+constexpr Range kShadingHeightRange{-20000.0, 20000.0};
+constexpr Range kContourIntervalRange{0.0, 100000.0, true, false};
+constexpr Range kContourWidthRange{0.0, 64.0, true, false};
+constexpr Range kAzimuthRange{-360.0, 360.0};
+constexpr Range kAltitudeRange{0.0, 90.0, true, false};
 /// Degrees. Finer than 0.1 would cut the world's borders into millions of vertices and its
 /// countries into tens of millions of triangles; coarser than 10 lifts lines 24 km off the ground.
 constexpr Range kGranularityRange{0.1, 10.0};
@@ -230,7 +250,12 @@ public:
         }
         attempt([&] { scene.sun = readSun(root, scene.camera); });
         if (const Json* depth = member(root, "depth")) {
-            attempt([&] { scene.depth = readEnum(*depth, "/depth", kDepthStrategies); });
+            attempt([&] {
+                // "multifrustum", the spelling of files written before "multi-frustum", still reads.
+                scene.depth = depth->is_string() && depth->get<std::string>() == "multifrustum"
+                                  ? DepthStrategy::MultiFrustum
+                                  : readEnum(*depth, "/depth", kDepthStrategies);
+            });
         }
         if (const Json* globe = member(root, "globe")) {
             attempt([&] { scene.globe = readGlobe(*globe, "/globe"); });
@@ -768,7 +793,64 @@ private:
         if (const Json* cache = member(value, "cacheFolder")) {
             terrain.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
         }
+        if (const Json* shading = member(value, "shading")) {
+            terrain.shading = readShading(*shading, pointer + "/shading");
+        }
         return terrain;
+    }
+
+    TerrainShadingDescription readShading(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kShadingKeys);
+        TerrainShadingDescription shading;
+        if (const Json* color = member(value, "color")) {
+            shading.color = readEnum(*color, pointer + "/color", kShadingColors);
+        }
+        if (const Json* range = member(value, "heightRange")) {
+            const std::string rangePointer = pointer + "/heightRange";
+            if (!range->is_array() || range->size() != 2) {
+                fail(rangePointer, "expected [lowest, highest] in metres, got " + describeJson(*range));
+            }
+            shading.minimumHeight = readNumber((*range)[0], rangePointer + "/0", kShadingHeightRange);
+            shading.maximumHeight = readNumber((*range)[1], rangePointer + "/1", kShadingHeightRange);
+            if (!(shading.minimumHeight < shading.maximumHeight)) {
+                fail(rangePointer, "the lowest height must be below the highest, got " + describeJson(*range));
+            }
+        }
+        if (const Json* contours = member(value, "contours")) {
+            const std::string contoursPointer = pointer + "/contours";
+            expectObject(*contours, contoursPointer);
+            checkKeys(*contours, contoursPointer, kContourKeys);
+            shading.contourInterval = readNumber(required(*contours, contoursPointer, "interval"),
+                                                 contoursPointer + "/interval", kContourIntervalRange);
+            if (const Json* color = member(*contours, "color")) {
+                shading.contourColor = readColor(*color, contoursPointer + "/color");
+            }
+            if (const Json* width = member(*contours, "width")) {
+                shading.contourWidth = readNumber(*width, contoursPointer + "/width", kContourWidthRange);
+            }
+        }
+        if (const Json* hillshade = member(value, "hillshade")) {
+            const std::string hillshadePointer = pointer + "/hillshade";
+            if (hillshade->is_boolean()) {
+                shading.hillshade = readBoolean(*hillshade, hillshadePointer);
+            } else {
+                if (!hillshade->is_object()) {
+                    fail(hillshadePointer, "expected true, false or {\"azimuth\": degrees, \"altitude\": degrees}, got " +
+                                               describeJson(*hillshade));
+                }
+                checkKeys(*hillshade, hillshadePointer, kHillshadeKeys);
+                shading.hillshade = true;
+                if (const Json* azimuth = member(*hillshade, "azimuth")) {
+                    shading.hillshadeAzimuth = readNumber(*azimuth, hillshadePointer + "/azimuth", kAzimuthRange);
+                }
+                if (const Json* altitude = member(*hillshade, "altitude")) {
+                    shading.hillshadeAltitude = readNumber(*altitude, hillshadePointer + "/altitude", kAltitudeRange);
+                }
+            }
+        }
+        return shading;
     }
 
     ImageryLayerDescription readImageryLayer(const Json& value, const std::string& pointer) const
@@ -1030,6 +1112,12 @@ private:
             requireFile(*image, pointer + "/image", path);
             billboard.image = path;
         }
+        if (const Json* shape = member(value, "shape")) {
+            if (billboard.image) {
+                fail(pointer + "/shape", "give either \"image\" or \"shape\", not both");
+            }
+            billboard.shape = readEnum(*shape, pointer + "/shape", kBillboardShapes);
+        }
         if (const Json* size = member(value, "size")) {
             billboard.sizePixels = readNumber(*size, pointer + "/size", kPositivePixels);
         }
@@ -1041,6 +1129,9 @@ private:
         }
         if (const Json* offset = member(value, "offset")) {
             billboard.offsetPixels = readPixelOffset(*offset, pointer + "/offset");
+        }
+        if (const Json* distance = member(value, "disableDepthTestDistance")) {
+            billboard.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
         }
         return billboard;
     }
@@ -1069,7 +1160,27 @@ private:
         if (const Json* declutter = member(value, "declutter")) {
             label.declutter = readBoolean(*declutter, pointer + "/declutter");
         }
+        if (const Json* distance = member(value, "disableDepthTestDistance")) {
+            label.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
+        }
         return label;
+    }
+
+    /// Metres (>= 0), or "always": never depth-tested.
+    double readDepthTestDistance(const Json& value, const std::string& pointer) const
+    {
+        constexpr std::string_view kExpected = "a distance in metres or \"always\"";
+        if (value.is_string()) {
+            const std::string& text = value.get<std::string>();
+            if (text != "always") {
+                fail(pointer, "unknown value " + quote(text) + "; expected " + std::string(kExpected));
+            }
+            return std::numeric_limits<double>::infinity();
+        }
+        if (!value.is_number()) {
+            fail(pointer, "expected " + std::string(kExpected) + ", got " + describeJson(value));
+        }
+        return readNumber(value, pointer, kNonNegativeRange);
     }
 
     PolylineLayer readPolylineLayer(const Json& value, const std::string& pointer) const

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/world/BillboardShape.h"
 #include "orbis/world/DepthStrategy.h"
 #include "orbis/world/GlobeMethod.h"
 
@@ -107,6 +108,20 @@ struct ImageryLayerDescription {
 };
 
 /// The heights under a tiled globe.
+/// How the terrain is coloured and shaded beside the Sun's light (docs/scene-format.md, "shading").
+struct TerrainShadingDescription {
+    enum class Color { Base, Height, Slope };
+    Color color = Color::Base;
+    double minimumHeight = -6000.0, maximumHeight = 6000.0; ///< metres, "heightRange"
+    double contourInterval = 0.0;                            ///< metres; 0: no "contours"
+    glm::vec4 contourColor{1.0f, 1.0f, 1.0f, 1.0f};
+    double contourWidth = 1.0;                               ///< pixels
+    bool hillshade = false;
+    double hillshadeAzimuth = 315.0, hillshadeAltitude = 45.0; ///< degrees
+
+    friend bool operator==(const TerrainShadingDescription&, const TerrainShadingDescription&) = default;
+};
+
 struct TerrainDescription {
     /// An absolute path (a folder or layer.json of quantized-mesh or heightmap tiles, an .mbtiles
     /// file, a TMS folder or {z}/{x}/{y} template of height PNGs, a folder of .hgt files, a DEM
@@ -114,6 +129,7 @@ struct TerrainDescription {
     std::string source;
     std::string format;        ///< one of world::kTerrainFormats; empty: told from the source
     double exaggeration = 1.0; ///< >= 0: heights multiplied by it
+    TerrainShadingDescription shading;
     /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
     std::optional<std::filesystem::path> cacheFolder;
 
@@ -157,11 +173,14 @@ struct FillStyle {
 enum class Origin { Center, Top, Bottom, Left, Right, TopLeft, TopRight, BottomLeft, BottomRight };
 
 struct BillboardStyle {
-    std::optional<std::filesystem::path> image;   ///< empty: a round dot
+    std::optional<std::filesystem::path> image;   ///< empty: the built-in shape
+    BillboardShape shape = BillboardShape::Dot;   ///< drawn when there is no image
     double sizePixels = 8.0;                      ///< > 0, the larger side of the image
     glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};      ///< multiplies the image
     Origin origin = Origin::Center;
     glm::dvec2 offsetPixels{0.0, 0.0};            ///< x right, y down
+    /// Metres from the camera within which the markers are not depth-tested (infinity: never).
+    double disableDepthTestDistance = 0.0;
 
     friend bool operator==(const BillboardStyle&, const BillboardStyle&) = default;
 };
@@ -173,6 +192,8 @@ struct LabelStyle {
     glm::vec4 outlineColor{0.0f, 0.0f, 0.0f, 1.0f};
     double outlineWidthPixels = 1.0;             ///< 0: no outline
     bool declutter = false;                      ///< hide labels overlapping earlier ones shown
+    /// Metres from the camera within which the labels are not depth-tested (infinity: never).
+    double disableDepthTestDistance = 0.0;
 
     friend bool operator==(const LabelStyle&, const LabelStyle&) = default;
 };
