@@ -1,9 +1,17 @@
 #include "SceneTestSupport.h"
+#include "TempFiles.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Transforms.h>
+#include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Effect.h>
+#include <orbis/scene/LabelCollection.h>
+#include <orbis/scene/ModelPrimitive.h>
+#include <orbis/scene/PolylineCollection.h>
+#include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/TiledGlobe.h>
+#include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainHeight.h>
 #include <orbis/world/TerrainSource.h>
 
 #include <catch2/catch.hpp>
@@ -513,4 +521,67 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
     TerrainScene plain(std::make_shared<SyntheticTerrain>(height, 0.0));
     plain.look(Geodetic3D::fromDegrees(10.0, 45.0, 60000.0), 0.0, -90.0);
     CHECK_FALSE(hasEffect(plain.converge(32, 32).statistics.effects, Effect::TerrainShading));
+}
+
+TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for points, polylines and models",
+          "[scene][terrain][scenefile]")
+{
+    const TempDirectory directory;
+    directory.write("peaks.csv", "name,lon,lat,height\nA,-84.30,36.55,5000\nB,-84.20,36.62,5000\n");
+    const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
+    const std::string model = dataPath("models/aircraft.glb");
+    const std::filesystem::path file = directory.write("scene.json", R"({"version": 1,
+        "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2}},
+        "layers": [
+          {"type": "points", "source": "peaks.csv", "heightReference": "clampToGround", "label": {"field": "name"}},
+          {"type": "polyline", "positions": [[-84.35, 36.5], [-84.15, 36.65]], "granularity": 0.1,
+           "heightReference": "clampToGround"},
+          {"type": "polyline", "positions": [[-84.35, 36.5, 300], [-84.15, 36.65, 300]], "granularity": 0.1},
+          {"type": "model", "source": ")" + model + R"(", "position": {"lon": -84.25, "lat": 36.6, "height": 100},
+           "heightReference": "relativeToGround"}]})");
+    Scene scene(kEarth);
+    populateScene(world::parseSceneFile(file), scene);
+
+    const auto source = world::openTerrainSource(dem);
+    world::TerrainHeightQuery query(*source);
+    const auto ground = [&](const glm::dvec3& position) {
+        const Geodetic3D g = kEarth.toGeodetic3D(position);
+        return 2.0 * query.at(Geodetic2D(g.longitude, g.latitude))->height;
+    };
+    const auto heightOf = [](const glm::dvec3& position) { return kEarth.toGeodetic3D(position).height; };
+    const auto& primitives = scene.primitives();
+    REQUIRE(primitives.size() == 6); // globe, billboards, labels, two polylines, model
+
+    const auto* billboards = dynamic_cast<const BillboardCollection*>(primitives[1].get());
+    const auto* labels = dynamic_cast<const LabelCollection*>(primitives[2].get());
+    REQUIRE((billboards && labels));
+    REQUIRE(billboards->size() == 2);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const glm::dvec3 position = billboards->billboard(i).position;
+        CHECK(ground(position) > 2.0 * 236.0); // on the DEM, the file's 5000 m ignored
+        CHECK(std::abs(heightOf(position) - ground(position)) < 1e-3);
+        CHECK(glm::distance(labels->label(i).position, position) < 1e-6);
+    }
+
+    // Every drawn vertex of the clamped line on the ground, not only its two ends; the absolute
+    // line keeps its 300 m over the ellipsoid.
+    const auto* clamped = dynamic_cast<const PolylineCollection*>(primitives[3].get());
+    const auto* absolute = dynamic_cast<const PolylineCollection*>(primitives[4].get());
+    REQUIRE((clamped && absolute));
+    const std::span<const glm::dvec3> drawn = clamped->positions(0);
+    REQUIRE(drawn.size() > 20);
+    double spread = 0.0;
+    for (const glm::dvec3& position : drawn) {
+        CHECK(std::abs(heightOf(position) - clamped->liftMeters(0) - ground(position)) < 1e-3);
+        spread = std::max(spread, std::abs(ground(position) - ground(drawn.front())));
+    }
+    CHECK(spread > 100.0); // the ground it follows is not flat
+    for (const glm::dvec3& position : absolute->positions(0)) {
+        CHECK(std::abs(heightOf(position) - absolute->liftMeters(0) - 300.0) < 1e-3);
+    }
+
+    const auto* aircraft = dynamic_cast<const ModelPrimitive*>(primitives[5].get());
+    REQUIRE(aircraft);
+    const Geodetic3D placed = aircraft->placement().position;
+    CHECK(std::abs(placed.height - (100.0 + ground(kEarth.toCartesian(Geodetic3D(placed.longitude, placed.latitude, 0.0))))) < 1e-3);
 }
