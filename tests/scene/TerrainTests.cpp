@@ -585,3 +585,50 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     const Geodetic3D placed = aircraft->placement().position;
     CHECK(std::abs(placed.height - (100.0 + ground(kEarth.toCartesian(Geodetic3D(placed.longitude, placed.latitude, 0.0))))) < 1e-3);
 }
+
+TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",
+          "[scene][tiles][terrain][gl]")
+{
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 0.0), 3.0);
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 12000.0), 30.0, -10.0); // the top rows are sky
+    const int width = 160;
+    const int height = 120;
+    REQUIRE(terrain.converge(width, height).statistics.tiles->converged);
+    Scene& scene = terrain.scene;
+    int hits = 0;
+    for (int y = 70; y < height; y += 10) {
+        for (int x = 5; x < width; x += 15) {
+            const glm::dvec2 pixel(x + 0.5, y + 0.5);
+            const std::optional<glm::dvec3> picked = scene.pickGround(pixel, width, height);
+            REQUIRE(picked);
+            REQUIRE(std::isfinite(glm::length(*picked)));
+            // On the drawn surface (the ellipsoid is thousands of metres below these ridges) and
+            // under the pixel.
+            const Geodetic3D g = kEarth.toGeodetic3D(*picked);
+            const double ground = scene.groundHeight(Geodetic2D(g.longitude, g.latitude));
+            CHECK(ground > 500.0);
+            CHECK(std::abs(g.height - ground) < 0.05);
+            const std::optional<glm::dvec2> back = scene.camera().worldToWindow(*picked, width, height);
+            REQUIRE(back);
+            CHECK(glm::distance(*back, pixel) < 1e-3);
+            ++hits;
+        }
+    }
+    CHECK(hits > 40);
+    // The sky picks nothing.
+    CHECK_FALSE(scene.pickGround({80.5, 0.5}, width, height));
+
+    // An eye above the ground stays where it is; one put below the ridges rises to 2 m above them,
+    // looking the same way.
+    CHECK_FALSE(scene.keepCameraAboveGround(2.0));
+    const Geodetic2D under = Geodetic2D::fromDegrees(10.05, 46.05);
+    const double ground = scene.groundHeight(under);
+    REQUIRE(ground > 1000.0);
+    const glm::dvec3 buried = kEarth.toCartesian(Geodetic3D(under.longitude, under.latitude, ground - 300.0));
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(1.0, 2.0, -0.5));
+    scene.camera().lookAt(buried, buried + 1000.0 * direction, kEarth.geodeticSurfaceNormal(buried));
+    CHECK(scene.keepCameraAboveGround(2.0));
+    const Geodetic3D lifted = kEarth.toGeodetic3D(scene.camera().eye());
+    CHECK(std::abs(lifted.height - (ground + 2.0)) < 1e-6);
+    CHECK(glm::length(scene.camera().direction() - direction) < 1e-9);
+}
