@@ -257,6 +257,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
     scene.camera() = makeCamera(description.camera, scene.ellipsoid());
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
+    scene.options().samples = description.samples;
 
     if (description.globe && hasVirtualTexture(*description.globe)) {
         VirtualTextureGlobeOptions options = virtualTextureGlobeOptions(*description.globe, description.sun, build);
