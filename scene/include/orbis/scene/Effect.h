@@ -23,6 +23,7 @@ enum class Effect : std::uint32_t {
     TiledImagery = 1u << 10, ///< the globe's surface streamed as tiles with imagery layers
     Terrain = 1u << 11,      ///< heights on the streamed tiles
     VirtualTexture = 1u << 12, ///< the globe's surface reading one virtual texture (and its feedback pass)
+    ClipmapTerrain = 1u << 13, ///< terrain drawn as geometry clipmaps (with Terrain)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

@@ -20,6 +20,7 @@ namespace orbis::scene {
 
 struct TileStatistics;
 struct VirtualTextureStatistics;
+struct ClipmapStatistics;
 
 /// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {
@@ -71,6 +72,10 @@ public:
     /// VirtualTextureGlobe); null for the others. Scene::render reports them in
     /// FrameStatistics::virtualTexture.
     virtual const VirtualTextureStatistics* virtualTextureStatistics() const { return nullptr; }
+
+    /// The clipmap's figures of the last update, for clipmap terrain; null for the others.
+    /// Scene::render reports them in FrameStatistics::clipmap.
+    virtual const ClipmapStatistics* clipmapStatistics() const { return nullptr; }
 };
 
 } // namespace orbis::scene
