@@ -95,7 +95,7 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "terrain",
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
-constexpr std::array<std::string_view, 4> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder"};
+constexpr std::array<std::string_view, 6> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "method", "posts"};
 constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh", "heightmap", "png16", "terrain-rgb",
                                                                  "terrarium",      "hgt",       "gdal"};
 constexpr std::array<std::string_view, 11> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
@@ -134,6 +134,10 @@ constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
 constexpr std::array<Named<GlobeMethod>, 2> kGlobeMethods = {{
     {"raycast", GlobeMethod::RayCast},
     {"tessellated", GlobeMethod::Tessellated},
+}};
+constexpr std::array<Named<TerrainMethod>, 2> kTerrainMethods = {{
+    {"quadtree", TerrainMethod::Quadtree},
+    {"clipmap", TerrainMethod::Clipmap},
 }};
 constexpr std::array<Named<TilingProjection>, 2> kTilingSchemes = {{
     {"geographic", TilingProjection::Geographic},
@@ -767,6 +771,15 @@ private:
         }
         if (const Json* cache = member(value, "cacheFolder")) {
             terrain.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
+        }
+        if (const Json* method = member(value, "method")) {
+            terrain.method = readEnum(*method, pointer + "/method", kTerrainMethods);
+        }
+        if (const Json* posts = member(value, "posts")) {
+            terrain.posts = readInteger(*posts, pointer + "/posts", 15, 1023, "an integer 2^k - 1 from 15 to 1023");
+            if (((terrain.posts + 1) & terrain.posts) != 0) {
+                fail(pointer + "/posts", std::to_string(terrain.posts) + " is not 2^k - 1 (15, 31, 63, 127, 255, 511, 1023)");
+            }
         }
         return terrain;
     }
