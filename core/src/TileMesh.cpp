@@ -147,8 +147,8 @@ std::vector<float> TileMesh::normals() const
 {
     const TileMesh& mesh = *this;
     const int size = mesh.size();
-    std::vector<float> normals(mesh.vertexCount() * 3);
     const std::size_t grid = static_cast<std::size_t>(size) * size;
+    std::vector<float> normals(grid * 3);
     std::vector<glm::dvec3> positions(grid);
     for (std::size_t v = 0; v < grid; ++v) {
         positions[v] = mesh.position(v);
@@ -168,11 +168,20 @@ std::vector<float> TileMesh::normals() const
             normals[3 * index + 2] = static_cast<float>(n.z);
         }
     }
+    return this->normals(std::move(normals));
+}
+
+std::vector<float> TileMesh::normals(std::vector<float> normals) const
+{
+    const int size = this->size();
+    const std::size_t grid = static_cast<std::size_t>(size) * size;
+    assert(normals.size() == grid * 3);
+    normals.resize(vertexCount() * 3);
     // Skirt vertices copy the normal of the edge vertex above them, in TileMesh's order: the north
     // edge west to east, the east edge north to south, the south edge east to west, the west edge
     // south to north.
     std::size_t out = grid;
-    for (int edge = 0; edge < 4 && out < mesh.vertexCount(); ++edge) {
+    for (int edge = 0; edge < 4 && out < vertexCount(); ++edge) {
         for (int w = 0; w < size; ++w, ++out) {
             const int i = edge == 0 ? w : edge == 1 ? size - 1 : edge == 2 ? size - 1 - w : 0;
             const int j = edge == 0 ? 0 : edge == 1 ? w : edge == 2 ? size - 1 : size - 1 - w;

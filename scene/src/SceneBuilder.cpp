@@ -205,6 +205,19 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
             throw Error("/globe/terrain: " + std::string(error.what()));
         }
         options.terrainExaggeration = globe.terrain->exaggeration;
+        const world::TerrainShadingDescription& shading = globe.terrain->shading;
+        using ShadingColor = world::TerrainShadingDescription::Color;
+        options.shading.color = shading.color == ShadingColor::Height  ? TerrainShading::Color::Height
+                                : shading.color == ShadingColor::Slope ? TerrainShading::Color::Slope
+                                                                       : TerrainShading::Color::Base;
+        options.shading.minimumHeight = shading.minimumHeight;
+        options.shading.maximumHeight = shading.maximumHeight;
+        options.shading.contourInterval = shading.contourInterval;
+        options.shading.contourColor = glm::vec3(shading.contourColor);
+        options.shading.contourWidth = shading.contourWidth;
+        options.shading.hillshade = shading.hillshade;
+        options.shading.hillshadeAzimuth = shading.hillshadeAzimuth;
+        options.shading.hillshadeAltitude = shading.hillshadeAltitude;
     }
     return options;
 }

@@ -1,7 +1,10 @@
 #include "orbis/scene/TerrainSampler.h"
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace orbis::scene {
 
@@ -37,10 +40,23 @@ TerrainSampler::TerrainSampler(std::shared_ptr<const world::TerrainTileData> dat
 
 double TerrainSampler::height(double u, double v) const noexcept
 {
-    return _data->isMesh() ? meshHeight(u, v) : gridHeight(u, v);
+    const Weights weights = weightsAt(u, v);
+    const bool mesh = _data->isMesh();
+    double height = 0.0;
+    for (int k = 0; k < weights.count; ++k) {
+        const std::uint32_t at = weights.index[static_cast<std::size_t>(k)];
+        height += weights.weight[static_cast<std::size_t>(k)] *
+                  static_cast<double>(mesh ? _data->vertices[at].z : _data->heights[at]);
+    }
+    return height;
 }
 
-double TerrainSampler::gridHeight(double u, double v) const noexcept
+TerrainSampler::Weights TerrainSampler::weightsAt(double u, double v) const noexcept
+{
+    return _data->isMesh() ? meshWeights(u, v) : gridWeights(u, v);
+}
+
+TerrainSampler::Weights TerrainSampler::gridWeights(double u, double v) const noexcept
 {
     const int size = _data->size;
     const double last = size - 1;
@@ -51,25 +67,29 @@ double TerrainSampler::gridHeight(double u, double v) const noexcept
     const int j = std::min(static_cast<int>(row), size - 2);
     const double tx = column - i;
     const double ty = row - j;
-    const float* h = _data->heights.data();
-    auto at = [&](int c, int r) { return static_cast<double>(h[static_cast<std::size_t>(r) * size + c]); };
+    auto at = [&](int c, int r) { return static_cast<std::uint32_t>(r * size + c); };
     // (1 - t) a + t b: exactly a at t = 0 and b at t = 1, so tiles sharing an edge agree on it.
-    const double north = (1.0 - tx) * at(i, j) + tx * at(i + 1, j);
-    const double south = (1.0 - tx) * at(i, j + 1) + tx * at(i + 1, j + 1);
-    return (1.0 - ty) * north + ty * south;
+    Weights weights;
+    weights.count = 4;
+    weights.index = {at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)};
+    weights.weight = {(1.0 - ty) * (1.0 - tx), (1.0 - ty) * tx, ty * (1.0 - tx), ty * tx};
+    return weights;
 }
 
-double TerrainSampler::meshHeight(double u, double v) const noexcept
+TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const noexcept
 {
     const auto& vertices = _data->vertices;
     const int x = std::clamp(static_cast<int>(u * _buckets), 0, _buckets - 1);
     const int y = std::clamp(static_cast<int>(v * _buckets), 0, _buckets - 1);
-    double nearest = 0.0;
+    Weights nearest;
     double nearestOutside = std::numeric_limits<double>::infinity();
     for (const std::uint32_t t : _bucketTriangles[static_cast<std::size_t>(y * _buckets + x)]) {
-        const glm::dvec3 a(vertices[_data->indices[3 * t]]);
-        const glm::dvec3 b(vertices[_data->indices[3 * t + 1]]);
-        const glm::dvec3 c(vertices[_data->indices[3 * t + 2]]);
+        const std::uint32_t ia = _data->indices[3 * t];
+        const std::uint32_t ib = _data->indices[3 * t + 1];
+        const std::uint32_t ic = _data->indices[3 * t + 2];
+        const glm::dvec3 a(vertices[ia]);
+        const glm::dvec3 b(vertices[ib]);
+        const glm::dvec3 c(vertices[ic]);
         const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
         if (area == 0.0) {
             continue;
@@ -78,19 +98,24 @@ double TerrainSampler::meshHeight(double u, double v) const noexcept
         const double wb = ((c.x - u) * (a.y - v) - (a.x - u) * (c.y - v)) / area;
         const double wc = 1.0 - wa - wb;
         const double outside = -std::min({wa, wb, wc});
+        Weights weights;
+        weights.count = 3;
+        weights.index = {ia, ib, ic, 0};
+        weights.weight = {wa, wb, wc, 0.0};
         if (outside <= 1e-9) {
-            return wa * a.z + wb * b.z + wc * c.z;
+            return weights;
         }
         // A point in no triangle (rounding at an edge): the nearest triangle's plane.
         if (outside < nearestOutside) {
             nearestOutside = outside;
-            nearest = wa * a.z + wb * b.z + wc * c.z;
+            nearest = weights;
         }
     }
     return nearest;
 }
 
-std::vector<float> TerrainSampler::latticeHeights(const TileKey& key, int samplesLog2) const
+std::pair<std::vector<double>, std::vector<double>> TerrainSampler::latticeCoordinates(const TileKey& key,
+                                                                                     int samplesLog2) const
 {
     const TileKey& dataKey = _data->key;
     const int size = (1 << samplesLog2) + 1;
@@ -104,14 +129,50 @@ std::vector<float> TerrainSampler::latticeHeights(const TileKey& key, int sample
         us[static_cast<std::size_t>(k)] = (static_cast<double>(key.x << samplesLog2) + k) * scale - dataKey.x;
         vs[static_cast<std::size_t>(k)] = (static_cast<double>((key.y + 1) << samplesLog2) - k) * scale - dataKey.y;
     }
-    std::vector<float> heights(static_cast<std::size_t>(size) * size);
-    for (int j = 0; j < size; ++j) {
-        for (int i = 0; i < size; ++i) {
-            heights[static_cast<std::size_t>(j) * size + i] =
-                static_cast<float>(height(us[static_cast<std::size_t>(i)], vs[static_cast<std::size_t>(j)]));
+    return {std::move(us), std::move(vs)};
+}
+
+std::vector<float> TerrainSampler::latticeHeights(const TileKey& key, int samplesLog2) const
+{
+    const auto [us, vs] = latticeCoordinates(key, samplesLog2);
+    const std::size_t size = us.size();
+    std::vector<float> heights(size * size);
+    for (std::size_t j = 0; j < size; ++j) {
+        for (std::size_t i = 0; i < size; ++i) {
+            heights[j * size + i] = static_cast<float>(height(us[i], vs[j]));
         }
     }
     return heights;
+}
+
+std::vector<float> TerrainSampler::latticeNormals(const TileKey& key, int samplesLog2) const
+{
+    const std::vector<glm::vec3>& normals = _data->normals;
+    const std::size_t count = _data->isMesh() ? _data->vertices.size() : _data->heights.size();
+    if (normals.size() != count || count == 0) {
+        return {};
+    }
+    const auto [us, vs] = latticeCoordinates(key, samplesLog2);
+    const std::size_t size = us.size();
+    std::vector<float> out(size * size * 3);
+    for (std::size_t j = 0; j < size; ++j) {
+        for (std::size_t i = 0; i < size; ++i) {
+            const Weights weights = weightsAt(us[i], vs[j]);
+            glm::dvec3 normal(0.0);
+            for (int k = 0; k < weights.count; ++k) {
+                normal += weights.weight[static_cast<std::size_t>(k)] *
+                          glm::dvec3(normals[weights.index[static_cast<std::size_t>(k)]]);
+            }
+            const double length = glm::length(normal);
+            // Opposite normals cannot cancel on real terrain; should they, the first one stands.
+            normal = length > 1e-12 ? normal / length : glm::dvec3(normals[weights.index[0]]);
+            const std::size_t at = 3 * (j * size + i);
+            out[at] = static_cast<float>(normal.x);
+            out[at + 1] = static_cast<float>(normal.y);
+            out[at + 2] = static_cast<float>(normal.z);
+        }
+    }
+    return out;
 }
 
 } // namespace orbis::scene

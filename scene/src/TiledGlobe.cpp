@@ -56,13 +56,14 @@ enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed 
 
 /// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    MeshContent(TileMesh mesh_, std::vector<float> normals_, std::uint32_t generation_)
-        : mesh(std::move(mesh_)), normals(std::move(normals_)), generation(generation_)
+    MeshContent(TileMesh mesh_, std::vector<float> normals_, bool normalsFromData_, std::uint32_t generation_)
+        : mesh(std::move(mesh_)), normals(std::move(normals_)), normalsFromData(normalsFromData_), generation(generation_)
     {
     }
     std::size_t byteSize() const noexcept override { return mesh.byteSize() + normals.size() * sizeof(float); }
     TileMesh mesh;
     std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
+    bool normalsFromData;       ///< the terrain data's own (TerrainSampler::latticeNormals), not the mesh's
     std::uint32_t generation;   ///< of the exaggeration it was made with
 };
 
@@ -156,6 +157,7 @@ struct SurfaceTile final : TileData {
     std::optional<renderer::VertexBuffer> vertexBuffer;
     std::optional<renderer::VertexArray> vertexArray;
     std::optional<renderer::VertexBuffer> normalBuffer; ///< with terrain
+    bool normalsFromData = false; ///< the data's normals: a new exaggeration loads the tile again
     std::optional<EdgeCoarsening> coarsening; ///< of the index buffer bound to the vertex array
     std::size_t bytes = 0;    ///< on the GPU
     std::size_t cpuBytes = 0; ///< the mesh and heights kept here
@@ -579,6 +581,30 @@ std::uint64_t TiledGlobe::Impl::ticketFor(int layer, const TileKey& key)
     return entry->second;
 }
 
+namespace {
+
+/// Normals of the data's heights made those of heights times `exaggeration`: the slope's tangent
+/// scales with it, so the part along the ellipsoid's normal stays and the rest is multiplied.
+void exaggerateNormals(const Ellipsoid& ellipsoid, const TileMesh& mesh, double exaggeration, std::vector<float>& normals)
+{
+    if (exaggeration == 1.0) {
+        return;
+    }
+    for (std::size_t v = 0; 3 * v < normals.size(); ++v) {
+        const glm::dvec3 up = ellipsoid.geodeticSurfaceNormal(mesh.position(v));
+        const glm::dvec3 n(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+        const double along = glm::dot(n, up);
+        const glm::dvec3 scaled = up * along + (n - up * along) * exaggeration;
+        const double length = glm::length(scaled);
+        const glm::dvec3 unit = length > 1e-12 ? scaled / length : up;
+        normals[3 * v] = static_cast<float>(unit.x);
+        normals[3 * v + 1] = static_cast<float>(unit.y);
+        normals[3 * v + 2] = static_cast<float>(unit.z);
+    }
+}
+
+} // namespace
+
 world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
 {
     if (target.layer < 0) {
@@ -593,19 +619,28 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration,
                 generation]() -> std::unique_ptr<world::TileContent> {
             std::vector<float> heights;
+            std::vector<float> dataNormals;
             if (heightsFrom) {
                 if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
                     heights = data->latticeHeights(key, samplesLog2);
                     for (float& height : heights) {
                         height = static_cast<float>(static_cast<double>(height) * exaggeration);
                     }
+                    dataNormals = data->latticeNormals(key, samplesLog2);
                 } else {
                     heights.assign(static_cast<std::size_t>(((1 << samplesLog2) + 1) * ((1 << samplesLog2) + 1)), 0.0f);
                 }
             }
             TileMesh mesh = TileMesh::build(shape, TilingScheme::geographic(), key, samplesLog2, heights, skirtDepth);
-            std::vector<float> normals = heightsFrom ? mesh.normals() : std::vector<float>{};
-            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), generation);
+            const bool fromData = !dataNormals.empty();
+            std::vector<float> normals;
+            if (fromData) {
+                exaggerateNormals(shape, mesh, exaggeration, dataNormals);
+                normals = mesh.normals(std::move(dataNormals));
+            } else if (heightsFrom) {
+                normals = mesh.normals();
+            }
+            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), fromData, generation);
         };
     }
     const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
@@ -827,6 +862,7 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         }
         surface.vertexBuffer = device.createVertexBuffer(bytes);
         surface.vertexArray = frameState.context.createVertexArray();
+        surface.normalsFromData = content.normalsFromData;
         if (!content.normals.empty()) {
             surface.normalBuffer = device.createVertexBuffer(normalBytes);
             surface.vertexArray->setAttribute(renderer::VertexAttributeLocation::Normal, *surface.normalBuffer,
@@ -948,6 +984,10 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     replace("// OG_IMAGERY_UNIFORMS", uniforms);
     replace("// OG_IMAGERY_BLENDS", blends);
     renderer::ShaderProgramDescription description;
+    if (options->shading.any()) {
+        fragment.text.insert(0, terrainShadingSource());
+        addTerrainShadingDefines(options->shading, description.defines);
+    }
     description.name = "globe tile (" + std::to_string(textureCount) + " textures)";
     description.vertex = renderer::ShaderSource::embedded("scene/tiles/tile.vert.glsl");
     description.fragment = std::move(fragment);
@@ -998,6 +1038,7 @@ TiledGlobe::TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options)
     if (!(std::isfinite(_options.terrainExaggeration) && _options.terrainExaggeration >= 0.0)) {
         throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
     }
+    validateTerrainShading(_options.shading, "TiledGlobe");
     _impl = std::make_unique<Impl>(ellipsoid, _options);
     if (_options.terrain) {
         _impl->terrain = std::make_shared<TerrainCache>(_options.terrain);
@@ -1253,9 +1294,19 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.vertexArray = &*surface.vertexArray;
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
-        command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
-        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
+        if (program.hasUniform("u_baseColor")) { // not with a colour ramp in its place
+            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
+        }
+        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the ellipsoid's normals
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+        }
+        if (_options.shading.any()) {
+            setTerrainShadingUniforms(_options.shading, command.draw.uniforms);
+            const double exaggeration = _options.terrainExaggeration;
+            if (program.hasUniform("u_heightScale")) { // not for a hillshade alone
+                command.draw.uniforms.set("u_heightScale",
+                                          static_cast<float>(exaggeration > 0.0 ? 1.0 / exaggeration : 0.0));
+            }
         }
         for (std::size_t t = 0; t < uses.size(); ++t) {
             const TextureUse& use = uses[t];
@@ -1285,6 +1336,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;
         }
+        if (_options.shading.any()) {
+            command.tags = command.tags | Effect::TerrainShading;
+        }
         commands.push_back(std::move(command));
     }
 }
@@ -1306,8 +1360,10 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
     std::vector<QuadtreeTile*> resident = impl.residentTiles;
     for (QuadtreeTile* tile : resident) {
         SurfaceTile& surface = surfaceOf(*tile);
-        if (before == 0.0) {
-            impl.evictSurface(*tile); // flat tiles keep no heights to scale: loaded again (the roots at once)
+        if (before == 0.0 || surface.normalsFromData) {
+            // Flat tiles keep no heights to scale, and the data's normals are not kept: loaded
+            // again (the roots at once).
+            impl.evictSurface(*tile);
             continue;
         }
         for (float& height : surface.heights) {

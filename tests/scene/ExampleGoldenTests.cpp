@@ -66,6 +66,19 @@ TEST_CASE("The chapter 9 example renders its golden image", "[scene][golden][exa
     ORBIS_REQUIRE_GOLDEN(runExample("ch09_billboards", "ch09_billboards"), "scene/ch09_billboards", kTolerance);
 }
 
+TEST_CASE("The chapter 11 example renders its golden image: an 80 m DEM lit, coloured by height and slope, hillshaded",
+          "[scene][golden][examples][terrain]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch11_terrain_shading", "ch11_terrain_shading"), "scene/ch11_terrain_shading",
+                         kTolerance);
+}
+
+TEST_CASE("The chapter 14 example renders its golden image: tiles by level over ETOPO5, then imagery at two errors",
+          "[scene][golden][examples][terrain]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch14_chunked_lod", "ch14_chunked_lod"), "scene/ch14_chunked_lod", kTolerance);
+}
+
 TEST_CASE("The virtual texturing example renders its golden image and the three pictures of its machinery",
           "[scene][golden][examples]")
 {

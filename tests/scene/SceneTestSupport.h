@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string>
+
 // Scenes for tests: a framebuffer-backed frame, flat squares as small meshes (cubes for markers
 // and satellites: BoxTessellator::cube).
 
@@ -22,5 +24,11 @@ RenderedFrame renderFrame(scene::Scene& scene, int width, int height);
 
 /// Where a world position lands in an image rendered with renderFrame (x from the left, y from the top).
 glm::ivec2 projectToPixel(const scene::Scene& scene, const glm::dvec3& position, int width, int height);
+
+/// A path in the project's data/ folder.
+inline std::string dataPath(const std::string& relative)
+{
+    return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
+}
 
 } // namespace orbis::test

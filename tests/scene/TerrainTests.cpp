@@ -86,7 +86,8 @@ struct TerrainScene {
     Scene scene{kEarth};
     std::shared_ptr<TiledGlobe> globe;
 
-    explicit TerrainScene(std::shared_ptr<world::TerrainSource> terrain, double exaggeration = 1.0)
+    explicit TerrainScene(std::shared_ptr<world::TerrainSource> terrain, double exaggeration = 1.0,
+                          const std::function<void(TiledGlobeOptions&)>& configure = {})
     {
         TiledGlobeOptions options;
         options.terrain = std::move(terrain);
@@ -96,6 +97,9 @@ struct TerrainScene {
         options.loader.maximumStartsPerFrame = 64;
         options.baseColor = glm::vec4(0.3f, 0.6f, 0.3f, 1.0f);
         scene.options().background = glm::vec4(1.0f, 0.0f, 1.0f, 1.0f); // magenta: a crack or a hole
+        if (configure) {
+            configure(options);
+        }
         globe = std::make_shared<TiledGlobe>(kEarth, options);
         scene.add(globe);
     }
@@ -389,4 +393,124 @@ TEST_CASE("Meshes kept for stitching do not count as uploads waiting: a small up
     CHECK(tiles.converged);
     CHECK(tiles.drawn > 10);
     CHECK(tiles.residentBytesCpu > 4 * options.uploadBytesPerFrame);
+}
+
+namespace {
+
+/// Metres per degree of longitude on the ellipsoid at 45 degrees of latitude.
+double metresPerDegreeAt45()
+{
+    const glm::dvec3 a = kEarth.toCartesian(Geodetic3D::fromDegrees(10.0, 45.0, 0.0));
+    const glm::dvec3 b = kEarth.toCartesian(Geodetic3D::fromDegrees(10.001, 45.0, 0.0));
+    return glm::length(b - a) / 0.001;
+}
+
+/// Heights rising eastwards at `degrees` of slope, 0 m on the meridian of 10 degrees east.
+double slopeHeight(double longitudeDegrees, double degrees)
+{
+    return std::tan(toRadians(degrees)) * metresPerDegreeAt45() * (longitudeDegrees - 10.0);
+}
+
+/// The centre pixel of a view straight down on (10, 45) from 60 km, shaded without the Sun.
+glm::dvec3 shadedCentre(std::function<double(double, double)> height, const std::function<void(TerrainShading&)>& shade)
+{
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(std::move(height), 0.0), 1.0, [&](TiledGlobeOptions& options) {
+        options.lighting = false;
+        options.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+        shade(options.shading);
+    });
+    terrain.look(Geodetic3D::fromDegrees(10.0, 45.0, 60000.0), 0.0, -90.0);
+    const RenderedFrame frame = terrain.converge(64, 64);
+    REQUIRE(frame.statistics.tiles->converged);
+    CHECK(hasEffect(frame.statistics.effects, Effect::TerrainShading));
+    const std::uint8_t* p = frame.image.pixel(32, 32);
+    return glm::dvec3(p[0], p[1], p[2]) / 255.0;
+}
+
+} // namespace
+
+TEST_CASE("Terrain shading colours by height and by slope as its ramps state", "[scene][tiles][terrain][gl]")
+{
+    // 1,500 m at the centre, in [0, 3,000] m: 4/7 of the way from the ramp's yellow to its brown.
+    const glm::dvec3 height = shadedCentre([](double longitude, double) { return 1500.0 + 500.0 * (longitude - 10.0); },
+                                           [](TerrainShading& shading) {
+                                               shading.color = TerrainShading::Color::Height;
+                                               shading.minimumHeight = 0.0;
+                                               shading.maximumHeight = 3000.0;
+                                           });
+    const glm::dvec3 expectedHeight = glm::mix(glm::dvec3(0.85, 0.8, 0.45), glm::dvec3(0.5, 0.36, 0.22), 0.2 / 0.35);
+    CHECK(glm::length(height - expectedHeight) < 0.015);
+
+    // A 30 degree slope is the ramp's orange, half way from pale (0 degrees) to red (60).
+    const glm::dvec3 slope = shadedCentre([](double longitude, double) { return slopeHeight(longitude, 30.0); },
+                                          [](TerrainShading& shading) { shading.color = TerrainShading::Color::Slope; });
+    CHECK(glm::length(slope - glm::dvec3(0.95, 0.6, 0.1)) < 0.03);
+}
+
+TEST_CASE("The hillshade darkens slopes facing away from its light and brightens those facing it",
+          "[scene][tiles][terrain][gl]")
+{
+    // The slope rises eastwards: its normal leans 30 degrees to the west. A light 30 degrees up in
+    // the east grazes it (0.3 of the colour); from the west it meets it at 30 degrees from the
+    // normal (0.3 + 0.7 cos 30 / sin 30 = 1.51 of the colour).
+    const auto rising = [](double longitude, double) { return slopeHeight(longitude, 30.0); };
+    const auto lit = [&](double azimuth) {
+        return shadedCentre(rising, [=](TerrainShading& shading) {
+            shading.hillshade = true;
+            shading.hillshadeAzimuth = azimuth;
+            shading.hillshadeAltitude = 30.0;
+        });
+    };
+    CHECK(std::abs(lit(90.0).g - 0.5 * 0.3) < 0.02);
+    CHECK(std::abs(lit(270.0).g - 0.5 * (0.3 + 0.7 * std::cos(toRadians(30.0)) / 0.5)) < 0.02);
+    // Flat ground keeps its colour under any light.
+    const glm::dvec3 flat =
+        shadedCentre([](double, double) { return 800.0; }, [](TerrainShading& shading) { shading.hillshade = true; });
+    CHECK(std::abs(flat.g - 0.5) < 0.01);
+}
+
+TEST_CASE("Contour lines lie on the heights that are multiples of their interval, and nowhere else",
+          "[scene][tiles][terrain][gl]")
+{
+    // 500 m a degree eastwards: a line every 0.2 degrees of longitude, running north-south.
+    const auto height = [](double longitude, double) { return 1500.0 + 500.0 * (longitude - 10.0); };
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(height, 0.0), 1.0, [](TiledGlobeOptions& options) {
+        options.lighting = false;
+        options.shading.contourInterval = 100.0;
+        options.shading.contourColor = glm::vec3(1.0f, 0.0f, 0.0f);
+        options.shading.contourWidth = 2.0;
+    });
+    terrain.look(Geodetic3D::fromDegrees(10.0, 45.0, 120000.0), 0.0, -90.0);
+    const int size = 128;
+    const RenderedFrame frame = terrain.converge(size, size);
+    REQUIRE(frame.statistics.tiles->converged);
+    const auto isLine = [](const std::uint8_t* p) { return p[0] > 200 && p[1] < 100; };
+    int lines = 0;
+    for (int k = -5; k <= 5; ++k) {
+        const double longitude = 10.0 + 0.2 * k;
+        const glm::ivec2 onLine = projectToPixel(
+            terrain.scene, kEarth.toCartesian(Geodetic3D::fromDegrees(longitude, 45.0, height(longitude, 45.0))), size, size);
+        const glm::ivec2 between = projectToPixel(
+            terrain.scene,
+            kEarth.toCartesian(Geodetic3D::fromDegrees(longitude + 0.1, 45.0, height(longitude + 0.1, 45.0))), size, size);
+        if (onLine.x < 1 || onLine.x >= size - 1 || between.x < 0 || between.x >= size) {
+            continue;
+        }
+        ++lines;
+        INFO("contour at " << longitude << " degrees, pixel " << onLine.x);
+        CHECK(isLine(frame.image.pixel(onLine.x, onLine.y)));
+        CHECK_FALSE(isLine(frame.image.pixel(between.x, between.y)));
+    }
+    CHECK(lines >= 4);
+    // Everywhere else the base colour: the lines are thin.
+    int linePixels = 0;
+    for (int x = 0; x < size; ++x) {
+        linePixels += isLine(frame.image.pixel(x, size / 2));
+    }
+    CHECK(linePixels <= 3 * lines + 2);
+
+    // Without shading options the effect is absent and no shading uniform is set.
+    TerrainScene plain(std::make_shared<SyntheticTerrain>(height, 0.0));
+    plain.look(Geodetic3D::fromDegrees(10.0, 45.0, 60000.0), 0.0, -90.0);
+    CHECK_FALSE(hasEffect(plain.converge(32, 32).statistics.effects, Effect::TerrainShading));
 }

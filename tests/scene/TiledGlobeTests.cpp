@@ -28,11 +28,6 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-std::string dataPath(const std::string& relative)
-{
-    return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
-}
-
 /// A camera at a geodetic position looking along a heading and pitch (degrees).
 void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
 {

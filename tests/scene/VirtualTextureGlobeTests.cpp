@@ -30,11 +30,6 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-std::string dataPath(const std::string& relative)
-{
-    return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
-}
-
 void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
 {
     const glm::dvec3 eye = kEarth.toCartesian(position);

@@ -685,6 +685,50 @@ TEST_CASE("A camera path whose eye meets its target, at a keyframe or between tw
               .size() == 2);
 }
 
+TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their documented defaults, each checked",
+          "[world][scenefile][terrain]")
+{
+    const TerrainShadingDescription none =
+        parse(R"({"version": 1, "globe": {"terrain": {"source": "t"}}})", false).globe->terrain->shading;
+    CHECK(none.color == TerrainShadingDescription::Color::Base);
+    CHECK(none.contourInterval == 0.0);
+    CHECK_FALSE(none.hillshade);
+
+    const TerrainShadingDescription all = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
+        "color": "height", "heightRange": [-8000, 6000], "contours": {"interval": 250, "color": "#ff0000", "width": 2},
+        "hillshade": {"azimuth": 270, "altitude": 30}}}}})", false).globe->terrain->shading;
+    CHECK(all.color == TerrainShadingDescription::Color::Height);
+    CHECK(all.minimumHeight == -8000.0);
+    CHECK(all.maximumHeight == 6000.0);
+    CHECK(all.contourInterval == 250.0);
+    CHECK(all.contourColor == glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    CHECK(all.contourWidth == 2.0);
+    CHECK(all.hillshade);
+    CHECK(all.hillshadeAzimuth == 270.0);
+    CHECK(all.hillshadeAltitude == 30.0);
+
+    // Documented defaults: white contours 1 px wide; the hillshade's light from the north-west, 45 degrees up.
+    const TerrainShadingDescription defaults = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
+        "color": "slope", "contours": {"interval": 100}, "hillshade": true}}}})", false).globe->terrain->shading;
+    CHECK(defaults.color == TerrainShadingDescription::Color::Slope);
+    CHECK(defaults.contourColor == glm::vec4(1.0f));
+    CHECK(defaults.contourWidth == 1.0);
+    CHECK(defaults.hillshadeAzimuth == 315.0);
+    CHECK(defaults.hillshadeAltitude == 45.0);
+
+    const auto shadingError = [](const std::string& shading) {
+        return errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": )" + shading + "}}}");
+    };
+    CHECK(shadingError(R"({"color": "aspect"})").find("/globe/terrain/shading/color: unknown value \"aspect\"; expected one of \"base\", \"height\", \"slope\"") != std::string::npos);
+    CHECK(shadingError(R"({"heightRange": [100, 100]})").find("/globe/terrain/shading/heightRange: the lowest height must be below the highest") != std::string::npos);
+    CHECK(shadingError(R"({"heightRange": [0]})").find("expected [lowest, highest] in metres") != std::string::npos);
+    CHECK(shadingError(R"({"contours": {"color": "#fff"}})").find("/globe/terrain/shading/contours") != std::string::npos);
+    CHECK(shadingError(R"({"contours": {"interval": 0}})").find("/globe/terrain/shading/contours/interval: 0 is out of range") != std::string::npos);
+    CHECK(shadingError(R"({"hillshade": {"altitude": 0}})").find("/globe/terrain/shading/hillshade/altitude: 0 is out of range") != std::string::npos);
+    CHECK(shadingError(R"({"hillshade": "yes"})").find("expected true, false or") != std::string::npos);
+    CHECK(shadingError(R"({"hilshade": true})").find("unknown key \"hilshade\"") != std::string::npos);
+}
+
 TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cache folder, each checked",
           "[world][scenefile][terrain]")
 {

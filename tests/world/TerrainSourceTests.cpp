@@ -7,6 +7,7 @@
 #include "TestHttpServer.h"
 #include "WorldTestSupport.h"
 
+#include <orbis/core/Ellipsoid.h>
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
 #include <orbis/core/TilingScheme.h>
@@ -20,6 +21,7 @@
 #include <catch2/catch.hpp>
 
 #include <GeographicLib/UTMUPS.hpp>
+#include <glm/geometric.hpp>
 
 #include <future>
 #include <thread>
@@ -122,6 +124,14 @@ void checkSharedSamples(TerrainSource& source, const TileKey& key, Levels levels
     for (int i = 0; i < n; ++i) {
         REQUIRE(at(tile, last, i) == at(east, 0, i));
         REQUIRE(at(tile, i, 0) == at(north, i, last));
+    }
+    // Normals, where the source gives them, see across the edge: both tiles shade it alike.
+    if (!tile.normals.empty()) {
+        auto normal = [n](const TerrainTileData& t, int column, int row) { return t.normals[static_cast<std::size_t>(row * n + column)]; };
+        for (int i = 0; i < n; ++i) {
+            REQUIRE(normal(tile, last, i) == normal(east, 0, i));
+            REQUIRE(normal(tile, i, 0) == normal(north, i, last));
+        }
     }
     if (levels == Levels::Own) {
         return;
@@ -519,6 +529,30 @@ TEST_CASE("A GeoTIFF DEM is point-sampled into every tile: the same sample has t
     const TerrainTileData tile = loadOk(*source, whole).tile;
     CHECK(worstAgainstField(tile) < 0.2);
     checkSharedSamples(*source, {7, 135, 92});
+    // Each sample's normal is the field's: its slope east and north, in metres a metre.
+    REQUIRE(tile.normals.size() == tile.heights.size());
+    const Ellipsoid earth = Ellipsoid::wgs84();
+    double worstAngle = 0.0;
+    for (int row = 0; row < tile.size; row += 8) {
+        for (int column = 0; column < tile.size; column += 8) {
+            const Geodetic2D g = terrainGridPosition(whole, tile.size, column, row);
+            const double longitude = toDegrees(g.longitude);
+            const double latitude = toDegrees(g.latitude);
+            const double step = 0.001;
+            const glm::dvec3 here = earth.toCartesian(Geodetic3D(g.longitude, g.latitude, 0.0));
+            const double metresEast = glm::length(earth.toCartesian(Geodetic3D::fromDegrees(longitude + step, latitude, 0.0)) - here);
+            const double metresNorth = glm::length(earth.toCartesian(Geodetic3D::fromDegrees(longitude, latitude + step, 0.0)) - here);
+            const double dEast = (field(longitude + step, latitude) - field(longitude - step, latitude)) / (2.0 * metresEast);
+            const double dNorth = (field(longitude, latitude + step) - field(longitude, latitude - step)) / (2.0 * metresNorth);
+            const glm::dvec3 up = earth.geodeticSurfaceNormal(Geodetic3D(g.longitude, g.latitude, 0.0));
+            const glm::dvec3 east = glm::normalize(glm::dvec3(-up.y, up.x, 0.0));
+            const glm::dvec3 north = glm::cross(up, east);
+            const glm::dvec3 expected = glm::normalize(-dEast * east - dNorth * north + up);
+            const glm::dvec3 normal(tile.normals[static_cast<std::size_t>(row * tile.size + column)]);
+            worstAngle = std::max(worstAngle, std::acos(std::min(1.0, glm::dot(normal, expected))));
+        }
+    }
+    CHECK(toDegrees(worstAngle) < 0.05);
     // The nodata corner (11.5 .. 12 E, 40 .. 40.5 N) takes noDataHeight: a level 9 tile inside it.
     const TerrainTileData corner = loadOk(*source, {9, 545, 370}).tile; // 11.6 .. 11.95 E, 40.08 .. 40.43 N
     CHECK(std::all_of(corner.heights.begin(), corner.heights.end(), [](float h) { return h == -5.0f; }));

@@ -95,7 +95,11 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "terrain",
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
-constexpr std::array<std::string_view, 6> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "method", "posts"};
+constexpr std::array<std::string_view, 7> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading",
+                                                          "method", "posts"};
+constexpr std::array<std::string_view, 4> kShadingKeys = {"color", "heightRange", "contours", "hillshade"};
+constexpr std::array<std::string_view, 3> kContourKeys = {"interval", "color", "width"};
+constexpr std::array<std::string_view, 2> kHillshadeKeys = {"azimuth", "altitude"};
 constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh", "heightmap", "png16", "terrain-rgb",
                                                                  "terrarium",      "hgt",       "gdal"};
 constexpr std::array<std::string_view, 11> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
@@ -142,6 +146,11 @@ constexpr std::array<Named<TerrainMethod>, 2> kTerrainMethods = {{
 constexpr std::array<Named<TilingProjection>, 2> kTilingSchemes = {{
     {"geographic", TilingProjection::Geographic},
     {"webmercator", TilingProjection::WebMercator},
+}};
+constexpr std::array<Named<TerrainShadingDescription::Color>, 3> kShadingColors = {{
+    {"base", TerrainShadingDescription::Color::Base},
+    {"height", TerrainShadingDescription::Color::Height},
+    {"slope", TerrainShadingDescription::Color::Slope},
 }};
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
@@ -197,6 +206,12 @@ constexpr Range kScreenSpaceErrorRange{0.1, 1000.0};
 /// The tile cache in MiB: from a few tiles to 64 GiB.
 constexpr Range kCacheMegabytesRange{1.0, 65536.0};
 constexpr Range kExaggerationRange{0.0, 100.0};
+/// Metres: from below the deepest trench to above the highest summit, with room for exaggeration.
+constexpr Range kShadingHeightRange{-20000.0, 20000.0};
+constexpr Range kContourIntervalRange{0.0, 100000.0, true, false};
+constexpr Range kContourWidthRange{0.0, 64.0, true, false};
+constexpr Range kAzimuthRange{-360.0, 360.0};
+constexpr Range kAltitudeRange{0.0, 90.0, true, false};
 /// Degrees. Finer than 0.1 would cut the world's borders into millions of vertices and its
 /// countries into tens of millions of triangles; coarser than 10 lifts lines 24 km off the ground.
 constexpr Range kGranularityRange{0.1, 10.0};
@@ -772,6 +787,9 @@ private:
         if (const Json* cache = member(value, "cacheFolder")) {
             terrain.cacheFolder = readPath(*cache, pointer + "/cacheFolder");
         }
+        if (const Json* shading = member(value, "shading")) {
+            terrain.shading = readShading(*shading, pointer + "/shading");
+        }
         if (const Json* method = member(value, "method")) {
             terrain.method = readEnum(*method, pointer + "/method", kTerrainMethods);
         }
@@ -782,6 +800,60 @@ private:
             }
         }
         return terrain;
+    }
+
+    TerrainShadingDescription readShading(const Json& value, const std::string& pointer) const
+    {
+        expectObject(value, pointer);
+        checkKeys(value, pointer, kShadingKeys);
+        TerrainShadingDescription shading;
+        if (const Json* color = member(value, "color")) {
+            shading.color = readEnum(*color, pointer + "/color", kShadingColors);
+        }
+        if (const Json* range = member(value, "heightRange")) {
+            const std::string rangePointer = pointer + "/heightRange";
+            if (!range->is_array() || range->size() != 2) {
+                fail(rangePointer, "expected [lowest, highest] in metres, got " + describeJson(*range));
+            }
+            shading.minimumHeight = readNumber((*range)[0], rangePointer + "/0", kShadingHeightRange);
+            shading.maximumHeight = readNumber((*range)[1], rangePointer + "/1", kShadingHeightRange);
+            if (!(shading.minimumHeight < shading.maximumHeight)) {
+                fail(rangePointer, "the lowest height must be below the highest, got " + describeJson(*range));
+            }
+        }
+        if (const Json* contours = member(value, "contours")) {
+            const std::string contoursPointer = pointer + "/contours";
+            expectObject(*contours, contoursPointer);
+            checkKeys(*contours, contoursPointer, kContourKeys);
+            shading.contourInterval = readNumber(required(*contours, contoursPointer, "interval"),
+                                                 contoursPointer + "/interval", kContourIntervalRange);
+            if (const Json* color = member(*contours, "color")) {
+                shading.contourColor = readColor(*color, contoursPointer + "/color");
+            }
+            if (const Json* width = member(*contours, "width")) {
+                shading.contourWidth = readNumber(*width, contoursPointer + "/width", kContourWidthRange);
+            }
+        }
+        if (const Json* hillshade = member(value, "hillshade")) {
+            const std::string hillshadePointer = pointer + "/hillshade";
+            if (hillshade->is_boolean()) {
+                shading.hillshade = readBoolean(*hillshade, hillshadePointer);
+            } else {
+                if (!hillshade->is_object()) {
+                    fail(hillshadePointer, "expected true, false or {\"azimuth\": degrees, \"altitude\": degrees}, got " +
+                                               describeJson(*hillshade));
+                }
+                checkKeys(*hillshade, hillshadePointer, kHillshadeKeys);
+                shading.hillshade = true;
+                if (const Json* azimuth = member(*hillshade, "azimuth")) {
+                    shading.hillshadeAzimuth = readNumber(*azimuth, hillshadePointer + "/azimuth", kAzimuthRange);
+                }
+                if (const Json* altitude = member(*hillshade, "altitude")) {
+                    shading.hillshadeAltitude = readNumber(*altitude, hillshadePointer + "/altitude", kAltitudeRange);
+                }
+            }
+        }
+        return shading;
     }
 
     ImageryLayerDescription readImageryLayer(const Json& value, const std::string& pointer) const

@@ -474,6 +474,36 @@ SimplifiedMesh simplifyGrid(std::span<const float> heights, int size, double tol
     return mesh;
 }
 
+std::vector<Geodetic2D> gridPositionsWithMargin(const TileKey& key, int size)
+{
+    const int stride = size + 2;
+    std::vector<Geodetic2D> positions(static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride));
+    for (int row = -1; row <= size; ++row) {
+        for (int column = -1; column <= size; ++column) {
+            Geodetic2D g = terrainGridPosition(key, size, column, row);
+            g.latitude = std::clamp(g.latitude, -kHalfPi, kHalfPi);
+            // Across the antimeridian the margin is the other side's first samples.
+            if (g.longitude < -kPi) {
+                g.longitude += kTwoPi;
+            } else if (g.longitude > kPi) {
+                g.longitude -= kTwoPi;
+            }
+            positions[static_cast<std::size_t>((row + 1) * stride + column + 1)] = g;
+        }
+    }
+    return positions;
+}
+
+std::vector<float> withoutMargin(std::span<const float> heightsWithMargin, int size)
+{
+    const std::size_t stride = static_cast<std::size_t>(size) + 2;
+    std::vector<float> grid(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
+    for (std::size_t row = 0; row < static_cast<std::size_t>(size); ++row) {
+        std::copy_n(&heightsWithMargin[(row + 1) * stride + 1], size, &grid[row * static_cast<std::size_t>(size)]);
+    }
+    return grid;
+}
+
 std::vector<glm::vec3> gridNormals(const TileKey& key, int size, std::span<const float> heightsWithMargin,
                                    const Ellipsoid& ellipsoid)
 {

@@ -29,6 +29,14 @@ struct SimplifiedMesh {
 };
 SimplifiedMesh simplifyGrid(std::span<const float> heights, int size, double tolerance);
 
+/// The positions of a tile's size x size grid (terrainGridPosition) with a margin of one sample on
+/// every side, row by row from the north: (size + 2)^2, the margin's latitudes held at the poles and
+/// its longitudes wrapped across the antimeridian.
+std::vector<orbis::Geodetic2D> gridPositionsWithMargin(const orbis::TileKey& key, int size);
+
+/// The size x size grid inside heights with a margin of one sample.
+std::vector<float> withoutMargin(std::span<const float> heightsWithMargin, int size);
+
 /// Earth-fixed unit normals of a tile's grid samples, from central differences over a grid with a
 /// one-sample margin on every side ((size + 2)^2 heights, row 0 one sample north of the tile), so
 /// that a sample on an edge gets the same normal in both tiles that share it.

@@ -1,6 +1,7 @@
 #include "orbis/world/TerrainSource.h"
 
 #include "DemRaster.h"
+#include "TerrainMesh.h"
 #include "HttpClient.h"
 #include "TileSources.h"
 
@@ -98,18 +99,6 @@ std::uint8_t childMaskOf(const TerrainSource& source, const TileKey& key)
         }
     }
     return mask;
-}
-
-std::vector<Geodetic2D> gridPositions(const TileKey& key, int size)
-{
-    std::vector<Geodetic2D> positions(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
-    for (int row = 0; row < size; ++row) {
-        for (int column = 0; column < size; ++column) {
-            positions[static_cast<std::size_t>(row) * static_cast<std::size_t>(size) + static_cast<std::size_t>(column)] =
-                terrainGridPosition(key, size, column, row);
-        }
-    }
-    return positions;
 }
 
 // ---- Tiles one to one: quantized-mesh, heightmap-1.0, 2^k + 1 PNG heights ------------------------
@@ -260,20 +249,24 @@ public:
         TerrainTileData& tile = result.tile;
         tile.key = key;
         tile.size = _info.gridSize;
-        const std::vector<Geodetic2D> positions = gridPositions(key, tile.size);
-        tile.heights.assign(positions.size(), kNaN);
+        // With a margin of one sample, for normals that see across the tile's edges: tiles sharing
+        // an edge then shade it alike.
+        const std::vector<Geodetic2D> positions = detail::gridPositionsWithMargin(key, tile.size);
+        std::vector<float> withMargin(positions.size(), kNaN);
         try {
-            if (!sample(key, positions, tile.heights)) {
+            if (!sample(key, positions, withMargin)) {
                 return missing();
             }
         } catch (const Error& error) {
             return failed("tile " + tileName(key) + " of " + cutForMessage(_info.name) + ": " + error.what());
         }
-        for (float& h : tile.heights) {
+        for (float& h : withMargin) {
             if (std::isnan(h)) {
                 h = static_cast<float>(_noDataHeight);
             }
         }
+        tile.heights = detail::withoutMargin(withMargin, tile.size);
+        tile.normals = detail::gridNormals(key, tile.size, withMargin, Ellipsoid::wgs84());
         setRange(tile);
         tile.childMask = childMaskOf(*this, key);
         result.status = TerrainFetch::Status::Ok;

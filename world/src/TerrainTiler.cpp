@@ -158,30 +158,15 @@ std::pair<std::vector<std::uint8_t>, double> TerrainTiler::Impl::cut(detail::Dem
     const bool mesh = options.format == TerrainTileFormat::QuantizedMesh;
     // The grid with a margin of one sample (for normals that agree across edges), the margin's
     // latitudes held at the poles.
-    const int stride = size + 2;
-    std::vector<Geodetic2D> positions(static_cast<std::size_t>(stride) * static_cast<std::size_t>(stride));
-    for (int row = -1; row <= size; ++row) {
-        for (int column = -1; column <= size; ++column) {
-            Geodetic2D g = terrainGridPosition(key, size, column, row);
-            g.latitude = std::clamp(g.latitude, -kHalfPi, kHalfPi);
-            positions[static_cast<std::size_t>((row + 1) * stride + column + 1)] = g;
-        }
-    }
+    const std::vector<Geodetic2D> positions = detail::gridPositionsWithMargin(key, size);
     std::vector<float> sampled(positions.size());
     reader.sample(positions, sampled);
     std::vector<float> withMargin(sampled);
     for (float& h : withMargin) {
         h = std::isnan(h) ? static_cast<float>(options.noDataHeight) : h;
     }
-    std::vector<float> truth(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
-    std::vector<float> grid(truth.size());
-    for (int row = 0; row < size; ++row) {
-        for (int column = 0; column < size; ++column) {
-            const auto from = static_cast<std::size_t>((row + 1) * stride + column + 1);
-            truth[static_cast<std::size_t>(row * size + column)] = sampled[from];
-            grid[static_cast<std::size_t>(row * size + column)] = withMargin[from];
-        }
-    }
+    const std::vector<float> truth = detail::withoutMargin(sampled, size);
+    const std::vector<float> grid = detail::withoutMargin(withMargin, size);
 
     const GeodeticExtent extent = TilingScheme::geographic().tileExtent(key);
     const std::string name = tilePath(key).string();

@@ -1,11 +1,16 @@
 // A tile's colour: a base colour, then each imagery texture in layer order (course 3.5), each only
 // inside its rectangle of the tile, adjusted (brightness, contrast, gamma) and blended by its alpha;
-// then sunlight (LIGHTING). The TiledGlobe writes one block of uniforms and one call per texture
+// then the terrain's shading options (TERRAIN_SHADING, terrain_shading.glsl put before this text)
+// and sunlight (LIGHTING). The TiledGlobe writes one block of uniforms and one call per texture
 // in place of the two OG_IMAGERY lines below (og_textureN, u_textureTransformN, ...): GLSL 3.30
 // indexes sampler arrays only with constants, and per-draw uniforms are not arrays.
 
 in vec2 v_tileCoordinates;
 in vec3 v_normal;
+#ifdef TERRAIN_SHADING
+in float v_height;
+in vec3 v_up;
+#endif
 out vec4 fragmentColor;
 
 uniform vec4 u_baseColor;
@@ -38,7 +43,15 @@ void main()
 {
     og_depthFragment();
     vec3 color = u_baseColor.rgb;
+#ifdef TERRAIN_SHADING
+    vec3 normal = normalize(v_normal);
+    vec3 up = normalize(v_up);
+    color = terrainBaseColor(color, v_height, normal, up);
+#endif
     // OG_IMAGERY_BLENDS
+#ifdef TERRAIN_SHADING
+    color = terrainOverlays(color, v_height, normal, up);
+#endif
 #ifdef LIGHTING
     color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
 #endif

@@ -11,6 +11,11 @@ in vec3 normal; // of the terrain, Earth-fixed
 
 out vec2 v_tileCoordinates;
 out vec3 v_normal; // the surface's normal (the terrain's or the ellipsoid's), Earth-fixed
+#ifdef TERRAIN_SHADING
+out float v_height; // metres, exaggeration taken out
+out vec3 v_up;      // the ellipsoid's normal
+uniform float u_heightScale; // 1 / exaggeration (0 when it is 0)
+#endif
 
 uniform vec3 og_cameraEye;
 uniform vec3 og_cameraEyeHigh;
@@ -22,11 +27,16 @@ void main()
 {
     vec3 position = og_emulatedDoubleSubtract(positionHigh, positionLow, og_cameraEyeHigh, og_cameraEyeLow);
     v_tileCoordinates = textureCoordinate.xy;
+    // The eye in one float is half a metre off at most: a normal tilted by 1e-7.
+    vec3 up = normalize((og_cameraEye + position) * u_oneOverRadiiSquared);
 #ifdef TERRAIN
     v_normal = normal;
 #else
-    // The eye in one float is half a metre off at most: a normal tilted by 1e-7.
-    v_normal = normalize((og_cameraEye + position) * u_oneOverRadiiSquared);
+    v_normal = up;
+#endif
+#ifdef TERRAIN_SHADING
+    v_height = textureCoordinate.z * u_heightScale;
+    v_up = up;
 #endif
     gl_Position = og_depthVertex(og_modelViewProjectionMatrixRelativeToEye * vec4(position, 1.0));
 }

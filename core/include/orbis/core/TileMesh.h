@@ -78,6 +78,9 @@ struct TileMesh {
     /// and north-south differences of the grid's positions (one-sided at the edges, the axis at a
     /// pole's collapsed row); skirt vertices take their edge vertex's.
     std::vector<float> normals() const;
+    /// Normals given for the grid (three floats per grid vertex, row by row from the north),
+    /// extended to the skirt vertices as normals() extends its own.
+    std::vector<float> normals(std::vector<float> gridNormals) const;
 
     /// The counter-clockwise triangles (seen from above) of a mesh of 2^samplesLog2 + 1 samples a
     /// side: the inner grid as quads, and a ring of triangles zipping each edge's vertices (every

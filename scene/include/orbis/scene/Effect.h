@@ -23,7 +23,8 @@ enum class Effect : std::uint32_t {
     TiledImagery = 1u << 10, ///< the globe's surface streamed as tiles with imagery layers
     Terrain = 1u << 11,      ///< heights on the streamed tiles
     VirtualTexture = 1u << 12, ///< the globe's surface reading one virtual texture (and its feedback pass)
-    ClipmapTerrain = 1u << 13, ///< terrain drawn as geometry clipmaps (with Terrain)
+    TerrainShading = 1u << 13, ///< colour by height or slope, contours or hillshade (TerrainShading)
+    ClipmapTerrain = 1u << 14, ///< terrain drawn as geometry clipmaps (with Terrain)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

@@ -3,13 +3,16 @@
 #include <orbis/core/TileKey.h>
 #include <orbis/world/TerrainSource.h>
 
+#include <array>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace orbis::scene {
 
-/// Heights anywhere in one terrain tile of the geographic scheme: bilinear between a grid's
-/// samples, or on the triangle of a mesh (quantized-mesh) that holds the point.
+/// Heights (and the data's normals, where it has them) anywhere in one terrain tile of the
+/// geographic scheme: bilinear between a grid's samples, or on the triangle of a mesh
+/// (quantized-mesh) that holds the point.
 ///
 /// Positions are given as a sample of a finer (or equal) lattice, so that a point that two tiles
 /// share, or a child and the data tile it is cut from, is the same pair of doubles and gets the
@@ -27,9 +30,24 @@ public:
     /// (2^samplesLog2 + 1)^2 lattice of `key`, a descendant of (or the same as) the data's tile.
     std::vector<float> latticeHeights(const TileKey& key, int samplesLog2) const;
 
+    /// The data's unit normals (Earth-fixed) interpolated to the same lattice, three floats a
+    /// sample; empty when the data has none. Tiles sharing an edge interpolate the same data there,
+    /// so their shading meets without a seam (a tile's own height differences cannot see across
+    /// its edge).
+    std::vector<float> latticeNormals(const TileKey& key, int samplesLog2) const;
+
 private:
-    double gridHeight(double u, double v) const noexcept;
-    double meshHeight(double u, double v) const noexcept;
+    /// The data samples or vertices around a point and their weights (summing to 1).
+    struct Weights {
+        std::array<std::uint32_t, 4> index{};
+        std::array<double, 4> weight{};
+        int count = 0;
+    };
+    Weights weightsAt(double u, double v) const noexcept;
+    Weights gridWeights(double u, double v) const noexcept;
+    Weights meshWeights(double u, double v) const noexcept;
+    /// The lattice's u (west to east) and v (north to south) coordinates within the data tile.
+    std::pair<std::vector<double>, std::vector<double>> latticeCoordinates(const TileKey& key, int samplesLog2) const;
 
     std::shared_ptr<const world::TerrainTileData> _data;
     /// Meshes: triangles listed per bucket of a buckets x buckets grid over the tile.

@@ -2,6 +2,7 @@
 
 #include "orbis/scene/FrameState.h"
 #include "orbis/scene/TileQuadtree.h"
+#include "orbis/scene/TerrainShading.h"
 #include "orbis/scene/TileStatistics.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -70,6 +71,9 @@ struct TiledGlobeOptions {
     /// Each tile's base colour from its level (a palette of eight), to show the levels of detail
     /// the selection chose (book chapter 12's figures); imagery layers are blended over it.
     bool colorByLevel = false;
+    /// Colour by height or slope, contours, hillshade (with or without terrain: the ellipsoid's
+    /// tiles are at 0 m).
+    TerrainShading shading;
     /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
     /// the standard error stream.
     std::function<void(const std::string&)> onWarning;

@@ -111,6 +111,20 @@ struct ImageryLayerDescription {
 enum class TerrainMethod { Quadtree, Clipmap };
 
 /// The heights under a tiled globe.
+/// How the terrain is coloured and shaded beside the Sun's light (docs/scene-format.md, "shading").
+struct TerrainShadingDescription {
+    enum class Color { Base, Height, Slope };
+    Color color = Color::Base;
+    double minimumHeight = -6000.0, maximumHeight = 6000.0; ///< metres, "heightRange"
+    double contourInterval = 0.0;                            ///< metres; 0: no "contours"
+    glm::vec4 contourColor{1.0f, 1.0f, 1.0f, 1.0f};
+    double contourWidth = 1.0;                               ///< pixels
+    bool hillshade = false;
+    double hillshadeAzimuth = 315.0, hillshadeAltitude = 45.0; ///< degrees
+
+    friend bool operator==(const TerrainShadingDescription&, const TerrainShadingDescription&) = default;
+};
+
 struct TerrainDescription {
     /// An absolute path (a folder or layer.json of quantized-mesh or heightmap tiles, an .mbtiles
     /// file, a TMS folder or {z}/{x}/{y} template of height PNGs, a folder of .hgt files, a DEM
@@ -118,6 +132,7 @@ struct TerrainDescription {
     std::string source;
     std::string format;        ///< one of world::kTerrainFormats; empty: told from the source
     double exaggeration = 1.0; ///< >= 0: heights multiplied by it
+    TerrainShadingDescription shading;
     /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
     std::optional<std::filesystem::path> cacheFolder;
     TerrainMethod method = TerrainMethod::Quadtree;
