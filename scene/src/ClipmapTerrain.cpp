@@ -718,6 +718,13 @@ struct ClipmapTerrain::Impl {
             description.name = "clipmap terrain";
             description.vertex = renderer::ShaderSource::embedded("scene/clipmap/clipmap.vert.glsl");
             description.fragment = renderer::ShaderSource::embedded("scene/clipmap/clipmap.frag.glsl");
+            if (options.shading.any()) {
+                description.fragment.text.insert(0, terrainShadingSource());
+                addTerrainShadingDefines(options.shading, description.defines);
+            }
+            if (imagery) {
+                description.defines.push_back({"IMAGERY"});
+            }
             if (options.lighting) {
                 description.defines.push_back({"LIGHTING"});
             }
@@ -779,6 +786,7 @@ ClipmapTerrain::ClipmapTerrain(const Ellipsoid& ellipsoid, ClipmapTerrainOptions
             throw Error("ClipmapTerrain: an imagery layer has no source");
         }
     }
+    validateTerrainShading(_options.shading, "ClipmapTerrain");
     // The coarsest spacing that keeps the grid clear of its pole.
     const double coarsest = kMaximumHalfWidthRadians / (0.5 * (n - 1));
     double finest = toRadians(_options.finestSpacingDegrees);
@@ -1080,6 +1088,10 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
             command.tags = Effect::Globe | Effect::Terrain | Effect::ClipmapTerrain;
             if (_options.lighting) {
                 command.tags = command.tags | Effect::Lighting;
+            }
+            if (_options.shading.any()) {
+                command.tags = command.tags | Effect::TerrainShading;
+                setTerrainShadingUniforms(_options.shading, command.draw.uniforms);
             }
             command.draw.vertexArray = &*impl.vertexArray;
             command.draw.shaderProgram = &program;

@@ -293,6 +293,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
         options.loader = build.loader;
         options.cacheBytes = tiles.cacheBytes;
         options.lighting = tiles.lighting;
+        options.shading = tiles.shading;
         scene.add(std::make_shared<ClipmapTerrain>(scene.ellipsoid(), std::move(options)));
     } else if (description.globe && (!description.globe->imagery.empty() || description.globe->terrain)) {
         scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), tiledGlobeOptions(*description.globe, description.sun,

@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -291,4 +292,36 @@ TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole and th
         // level missing or misplaced (thousands of pixels).
         ORBIS_REQUIRE_GOLDEN(frame.image, view.name, GoldenTolerance{3, 0.002});
     }
+}
+
+TEST_CASE("Clipmap terrain takes the terrain shading: the height ramp blue over the sea, green on land", "[scene][clipmap][gl]")
+{
+    ClipmapTerrainOptions options = etopo5Options();
+    options.imagery.clear();
+    options.lighting = false;
+    options.shading.color = TerrainShading::Color::Height;
+    options.shading.contourInterval = 1000.0;
+    options.shading.contourColor = {1.0f, 0.0f, 0.0f};
+    Scene scene(kEarth);
+    auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
+    scene.add(terrain);
+    // The Ligurian Sea in front, the Alps behind.
+    place(scene, Geodetic3D::fromDegrees(8.5, 42.5, 150000.0), 0.0, -40.0);
+    const RenderedFrame frame = renderConverged(scene, *terrain, 160, 90);
+    REQUIRE(terrain->converged());
+    const std::vector<std::string> effects = frame.statistics.effectsRun();
+    CHECK(std::find(effects.begin(), effects.end(), "terrain shading") != effects.end());
+    auto pixel = [&](int x, int y) { return &frame.image.pixels[(static_cast<std::size_t>(y) * 160 + x) * 4]; };
+    // The bottom row is sea (2 to 3 km deep): blues.
+    const std::uint8_t* sea = pixel(80, 88);
+    CHECK(sea[2] > sea[0] + 40);
+    // Contour lines in red somewhere (the Alps' slopes cross 1,000 and 2,000 m).
+    std::size_t red = 0;
+    for (int y = 0; y < 90; ++y) {
+        for (int x = 0; x < 160; ++x) {
+            const std::uint8_t* p = pixel(x, y);
+            red += (p[0] > 200 && p[1] < 80 && p[2] < 80) ? 1 : 0;
+        }
+    }
+    CHECK(red > 20);
 }

@@ -11,6 +11,8 @@ out vec3 v_normal;       // of the terrain, Earth-fixed
 out vec2 v_fineTexel;    // the post's texel in this level's colour texture (repeating)
 out vec2 v_coarseTexel;  // and in the coarser level's
 out float v_blend;       // 0: this level, 1: the coarser level
+out float v_height;      // metres, the exaggeration taken out
+out vec3 v_up;           // the ellipsoid's normal, Earth-fixed
 
 uniform mat4 og_modelViewProjectionMatrixRelativeToEye;
 uniform sampler2D og_texture0; // heights, metres (R32F)
@@ -66,7 +68,8 @@ ivec2 coarseTexel(ivec2 global, ivec2 step)
 // The position relative to the eye of the surface point `fromCenter` posts (spacing apart) from a
 // level's centre, `height` above the ellipsoid, and the terrain normal for a height gradient.
 vec3 positionRelativeToEye(vec2 fromCenter, float height, vec2 gradient, float spacing, vec4 centerTrig,
-                           vec3 centerNormal, vec3 centerRelativeToEye, float centerRadius, out vec3 terrainNormal)
+                           vec3 centerNormal, vec3 centerRelativeToEye, float centerRadius, out vec3 terrainNormal,
+                           out vec3 up)
 {
     // The grid direction's change from the centre's, from the angle differences.
     float dLongitude = fromCenter.x * spacing;
@@ -96,6 +99,7 @@ vec3 positionRelativeToEye(vec2 fromCenter, float height, vec2 gradient, float s
     vec3 east = u_frame * vec3(-sinLon, cosLon, 0.0);
     vec3 north = u_frame * vec3(-sinLat * cosLon, -sinLat * sinLon, cosLat);
     terrainNormal = normalize(normal - gradient.x * east - gradient.y * north);
+    up = normal;
     return centerRelativeToEye + offset;
 }
 
@@ -131,10 +135,10 @@ void main()
         vec2 coarsePost = vec2(u_originOnCoarser + post / 2);
         positionFromEye = positionRelativeToEye(coarsePost - vec2(u_centerPost), coarseHeight * u_exaggeration, gradient,
                                                 u_coarserSpacing, u_coarserCenterTrig, u_coarserCenterNormal,
-                                                u_coarserCenterRelativeToEye, u_coarserCenterRadius, v_normal);
+                                                u_coarserCenterRelativeToEye, u_coarserCenterRadius, v_normal, v_up);
     } else {
         positionFromEye = positionRelativeToEye(fromCenter, height * u_exaggeration, gradient, u_spacing, u_centerTrig,
-                                                u_centerNormal, u_centerRelativeToEye, u_centerRadius, v_normal);
+                                                u_centerNormal, u_centerRelativeToEye, u_centerRadius, v_normal, v_up);
     }
     float size = float(u_textureSize);
     // Unwrapped (the origin is below twice the size), so that a triangle across the texture's
@@ -142,5 +146,6 @@ void main()
     v_fineTexel = (vec2(global) + 0.5) / size;
     v_coarseTexel = (vec2(global) * 0.5 + 0.5) / size;
     v_blend = blend;
+    v_height = height; // the coarser height on the outer posts (the blend is 1 there)
     gl_Position = og_depthVertex(og_modelViewProjectionMatrixRelativeToEye * vec4(positionFromEye, 1.0));
 }

@@ -2,6 +2,7 @@
 
 #include "orbis/scene/ClipmapStatistics.h"
 #include "orbis/scene/FrameState.h"
+#include "orbis/scene/TerrainShading.h"
 #include "orbis/scene/TiledGlobe.h"
 
 #include <orbis/core/Ellipsoid.h>
@@ -48,6 +49,9 @@ struct ClipmapTerrainOptions {
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
     /// Each level in its own colour (a palette of eight), as the book's figure 13.3.
     bool colorByLevel = false;
+    /// Colour by height or slope (under the imagery, which covers it), contours, hillshade: the
+    /// tiles' shading (shaders/scene/terrain/terrain_shading.glsl), from the same heights and normals.
+    TerrainShading shading;
     /// Receives each warning once (a tile that failed); empty: the standard error stream.
     std::function<void(const std::string&)> onWarning;
 };
@@ -83,7 +87,8 @@ struct ClipmapTerrainOptions {
 class ClipmapTerrain final : public Primitive {
 public:
     /// Throws orbis::Error for posts not 2^k - 1 in 15 .. 1023, levels < 0 or > 24, a spacing or
-    /// exaggeration below 0 or not finite, an ellipsoid that is not one of revolution.
+    /// exaggeration below 0 or not finite, an ellipsoid that is not one of revolution, shading
+    /// options out of range.
     ClipmapTerrain(const Ellipsoid& ellipsoid, ClipmapTerrainOptions options);
     ~ClipmapTerrain() override;
 
