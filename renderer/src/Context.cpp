@@ -721,6 +721,36 @@ void Context::blit(const Framebuffer& source, Framebuffer* destination)
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read->_name);
 }
 
+void Context::copyDepth(const Framebuffer& source, Framebuffer& destination)
+{
+    detail::ContextState& state = *_state;
+    const ErrorSource where{"Context::copyDepth", {}};
+    if (&source == &destination) {
+        throw Error("Context::copyDepth: the source is the destination");
+    }
+    const std::shared_ptr<Texture2D>& from = source.depthAttachment();
+    const std::shared_ptr<Texture2D>& to = destination.depthAttachment();
+    if (!from || !to) {
+        throw Error(std::string("Context::copyDepth: the ") + (from ? "destination" : "source") +
+                    " framebuffer has no depth attachment");
+    }
+    if (from->format() != to->format() || from->width() != to->width() || from->height() != to->height()) {
+        throw Error(std::string("Context::copyDepth: ") + textureFormatName(from->format()) + " " +
+                    std::to_string(from->width()) + "x" + std::to_string(from->height()) + " cannot be copied into " +
+                    textureFormatName(to->format()) + " " + std::to_string(to->width()) + "x" +
+                    std::to_string(to->height()) + " (the same format and size are needed)");
+    }
+    // As blit: each checked and attached, the source bound last.
+    bindTarget(&destination, where);
+    Framebuffer* read = bindTarget(const_cast<Framebuffer*>(&source), where);
+    state.applyClearState(ClearState{}); // the scissor test would clip the copy
+    const detail::GlApi& gl = state.gl;
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, destination._name);
+    gl.glBlitFramebuffer(0, 0, from->width(), from->height(), 0, 0, to->width(), to->height(), GL_DEPTH_BUFFER_BIT,
+                         GL_NEAREST);
+    gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read->_name);
+}
+
 void Context::resetState() noexcept
 {
     _state->forgetState();

@@ -2,6 +2,8 @@
 
 #include <orbis/renderer/ShaderCache.h>
 
+#include <limits>
+
 namespace orbis::scene::detail {
 
 namespace {
@@ -38,7 +40,7 @@ void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState
     command.pass = Pass::Translucent;
     renderer::RenderState& state = command.draw.renderState;
     state.facetCulling.enabled = false;
-    state.depthTest.enabled = depth.depthTest;
+    state.depthTest.enabled = false; // the geometry shader tests each anchor (never a quad's fragments)
     state.depthTest.function = renderer::CompareFunction::LessOrEqual;
     state.depthMask = false;
     // The shader writes premultiplied colour (the atlas is premultiplied, so linear filtering
@@ -68,6 +70,17 @@ void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState
         command.boundingSphere->radius += 2.0 * static_cast<double>(depthOffset) *
                                           (distance + command.boundingSphere->radius);
     }
+    // The anchors are tested against a copy of the depth the frustum's opaque commands wrote, in the
+    // geometry shader; without one (a window's depth) they are not tested. The sampler reads a
+    // texture either way: the atlas stands in, unread.
+    const double disableDistance = std::clamp(depth.disableDepthTestDistance, 0.0,
+                                              static_cast<double>(std::numeric_limits<float>::max()));
+    setIfActive(command.draw, "u_disableDepthTestDistance", static_cast<float>(disableDistance));
+    setIfActive(command.draw, "u_anchorDepthTest", frameState.sceneDepth ? 1.0f : 0.0f);
+    command.readsSceneDepth = frameState.sceneDepth != nullptr;
+    assert(!command.draw.textures.empty()); // the atlas, on unit 0
+    command.draw.textures.push_back(
+        {1, frameState.sceneDepth ? frameState.sceneDepth : command.draw.textures.front().texture, nullptr});
     setIfActive(command.draw, "u_inverseAtlasSize",
                 glm::vec2(1.0f / static_cast<float>(atlas.width()), 1.0f / static_cast<float>(atlas.height())));
 }

@@ -280,8 +280,9 @@ private:
     bool _whole = false;
 };
 
-/// The uniforms, render state and pass every billboard or label command shares; the command's
-/// bounding sphere (set before) grows to cover the points the depth is taken at.
+/// The uniforms, render state, pass and scene-depth texture (unit 1) every billboard or label
+/// command shares; the command's bounding sphere (set before) grows to cover the points the depth
+/// is taken at. The atlas texture must be bound on unit 0 before.
 void prepareBillboardCommand(SceneCommand& command, const FrameState& frameState, const BillboardDepthOptions& depth,
                              const renderer::TextureAtlas& atlas);
 

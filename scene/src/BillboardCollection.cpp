@@ -10,6 +10,24 @@
 
 namespace orbis::scene {
 
+Image billboardShapeImage(BillboardShape shape, int sizePixels)
+{
+    const int size = std::max(sizePixels, 1);
+    Image image(size, size, 4);
+    const double radius = 0.5 * size;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            // The dot's coverage of a pixel: 1 inside, falling over the pixel the edge crosses.
+            const double distance = std::hypot(x + 0.5 - radius, y + 0.5 - radius);
+            const double coverage = shape == BillboardShape::Square ? 1.0 : std::clamp(radius - distance + 0.5, 0.0, 1.0);
+            std::uint8_t* p = image.pixel(x, y);
+            p[0] = p[1] = p[2] = 255;
+            p[3] = static_cast<std::uint8_t>(std::lround(255.0 * coverage));
+        }
+    }
+    return image;
+}
+
 namespace {
 
 /// The image as RGBA: grey and RGB become opaque colours.
@@ -202,12 +220,15 @@ std::optional<BoundingSphere> BillboardCollection::boundingSphere() const
 
 void BillboardCollection::update(FrameState& frameState, CommandList& commands)
 {
-    _lastUpload = {};
+    if (_lastUploadFrame != frameState.frameNumber) {
+        _lastUpload = {};
+        _lastUploadFrame = frameState.frameNumber;
+    }
     if (_billboards.empty()) {
         return;
     }
     renderer::ShaderProgram& program = _programs->get(frameState, Pass::Translucent);
-    _lastUpload.textureBytesUploaded = _texture->synchronize(frameState.device, _atlas);
+    _lastUpload.textureBytesUploaded += _texture->synchronize(frameState.device, _atlas);
     _batch->upload(frameState, program, _lastUpload);
 
     std::vector<glm::dvec3> positions;

@@ -329,7 +329,10 @@ void LabelCollection::declutter(const FrameState& frameState)
 
 void LabelCollection::update(FrameState& frameState, CommandList& commands)
 {
-    _lastUpload = {};
+    if (_lastUploadFrame != frameState.frameNumber) {
+        _lastUpload = {};
+        _lastUploadFrame = frameState.frameNumber;
+    }
     _lastDrawCalls = 0;
     if (_labels.empty()) {
         return;

@@ -3,6 +3,7 @@
 #include "DepthPlan.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/SunPosition.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
@@ -55,6 +56,7 @@ Scene::Scene(const Ellipsoid& ellipsoid, const SceneOptions& options)
     : _ellipsoid(ellipsoid)
     , _options(options)
     , _binner(options.multiFrustum)
+    , _sceneDepth(std::make_shared<renderer::Texture2D>())
 {
 }
 
@@ -76,6 +78,11 @@ void Scene::setSunDirection(const glm::dvec3& direction) noexcept
     if (length > 0.0 && std::isfinite(length)) {
         _sunDirection = direction / length;
     }
+}
+
+void Scene::setTime(std::chrono::sys_seconds utc) noexcept
+{
+    setSunDirection(sunDirectionEarthFixed(utc));
 }
 
 DepthStrategy Scene::chooseDepthStrategy(renderer::Context& context, renderer::Framebuffer* target, double nearDistance,
@@ -228,6 +235,10 @@ detail::DepthPlan Scene::updateAndBin(FrameState& frameState, DepthStrategy stra
 {
     const detail::DepthPlan plan = detail::DepthPlan::of(strategy, _options.multiFrustum);
     frameState.depthStrategy = plan.strategy;
+    // A window's depth cannot be copied into a texture of a known format; a target's can (the
+    // float depth texture of its own under complementary depth).
+    const bool depthToCopy = frame.target && (plan.needsFloatDepth || frame.target->depthAttachment());
+    frameState.sceneDepth = depthToCopy ? _sceneDepth.get() : nullptr;
     auto start = std::chrono::steady_clock::now();
     _commands.clear();
     for (Primitive* primitive : _survivors) {
@@ -257,7 +268,7 @@ detail::DepthPlan Scene::prepareCommands(renderer::Context& context, const Frame
                           frame.width,
                           frame.height,
                           _sunDirection,
-                          _timeSeconds,
+                          _clockSeconds,
                           _frameNumber,
                           frame.cullingVolume,
                           EllipsoidalOccluder(_ellipsoid, frame.eye),
@@ -309,8 +320,25 @@ detail::DepthPlan Scene::prepareCommands(renderer::Context& context, const Frame
     return plan;
 }
 
+void Scene::copySceneDepth(renderer::Context& context)
+{
+    const renderer::Framebuffer* source = context.framebuffer();
+    const std::shared_ptr<renderer::Texture2D>& depth = source ? source->depthAttachment() : nullptr;
+    if (!depth) {
+        return; // FrameState::sceneDepth was null for this frame
+    }
+    if (!_sceneDepth->valid() || _sceneDepthContext != &context || _sceneDepth->format() != depth->format() ||
+        _sceneDepth->width() != depth->width() || _sceneDepth->height() != depth->height()) {
+        *_sceneDepth = context.device().createTexture2D({depth->width(), depth->height(), depth->format()});
+        _sceneDepthTarget = std::make_shared<renderer::Framebuffer>(context.createFramebuffer());
+        _sceneDepthTarget->setDepthAttachment(_sceneDepth);
+        _sceneDepthContext = &context;
+    }
+    context.copyDepth(*source, *_sceneDepthTarget);
+}
+
 void Scene::drawFrustums(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
-                         renderer::SceneState& sceneState, FrameStatistics& statistics) const
+                         renderer::SceneState& sceneState, FrameStatistics& statistics)
 {
     // Back to front, a depth clear per frustum, opaque before translucent.
     const std::vector<FrustumRange>& frustums = statistics.frustums;
@@ -337,6 +365,13 @@ void Scene::drawFrustums(renderer::Context& context, const FrameView& frame, con
                                           ? frustums[f].farDistance
                                           : std::numeric_limits<double>::infinity();
         for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
+            if (pass == Pass::Translucent &&
+                std::any_of(bins[f].begin(), bins[f].end(), [&](std::uint32_t binned) {
+                    const SceneCommand& command = _commands[visible[binned]];
+                    return command.pass == Pass::Translucent && command.readsSceneDepth;
+                })) {
+                copySceneDepth(context);
+            }
             std::size_t drawn = 0;
             for (const std::uint32_t binned : bins[f]) {
                 const SceneCommand& command = _commands[visible[binned]];
@@ -395,7 +430,7 @@ void Scene::drawFrame(renderer::Context& context, const FrameView& frame, const 
     sceneState.cameraEye = frame.eye;
     sceneState.viewport = {0, 0, frame.width, frame.height};
     sceneState.sunDirection = _sunDirection;
-    sceneState.timeSeconds = _timeSeconds;
+    sceneState.timeSeconds = _clockSeconds;
     sceneState.depthConvention = plan.convention;
     drawFrustums(context, frame, plan, sceneState, statistics);
     drawOverlay(context, frame, plan, sceneState, statistics);

@@ -70,24 +70,6 @@ void addPolylineLayer(const world::PolylineLayer& layer, Scene& scene)
     scene.add(std::move(lines));
 }
 
-/// A white disc with a soft edge, `size` pixels across: the default billboard (its colour comes
-/// from the style), drawn at scale 1 so it stays crisp.
-Image roundDot(int size)
-{
-    Image image(size, size, 4);
-    const double radius = 0.5 * size;
-    for (int y = 0; y < size; ++y) {
-        for (int x = 0; x < size; ++x) {
-            const double distance = std::hypot(x + 0.5 - radius, y + 0.5 - radius);
-            const double coverage = std::clamp(radius - distance + 0.5, 0.0, 1.0);
-            std::uint8_t* p = image.pixel(x, y);
-            p[0] = p[1] = p[2] = 255;
-            p[3] = static_cast<std::uint8_t>(std::lround(255.0 * coverage));
-        }
-    }
-    return image;
-}
-
 std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(world::Origin origin)
 {
     switch (origin) {
@@ -112,8 +94,10 @@ void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
     const world::BillboardStyle& style = layer.billboard;
     const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
 
-    auto billboards = std::make_shared<BillboardCollection>();
-    Image image = style.image ? world::readImage(*style.image) : roundDot(size);
+    BillboardCollectionOptions billboardOptions;
+    billboardOptions.depth.disableDepthTestDistance = style.disableDepthTestDistance;
+    auto billboards = std::make_shared<BillboardCollection>(billboardOptions);
+    Image image = style.image ? world::readImage(*style.image) : billboardShapeImage(style.shape, size);
     const float scale = static_cast<float>(style.sizePixels / std::max(image.width, image.height));
     const std::size_t imageIndex = [&] {
         try {
@@ -147,6 +131,7 @@ void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
     LabelCollectionOptions options;
     options.haloPixels = static_cast<int>(std::lround(layer.label->outlineWidthPixels));
     options.declutter = layer.label->declutter;
+    options.depth.disableDepthTestDistance = layer.label->disableDepthTestDistance;
     auto labels = std::make_shared<LabelCollection>(options);
     for (std::size_t i = 0; i < points.positions.size(); ++i) {
         if (points.texts[i].empty()) {

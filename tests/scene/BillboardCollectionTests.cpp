@@ -2,18 +2,21 @@
 
 #include "GoldenImage.h"
 #include "RendererTestSupport.h"
+#include "VectorTestSupport.h"
 
 #include <orbis/core/BoxTessellator.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Globe.h>
 #include <orbis/scene/MeshPrimitive.h>
+#include <orbis/scene/ModelPrimitive.h>
 #include <orbis/world/CsvPoints.h>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 using namespace orbis;
@@ -439,15 +442,13 @@ TEST_CASE("A billboard on the surface shows whole over the globe, and with the d
         };
 
         // Oblique, 1,000 km up and 10 degrees away: the ground under the lower half of the quad
-        // is tens of kilometres nearer the eye than the anchor. The horizon test alone (the
-        // default) leaves the quad whole; a depth test against the globe would cut it.
+        // is tens of kilometres nearer the eye than the anchor. The depth test (the default) takes
+        // the quad's depth nearer than the anchor by as much as the quad reaches on the screen
+        // (about 5 pixels of 26 km), so the ground it stands on does not cut it.
         scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 30, 1e6)), b.position, {0, 0, 1});
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 35);
-        billboards->setDepthOptions({.depthTest = true});
-        REQUIRE(redPixels(renderFrame(scene, size, size).image) < 35);
 
-        // Straight down: the surface around the anchor curves away from the eye, and the depth
-        // taken 1e-3 of the distance nearer clears the globe's depth at the anchor: no z-fighting.
+        // Straight down: the surface around the anchor curves away from the eye: no z-fighting.
         scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 1e6)), b.position, {0, 0, 1});
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 35);
 
@@ -455,9 +456,101 @@ TEST_CASE("A billboard on the surface shows whole over the globe, and with the d
         const glm::dvec3 halfway = 0.5 * (scene.camera().eye() + b.position);
         scene.add(std::make_shared<MeshPrimitive>(BoxTessellator::cube(halfway, 1e5), glm::vec4(0, 1, 0, 1)));
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 0);
-        billboards->setDepthOptions({.depthTest = false});
+        // The depth test is off only for anchors nearer than disableDepthTestDistance (1,000 km).
+        billboards->setDepthOptions({.disableDepthTestDistance = 0.9e6});
+        REQUIRE(redPixels(renderFrame(scene, size, size).image) == 0);
+        billboards->setDepthOptions({.disableDepthTestDistance = 1.1e6});
+        REQUIRE(redPixels(renderFrame(scene, size, size).image) == 35);
+        billboards->setDepthOptions({.disableDepthTestDistance = std::numeric_limits<double>::infinity()});
         REQUIRE(redPixels(renderFrame(scene, size, size).image) == 35);
     }
+}
+
+TEST_CASE("A billboard at 0 m is hidden behind an aircraft 1,500 m above it, and shown with the depth test off", "[scene][billboard][depth][model]")
+{
+    // Straight down from 5 km over a point of the ray-cast globe: the aircraft (scale 100: 1.1 km
+    // long) 1,500 m up, centred over the billboard, covers it.
+    constexpr int size = 64;
+    const Geodetic2D place = Geodetic2D::fromDegrees(-100.0, 40.0);
+    const glm::dvec3 ground = kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 0.0});
+    Scene scene(kEarth);
+    GlobeOptions globeOptions;
+    globeOptions.lighting = false;
+    globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
+    scene.add(std::make_shared<Globe>(kEarth, globeOptions));
+    const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    scene.add(ModelPrimitive::fromFile(aircraft, kEarth,
+                                       ModelPlacement{Geodetic3D{place.longitude, place.latitude, 1500.0}, {}, 100.0}));
+    auto billboards = std::make_shared<BillboardCollection>();
+    Billboard b;
+    b.position = ground;
+    b.image = billboards->addImage(solidImage(3, 3, {255, 0, 0, 255}));
+    billboards->add(b);
+    scene.add(billboards);
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 5000.0}), ground, {0, 0, 1});
+    const Image hidden = renderFrame(scene, size, size).image;
+    CHECK(countPixelsNear(hidden, {255, 0, 0, 255}, 0) == 0);
+    const glm::ivec4 centre = pixelAt(hidden, size / 2, size / 2);
+    INFO(describePixel(hidden, size / 2, size / 2));
+    CHECK(centre.b < 200); // the aircraft, not the globe
+
+    billboards->setDepthOptions({.disableDepthTestDistance = std::numeric_limits<double>::infinity()});
+    CHECK(countPixelsNear(renderFrame(scene, size, size).image, {255, 0, 0, 255}, 0) == 9);
+}
+
+TEST_CASE("Without the horizon test, the globe's depth hides a billboard behind it unless the depth test is off", "[scene][billboard][depth][globe]")
+{
+    // A billboard on the far side of the globe, seen through it: only the depth test hides it.
+    constexpr int size = 64;
+    Scene scene(kEarth);
+    GlobeOptions globeOptions;
+    globeOptions.lighting = false;
+    globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
+    scene.add(std::make_shared<Globe>(kEarth, globeOptions));
+    lookFromAbove(scene, 2e7);
+    auto billboards = std::make_shared<BillboardCollection>(
+        BillboardCollectionOptions{.depth = {.horizonCulling = false}});
+    Billboard b;
+    b.position = kEarth.toCartesian(Geodetic3D::fromDegrees(180, 0, 0)); // the antipode, on the axis
+    b.image = billboards->addImage(solidImage(3, 3, {255, 0, 0, 255}));
+    billboards->add(b);
+    scene.add(billboards);
+    CHECK(countPixelsNear(renderFrame(scene, size, size).image, {255, 0, 0, 255}, 0) == 0);
+    billboards->setDepthOptions({.horizonCulling = false, .disableDepthTestDistance = std::numeric_limits<double>::infinity()});
+    CHECK(countPixelsNear(renderFrame(scene, size, size).image, {255, 0, 0, 255}, 0) == 9);
+}
+
+TEST_CASE("The built-in dot and square are white, their size across, the square opaque to its edge", "[scene][billboard]")
+{
+    const Image square = billboardShapeImage(BillboardShape::Square, 6);
+    REQUIRE(square.width == 6);
+    REQUIRE(square.height == 6);
+    REQUIRE(square.channels == 4);
+    for (int y = 0; y < 6; ++y) {
+        for (int x = 0; x < 6; ++x) {
+            const std::uint8_t* p = square.pixel(x, y);
+            REQUIRE((p[0] == 255 && p[1] == 255 && p[2] == 255 && p[3] == 255));
+        }
+    }
+    // The dot: opaque at the centre, clear in the corners, its edge pixels partly covered; 10 px
+    // across covers pi 25 = 78.5 pixels.
+    const Image dot = billboardShapeImage(BillboardShape::Dot, 10);
+    REQUIRE(dot.width == 10);
+    REQUIRE(dot.pixel(4, 4)[3] == 255);
+    REQUIRE(dot.pixel(0, 0)[3] == 0);
+    double coverage = 0.0;
+    int partial = 0;
+    for (int y = 0; y < 10; ++y) {
+        for (int x = 0; x < 10; ++x) {
+            const int alpha = dot.pixel(x, y)[3];
+            coverage += alpha / 255.0;
+            partial += alpha > 0 && alpha < 255 ? 1 : 0;
+            REQUIRE(dot.pixel(x, y)[0] == 255);
+        }
+    }
+    CHECK_THAT(coverage, Catch::Matchers::WithinAbs(78.5, 1.0)); // within a pixel of the disc's area
+    CHECK(partial >= 20);
+    REQUIRE(billboardShapeImage(BillboardShape::Square, 0).width == 1);
 }
 
 TEST_CASE("A billboard collection renders as its golden image", "[scene][billboard][golden]")

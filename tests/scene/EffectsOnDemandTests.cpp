@@ -123,7 +123,7 @@ TEST_CASE("Flying low adds a depth strategy only when the depth range needs it",
     // From orbit the globe fits one frustum. 300 m up, looking along the ground at a billboard
     // 40 km away, the range is too deep for one: near ~250 m, far past the horizon. "auto" then
     // pays for complementary depth where the driver has glClipControl and for logarithmic depth
-    // where it does not (docs/precision.md); "multifrustum" for more frustums.
+    // where it does not (docs/precision.md); "multi-frustum" for more frustums.
     const std::string low = R"({"version": 1, "width": 96, "height": 96,
       "camera": {"position": {"lon": 20, "lat": 45, "height": 300}, "heading": 0, "pitch": -2, "fovY": 40},
       "globe": {"texture": "/usr/share/xplanet/images/earth.jpg"}, "depth": "%s"})";
@@ -137,7 +137,7 @@ TEST_CASE("Flying low adds a depth strategy only when the depth range needs it",
     const std::string resolving = sharedDevice().info().clipControl ? "complementary depth" : "logarithmic depth";
     REQUIRE(difference(automatic.effects, high.effects) == std::set<std::string>{resolving});
     REQUIRE(difference(high.effects, automatic.effects).empty());
-    const Frame split = render(withDepth("multifrustum"));
+    const Frame split = render(withDepth("multi-frustum"));
     REQUIRE(difference(split.effects, high.effects) == std::set<std::string>{"multi-frustum"});
     REQUIRE(difference(high.effects, split.effects).empty());
 }

@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 
 using namespace orbis;
 using namespace orbis::world;
@@ -259,6 +260,41 @@ TEST_CASE("Labels behind the Earth are hidden", "[scene][label][horizon]")
     for (int y = 0; y < 64; ++y) {
         for (int x = 0; x < 64; ++x) {
             inked += pixelNear(shown, x, y, {0, 0, 0, 255}, 0) ? 0 : 1;
+        }
+    }
+    REQUIRE(inked > 50);
+}
+
+TEST_CASE("A depth-tested label hanging below its anchor at a slant is not cut by the globe it stands on", "[scene][label][depth]")
+{
+    // 1,000 km up and 10 degrees away, the label hangs below its anchor (origin top): the ground
+    // under its box is tens of kilometres nearer the eye than the anchor. Its depth is taken
+    // nearer by as many metres as the box reaches on the screen, so the depth test (the default)
+    // draws exactly what no depth test does.
+    constexpr int size = 96;
+    Scene scene(kEarth);
+    GlobeOptions globeOptions;
+    globeOptions.lighting = false;
+    globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
+    scene.add(std::make_shared<Globe>(kEarth, globeOptions));
+    const glm::dvec3 anchor = kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 0));
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 30, 1e6)), anchor, {0, 0, 1});
+    auto labels = std::make_shared<LabelCollection>();
+    Label label = whiteText("Wien\nBratislava");
+    label.position = anchor;
+    label.haloColor = {0, 0, 0, 1};
+    label.verticalOrigin = VerticalOrigin::Top;
+    labels->add(label);
+    scene.add(labels);
+    const Image tested = renderFrame(scene, size, size).image;
+    labels->setDepthOptions({.disableDepthTestDistance = std::numeric_limits<double>::infinity()});
+    const Image untested = renderFrame(scene, size, size).image;
+    int inked = 0;
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            INFO(x << ", " << y << ": " << describePixel(tested, x, y) << " untested " << describePixel(untested, x, y));
+            REQUIRE(pixelAt(tested, x, y) == pixelAt(untested, x, y));
+            inked += pixelAt(tested, x, y).r > 128 ? 1 : 0;
         }
     }
     REQUIRE(inked > 50);

@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <random>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -230,6 +231,35 @@ TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[world][sce
     REQUIRE_FALSE(layer.fill.has_value());
 }
 
+TEST_CASE("Billboards take a built-in shape, and billboards and labels a distance within which they are not depth-tested", "[world][scenefile]")
+{
+    const auto defaults = std::get<PointsLayer>(
+        parse(withLayer(R"({"type": "points", "source": "p.geojson", "label": {"field": "name"}})")).layers[0]);
+    // As docs/scene-format.md states: a dot, depth-tested everywhere.
+    REQUIRE_FALSE(defaults.billboard.image);
+    REQUIRE(defaults.billboard.shape == BillboardShape::Dot);
+    REQUIRE(defaults.billboard.disableDepthTestDistance == 0.0);
+    REQUIRE(defaults.label->disableDepthTestDistance == 0.0);
+
+    const auto points = std::get<PointsLayer>(parse(withLayer(R"({"type": "points", "source": "p.geojson",
+        "billboard": {"shape": "square", "disableDepthTestDistance": 5000},
+        "label": {"field": "name", "disableDepthTestDistance": "always"}})")).layers[0]);
+    REQUIRE(points.billboard.shape == BillboardShape::Square);
+    REQUIRE(points.billboard.disableDepthTestDistance == 5000.0);
+    REQUIRE(points.label->disableDepthTestDistance == std::numeric_limits<double>::infinity());
+
+    CHECK_THAT(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"shape": "circle"}})")),
+               Contains(R"(/layers/0/billboard/shape: unknown value "circle"; expected one of "dot", "square")"));
+    CHECK_THAT(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"image": "dot.png", "shape": "dot"}})")),
+               Contains(R"(/layers/0/billboard/shape: give either "image" or "shape", not both)"));
+    CHECK_THAT(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"disableDepthTestDistance": -1}})")),
+               Contains("/layers/0/billboard/disableDepthTestDistance: -1 is out of range (expected >= 0)"));
+    CHECK_THAT(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": "n", "disableDepthTestDistance": "never"}})")),
+               Contains(R"(/layers/0/label/disableDepthTestDistance: unknown value "never"; expected a distance in metres or "always")"));
+    CHECK_THAT(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"disableDepthTestDistance": true}})")),
+               Contains(R"(/layers/0/billboard/disableDepthTestDistance: expected a distance in metres or "always", got true)"));
+}
+
 TEST_CASE("Lines take their granularity in degrees and their curve", "[world][scenefile]")
 {
     const auto geojson = std::get<GeoJsonLayer>(
@@ -391,7 +421,7 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"offset": [1]}})")) ==
             "test.json:1:89: /layers/0/billboard/offset: expected [x, y] in pixels, got an array of 1 element");
     CHECK(errorOf(R"({"version": 1, "depth": 3})") ==
-          R"(test.json:1:25: /depth: expected one of "auto", "multifrustum", "logarithmic", "complementary", "single", got 3)");
+          R"(test.json:1:25: /depth: expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single", got 3)");
     CHECK(errorOf(withLayer(R"({"type": ["points"]})")) ==
           R"(test.json:1:36: /layers/0/type: expected one of "geojson", "points", "polyline", "model", got an array of 1 element)");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": ""}})")) ==
@@ -404,11 +434,22 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
     // Long strings are cut in messages.
     CHECK(errorOf(R"({"version": 1, "depth": ")" + std::string(100, 'x') + "\"}") ==
             R"(test.json:1:25: /depth: unknown value ")" + std::string(60, 'x') +
-                R"(..."; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+                R"(..."; expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single")");
     // So is a key of a megabyte, in the JSON pointer as in the quote.
     const std::string longKey = errorOf(R"({"version": 1, ")" + std::string(1 << 20, 'k') + "\": 1}");
     CHECK_THAT(longKey, Contains("test.json:1:16: /kkkk") && Contains("... (1048577 bytes): unknown key \"kkkk"));
     CHECK(longKey.size() < 1000);
+}
+
+TEST_CASE("The depth strategy reads by the name the statistics print, and by the spelling files had before", "[world][scenefile]")
+{
+    REQUIRE(std::string(depthStrategyName(DepthStrategy::MultiFrustum)) == "multi-frustum");
+    for (const DepthStrategy strategy : {DepthStrategy::Automatic, DepthStrategy::MultiFrustum, DepthStrategy::Logarithmic,
+                                         DepthStrategy::Complementary, DepthStrategy::Single}) {
+        INFO(depthStrategyName(strategy));
+        REQUIRE(parse(R"({"version": 1, "depth": ")" + std::string(depthStrategyName(strategy)) + "\"}").depth == strategy);
+    }
+    REQUIRE(parse(R"({"version": 1, "depth": "multifrustum"})").depth == DepthStrategy::MultiFrustum);
 }
 
 TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][scenefile][errors]")
@@ -416,7 +457,7 @@ TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][sc
     CHECK(errorOf(R"({"version": 1, "depth": "logarithmc"})") ==
             R"(test.json:1:25: /depth: unknown value "logarithmc" (did you mean "logarithmic"?))");
     CHECK(errorOf(R"({"version": 1, "depth": "fast"})") ==
-            R"(test.json:1:25: /depth: unknown value "fast"; expected one of "auto", "multifrustum", "logarithmic", "complementary", "single")");
+            R"(test.json:1:25: /depth: unknown value "fast"; expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single")");
     CHECK(errorOf(R"({"version": 1, "globe": {"method": "ray-cast"}})") ==
             R"(test.json:1:36: /globe/method: unknown value "ray-cast" (did you mean "raycast"?))");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"origin": "centre"}})")) ==

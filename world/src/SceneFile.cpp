@@ -118,9 +118,11 @@ constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "posit
                                                         "heading", "pitch", "roll"};
 constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
 constexpr std::array<std::string_view, 1> kFillKeys = {"color"};
-constexpr std::array<std::string_view, 5> kBillboardKeys = {"image", "size", "color", "origin", "offset"};
-constexpr std::array<std::string_view, 6> kLabelKeys = {"field",        "size",         "color",
-                                                        "outlineColor", "outlineWidth", "declutter"};
+constexpr std::array<std::string_view, 7> kBillboardKeys = {"image",  "shape",  "size", "color",
+                                                            "origin", "offset", "disableDepthTestDistance"};
+constexpr std::array<std::string_view, 7> kLabelKeys = {"field",        "size",         "color",
+                                                        "outlineColor", "outlineWidth", "declutter",
+                                                        "disableDepthTestDistance"};
 
 template <class T>
 struct Named {
@@ -130,7 +132,7 @@ struct Named {
 
 constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
     {"auto", DepthStrategy::Automatic},
-    {"multifrustum", DepthStrategy::MultiFrustum},
+    {"multi-frustum", DepthStrategy::MultiFrustum}, // as depthStrategyName and the statistics say it
     {"logarithmic", DepthStrategy::Logarithmic},
     {"complementary", DepthStrategy::Complementary},
     {"single", DepthStrategy::Single},
@@ -155,6 +157,10 @@ constexpr std::array<Named<TerrainShadingDescription::Color>, 3> kShadingColors 
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
     {"geodesic", CurveType::Geodesic},
+}};
+constexpr std::array<Named<BillboardShape>, 2> kBillboardShapes = {{
+    {"dot", BillboardShape::Dot},
+    {"square", BillboardShape::Square},
 }};
 constexpr std::array<Named<Origin>, 9> kOrigins = {{
     {"center", Origin::Center},
@@ -249,7 +255,12 @@ public:
         }
         attempt([&] { scene.sun = readSun(root, scene.camera); });
         if (const Json* depth = member(root, "depth")) {
-            attempt([&] { scene.depth = readEnum(*depth, "/depth", kDepthStrategies); });
+            attempt([&] {
+                // "multifrustum", the spelling of files written before "multi-frustum", still reads.
+                scene.depth = depth->is_string() && depth->get<std::string>() == "multifrustum"
+                                  ? DepthStrategy::MultiFrustum
+                                  : readEnum(*depth, "/depth", kDepthStrategies);
+            });
         }
         if (const Json* globe = member(root, "globe")) {
             attempt([&] { scene.globe = readGlobe(*globe, "/globe"); });
@@ -1115,6 +1126,12 @@ private:
             requireFile(*image, pointer + "/image", path);
             billboard.image = path;
         }
+        if (const Json* shape = member(value, "shape")) {
+            if (billboard.image) {
+                fail(pointer + "/shape", "give either \"image\" or \"shape\", not both");
+            }
+            billboard.shape = readEnum(*shape, pointer + "/shape", kBillboardShapes);
+        }
         if (const Json* size = member(value, "size")) {
             billboard.sizePixels = readNumber(*size, pointer + "/size", kPositivePixels);
         }
@@ -1126,6 +1143,9 @@ private:
         }
         if (const Json* offset = member(value, "offset")) {
             billboard.offsetPixels = readPixelOffset(*offset, pointer + "/offset");
+        }
+        if (const Json* distance = member(value, "disableDepthTestDistance")) {
+            billboard.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
         }
         return billboard;
     }
@@ -1154,7 +1174,27 @@ private:
         if (const Json* declutter = member(value, "declutter")) {
             label.declutter = readBoolean(*declutter, pointer + "/declutter");
         }
+        if (const Json* distance = member(value, "disableDepthTestDistance")) {
+            label.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
+        }
         return label;
+    }
+
+    /// Metres (>= 0), or "always": never depth-tested.
+    double readDepthTestDistance(const Json& value, const std::string& pointer) const
+    {
+        constexpr std::string_view kExpected = "a distance in metres or \"always\"";
+        if (value.is_string()) {
+            const std::string& text = value.get<std::string>();
+            if (text != "always") {
+                fail(pointer, "unknown value " + quote(text) + "; expected " + std::string(kExpected));
+            }
+            return std::numeric_limits<double>::infinity();
+        }
+        if (!value.is_number()) {
+            fail(pointer, "expected " + std::string(kExpected) + ", got " + describeJson(value));
+        }
+        return readNumber(value, pointer, kNonNegativeRange);
     }
 
     PolylineLayer readPolylineLayer(const Json& value, const std::string& pointer) const

@@ -120,9 +120,12 @@ void og_depthFragment()
     // by metres.
     og_depthFragment(1.0 / gl_FragCoord.w);
 }
+#endif
 
+#if defined(OG_FRAGMENT_SHADER) || defined(OG_GEOMETRY_SHADER)
 // The window depth of a clip-space position under the program's depth strategy; outside 0..1 when
-// the position is outside the frustum's depth range.
+// the position is outside the frustum's depth range. A geometry shader compares it with a copy of
+// the depth buffer (the billboards' anchor test).
 float og_windowDepth(vec4 clip)
 {
 #if defined(OG_DEPTH_LOGARITHMIC) || defined(OG_DEPTH_LOGARITHMIC_VERTEX)

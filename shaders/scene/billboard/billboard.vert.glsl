@@ -21,9 +21,11 @@ uniform vec3 u_oneOverRadii;
 uniform vec3 u_eyeScaled;              // the eye in ellipsoid-scaled space
 uniform float u_horizonDistanceSquared; // |eye scaled|^2 - 1, from doubles; negative: no horizon culling
 uniform float u_depthScale;            // 1 - the depth offset fraction
+uniform float u_disableDepthTestDistance; // metres: nearer anchors pass the depth test whatever it holds
 
 out vec4 v_anchorClip;
 out vec2 v_depthClip;                  // clip z and w of the quad's depth point
+out float v_depthTestOff;              // 1: the anchor is not depth-tested
 out vec2 v_pixelOffset;
 out vec4 v_textureRectangle;
 out vec3 v_scaleOrigin;                // scale, then the origin as a fraction of the size (0, 0.5, 1)
@@ -46,14 +48,15 @@ void main()
                     along * along > u_horizonDistanceSquared * dot(toAnchorScaled, toAnchorScaled));
     }
     v_anchorClip = og_modelViewProjectionMatrixRelativeToEye * vec4(toAnchor, 1.0);
-    // Depth from a point on the same line of sight, a little nearer: the screen position stays.
-    vec4 depthClip = og_modelViewProjectionMatrixRelativeToEye * vec4(toAnchor * u_depthScale, 1.0);
-    v_depthClip = depthClip.zw;
     v_pixelOffset = pixelOffset;
     v_textureRectangle = textureRectangle;
     uint horizontal = (scaleOriginVisibility >> 16) & 3u;
     uint vertical = (scaleOriginVisibility >> 18) & 3u;
     v_scaleOrigin = vec3(float(scaleOriginVisibility & 0xFFFFu) / 256.0, 0.5 * float(horizontal), 0.5 * float(vertical));
+    // Depth from a point on the same line of sight, a little nearer: the screen position stays.
+    vec4 depthClip = og_modelViewProjectionMatrixRelativeToEye * vec4(toAnchor * u_depthScale, 1.0);
+    v_depthClip = depthClip.zw;
+    v_depthTestOff = dot(toAnchor, toAnchor) < u_disableDepthTestDistance * u_disableDepthTestDistance ? 1.0 : 0.0;
     v_visible = visible ? 1.0 : 0.0;
     v_color = color;
 #ifdef LABEL

@@ -123,6 +123,12 @@ public:
     /// Throws orbis::Error for a headless context with a null destination, as clear does.
     void blit(const Framebuffer& source, Framebuffer* destination = nullptr);
 
+    /// Copies the depth attachment of `source` into that of `destination`, texel for texel: how a
+    /// pass reads the depth the passes before it wrote (a texture cannot be sampled while it is
+    /// drawn into). Throws orbis::Error unless both have depth attachments of one format and size.
+    /// `source` stays the bound framebuffer.
+    void copyDepth(const Framebuffer& source, Framebuffer& destination);
+
     /// Sends the queued commands to the GPU.
     void flush();
     /// Waits until the GPU has executed every queued command.

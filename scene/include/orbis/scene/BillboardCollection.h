@@ -4,6 +4,7 @@
 
 #include <orbis/core/Image.h>
 #include <orbis/renderer/TextureAtlas.h>
+#include <orbis/world/BillboardShape.h>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -22,6 +23,14 @@ class ShaderProgram;
 
 namespace orbis::scene {
 
+// A scene file's word, so the world layer's (scene::BillboardShape is world::BillboardShape).
+using world::BillboardShape;
+
+/// A built-in marker as an image for BillboardCollection::addImage: white (a billboard's colour
+/// tints it), `sizePixels` across (at least 1), straight alpha. Drawn at scale 1 it stays crisp:
+/// the dot's edge is anti-aliased by its coverage of each pixel, the square is opaque to its edge.
+Image billboardShapeImage(BillboardShape shape, int sizePixels);
+
 /// Which side of a billboard (or a label's box) sits on its anchor, left to right.
 enum class HorizontalOrigin : std::uint8_t { Left, Center, Right };
 /// Which side of a billboard (or a label's box) sits on its anchor, bottom to top.
@@ -33,17 +42,26 @@ enum class VerticalOrigin : std::uint8_t { Bottom, Center, Top };
 /// The globe hides them by a horizon test per billboard in the vertex shader (ellipsoid-scaled
 /// space, as EllipsoidalOccluder): exact for the ellipsoid whatever the globe's method or depth
 /// precision, so a billboard on the surface never z-fights it, and a quad that reaches over the
-/// surface near the limb is not cut by it. The depth test is for other occluders (models,
-/// terrain above the ellipsoid); it compares the quad at its anchor's depth moved towards the eye
-/// by depthOffsetFraction of its distance (the screen position is unchanged), so a billboard on
-/// an opaque surface passes the test.
+/// surface near the limb is not cut by it. The depth test hides them behind other occluders
+/// (models, terrain above the ellipsoid, a mountain in front), anchor by anchor: in the geometry
+/// shader, the anchor's depth, moved towards the eye by depthOffsetFraction of its distance (the
+/// screen position is unchanged), is compared with the depth the opaque commands of its frustum
+/// wrote at the four pixels around the anchor, the farthest of them (FrameState::sceneDepth, a
+/// copy: the ground the anchor stands on never hides it, however slanted). A quad that passes is drawn
+/// whole: a label is never cut by the ground it stands on, and an aircraft 1,500 m above a
+/// billboard on the ground hides it. Within disableDepthTestDistance of the eye the test is off
+/// (CesiumJS's disableDepthTestDistance). A scene drawn into a window's framebuffer, whose depth
+/// cannot be copied, tests none.
 struct BillboardDepthOptions {
     bool horizonCulling = true; ///< hide anchors below the scene ellipsoid's horizon
-    bool depthTest = false;     ///< also test the depth buffer (never written)
-    /// Fraction of the eye-to-anchor distance the depth is taken nearer the eye. 1e-3 clears the
-    /// 24-bit depth steps of a frustum of far/near 1000 (about 6e-5 of the distance) with margin,
-    /// and those of logarithmic (about 1e-6) and complementary depth (1.2e-7); not those of
-    /// DepthStrategy::Single far from the eye (60 km at 1,000 km).
+    /// Metres from the eye within which an anchor is not depth-tested: 0, the default, tests every
+    /// one; infinity tests none (drawn over models and terrain as long as the horizon test lets
+    /// them show).
+    double disableDepthTestDistance = 0.0;
+    /// Fraction of the eye-to-anchor distance the depth is taken nearer the eye. 1e-3
+    /// clears the 24-bit depth steps of a frustum of far/near 1000 (about 6e-5 of the distance)
+    /// with margin, and those of logarithmic (about 1e-6) and complementary depth (1.2e-7); not
+    /// those of DepthStrategy::Single far from the eye (60 km at 1,000 km).
     float depthOffsetFraction = 1e-3f;
 };
 
@@ -101,8 +119,10 @@ class DepthPrograms;
 ///
 /// ```
 /// auto billboards = std::make_shared<BillboardCollection>();
-/// const std::size_t dot = billboards->addImage(world::readImage("dot.png"));
-/// billboards->add({.position = ellipsoid.toCartesian(where), .image = dot});
+/// const std::size_t pin = billboards->addImage(world::readImage("pin.png"));
+/// const std::size_t square = billboards->addImage(billboardShapeImage(BillboardShape::Square, 8));
+/// billboards->add({.position = ellipsoid.toCartesian(where), .image = pin});
+/// billboards->add({.position = ellipsoid.toCartesian(there), .image = square, .color = {1, 0, 0, 1}});
 /// scene.add(billboards);
 /// billboards->setPosition(0, elsewhere); // one vertex uploaded on the next frame
 /// ```
@@ -143,7 +163,8 @@ public:
     /// Changes how billboards are hidden (takes effect on the next frame; no upload).
     void setDepthOptions(const BillboardDepthOptions& depth) noexcept { _options.depth = depth; }
 
-    /// What the last update() uploaded.
+    /// What the last frame's updates uploaded (a frame whose depth strategy Automatic changes
+    /// updates twice).
     const BillboardUploadStatistics& lastUpload() const noexcept { return _lastUpload; }
     /// Bytes of one vertex on the GPU.
     static std::size_t vertexSizeInBytes() noexcept;
@@ -167,6 +188,7 @@ private:
     std::unique_ptr<detail::AtlasTexture> _texture;
     std::unique_ptr<detail::DepthPrograms> _programs;
     BillboardUploadStatistics _lastUpload;
+    std::uint64_t _lastUploadFrame = 0; ///< the frame _lastUpload counts
 };
 
 } // namespace orbis::scene

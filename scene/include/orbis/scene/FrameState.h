@@ -14,6 +14,7 @@
 namespace orbis::renderer {
 class Context;
 class Device;
+class Texture2D;
 } // namespace orbis::renderer
 
 namespace orbis::scene {
@@ -31,12 +32,16 @@ struct FrameState {
     int width;
     int height;
     glm::dvec3 sunDirection; ///< unit, Earth-fixed, towards the Sun
-    double timeSeconds;
+    double clockSeconds;     ///< the shaders' clock (Scene::setClockSeconds), not the Sun's time
     std::uint64_t frameNumber;
     Frustum cullingVolume;   ///< the whole view: side planes and the near and far limits
     EllipsoidalOccluder occluder;
     /// How depth is resolved this frame (never Auto): programs take depthStrategyDefines() of it.
     DepthStrategy depthStrategy = DepthStrategy::MultiFrustum;
+    /// What a translucent command with SceneCommand::readsSceneDepth reads (texelFetch, window
+    /// pixels): the depth the opaque commands of the frustum being drawn wrote, in the frame's
+    /// convention. Null when the frame's target has no depth texture to copy (a window's).
+    const renderer::Texture2D* sceneDepth = nullptr;
 
     /// Size in metres of one pixel at a distance from the eye (vertical field of view).
     double metersPerPixel(double distance) const noexcept;

@@ -101,7 +101,7 @@ public:
     void setDeclutter(bool declutter) noexcept { _options.declutter = declutter; }
     /// Labels the last update hid because they overlapped an earlier one.
     std::size_t lastDecluttered() const noexcept { return _lastDecluttered; }
-    /// What the last update() uploaded, over every font size.
+    /// What the last frame's updates uploaded, over every font size.
     const BillboardUploadStatistics& lastUpload() const noexcept { return _lastUpload; }
     /// Draw calls (font sizes with glyphs) of the last update.
     std::size_t lastDrawCalls() const noexcept { return _lastDrawCalls; }
@@ -136,6 +136,7 @@ private:
     std::unique_ptr<detail::BillboardBounds> _bounds;
     std::unique_ptr<detail::DepthPrograms> _programs;
     BillboardUploadStatistics _lastUpload;
+    std::uint64_t _lastUploadFrame = 0; ///< the frame _lastUpload counts
     std::size_t _lastDrawCalls = 0;
     std::size_t _lastDecluttered = 0;
 };

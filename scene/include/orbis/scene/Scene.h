@@ -11,6 +11,7 @@
 
 #include <glm/vec4.hpp>
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -69,10 +70,16 @@ public:
     void remove(const Primitive* primitive);
     const std::vector<std::shared_ptr<Primitive>>& primitives() const noexcept { return _primitives; }
 
-    /// Unit vector towards the Sun, Earth-fixed.
+    /// Unit vector towards the Sun, Earth-fixed; a zero or non-finite direction is ignored.
     void setSunDirection(const glm::dvec3& direction) noexcept;
     const glm::dvec3& sunDirection() const noexcept { return _sunDirection; }
-    void setTime(double seconds) noexcept { _timeSeconds = seconds; }
+    /// Places the Sun where it is at a UTC time (sunDirectionEarthFixed), as a scene file's "time"
+    /// does.
+    void setTime(std::chrono::sys_seconds utc) noexcept;
+    /// The shaders' clock (og_time, seconds, sent as a float: wrap long-running clocks); it moves
+    /// nothing in the sky.
+    void setClockSeconds(double seconds) noexcept { _clockSeconds = seconds; }
+    double clockSeconds() const noexcept { return _clockSeconds; }
 
     /// Draws one frame into the context's current framebuffer (which must exist: headless
     /// contexts have no default one). Throws orbis::Error from the renderer for bad commands, and
@@ -105,7 +112,9 @@ private:
     void drawFrame(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
                    FrameStatistics& statistics);
     void drawFrustums(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
-                      renderer::SceneState& sceneState, FrameStatistics& statistics) const;
+                      renderer::SceneState& sceneState, FrameStatistics& statistics);
+    /// Copies the depth of the framebuffer being drawn into _sceneDepth (FrameState::sceneDepth).
+    void copySceneDepth(renderer::Context& context);
     void drawOverlay(renderer::Context& context, const FrameView& frame, const detail::DepthPlan& plan,
                      renderer::SceneState& sceneState, FrameStatistics& statistics) const;
 
@@ -114,7 +123,7 @@ private:
     Camera _camera;
     std::vector<std::shared_ptr<Primitive>> _primitives;
     glm::dvec3 _sunDirection{1.0, 0.0, 0.0};
-    double _timeSeconds = 0.0;
+    double _clockSeconds = 0.0;
     std::uint64_t _frameNumber = 0;
     CommandBinner _binner;
     CommandList _commands; ///< reused across frames
@@ -123,6 +132,11 @@ private:
     std::shared_ptr<renderer::Framebuffer> _floatDepthTarget;
     std::shared_ptr<renderer::Texture2D> _floatDepth;
     const renderer::Context* _floatDepthContext = nullptr;
+    /// FrameState::sceneDepth: one object for the scene's life (commands point at it), its GL
+    /// texture made again when the target's depth changes format or size.
+    std::shared_ptr<renderer::Texture2D> _sceneDepth;
+    std::shared_ptr<renderer::Framebuffer> _sceneDepthTarget;
+    const renderer::Context* _sceneDepthContext = nullptr;
 };
 
 } // namespace orbis::scene

@@ -40,6 +40,9 @@ struct SceneCommand {
     double farthestDistance = std::numeric_limits<double>::infinity();
     /// The Effect bits of what the command draws (Effect.h), gathered into FrameStatistics::effects.
     std::uint32_t tags = 0;
+    /// A translucent command that samples FrameState::sceneDepth: the scene copies the depth its
+    /// frustum's opaque commands wrote into that texture before the translucent pass.
+    bool readsSceneDepth = false;
 };
 
 } // namespace orbis::scene

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/world/BillboardShape.h"
 #include "orbis/world/DepthStrategy.h"
 #include "orbis/world/GlobeMethod.h"
 
@@ -178,11 +179,14 @@ struct FillStyle {
 enum class Origin { Center, Top, Bottom, Left, Right, TopLeft, TopRight, BottomLeft, BottomRight };
 
 struct BillboardStyle {
-    std::optional<std::filesystem::path> image;   ///< empty: a round dot
+    std::optional<std::filesystem::path> image;   ///< empty: the built-in shape
+    BillboardShape shape = BillboardShape::Dot;   ///< drawn when there is no image
     double sizePixels = 8.0;                      ///< > 0, the larger side of the image
     glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};      ///< multiplies the image
     Origin origin = Origin::Center;
     glm::dvec2 offsetPixels{0.0, 0.0};            ///< x right, y down
+    /// Metres from the camera within which the markers are not depth-tested (infinity: never).
+    double disableDepthTestDistance = 0.0;
 
     friend bool operator==(const BillboardStyle&, const BillboardStyle&) = default;
 };
@@ -194,6 +198,8 @@ struct LabelStyle {
     glm::vec4 outlineColor{0.0f, 0.0f, 0.0f, 1.0f};
     double outlineWidthPixels = 1.0;             ///< 0: no outline
     bool declutter = false;                      ///< hide labels overlapping earlier ones shown
+    /// Metres from the camera within which the labels are not depth-tested (infinity: never).
+    double disableDepthTestDistance = 0.0;
 
     friend bool operator==(const LabelStyle&, const LabelStyle&) = default;
 };
