@@ -74,6 +74,20 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
                 }
             }
         }
+        if (input.doubleClickPixels) {
+            // A double click flies to the ground under the pointer, a third of the way closer,
+            // looking the same way.
+            const int width = window.framebufferWidth();
+            const int height = window.framebufferHeight();
+            if (const std::optional<glm::dvec3> picked = scene.pickGround(*input.doubleClickPixels, width, height)) {
+                const Camera& camera = scene.camera();
+                const double distance = glm::distance(camera.eye(), *picked);
+                const glm::dvec3 destination = *picked + (camera.eye() - *picked) * (1.0 / 3.0);
+                flight.emplace(scene.ellipsoid(), camera, scene.ellipsoid().toGeodetic3D(destination),
+                               camera.headingPitchRoll(scene.ellipsoid()), std::clamp(distance / 2.0e5, 1.0, 3.0));
+                flown = 0.0;
+            }
+        }
         if (flight && moved) {
             // The user takes over from wherever the flight got to.
             flight.reset();
@@ -88,6 +102,10 @@ void runViewer(Device& device, Scene& scene, const ViewerOptions& options)
             }
         } else if (moved) {
             controller.apply(scene.camera());
+        }
+        // Never under the terrain: 2 m above what was drawn there last.
+        if (scene.keepCameraAboveGround(2.0)) {
+            controller.setMode(controller.mode(), scene.camera());
         }
         const int width = window.framebufferWidth();
         const int height = window.framebufferHeight();

@@ -10,6 +10,8 @@
 #include "orbis/core/Error.h"
 #include "orbis/renderer/Window.h"
 
+#include <glm/geometric.hpp>
+
 #include <cstdlib>
 #include <memory>
 #include <mutex>
@@ -37,6 +39,8 @@ struct GatheredInput {
     WindowInput input;
     glm::dvec2 cursor{0.0};
     bool cursorKnown = false;
+    double lastPressSeconds = -1.0; ///< glfwGetTime of the last left press
+    glm::dvec2 lastPressCursor{0.0};
 };
 
 GatheredInput& gatheredInput(GLFWwindow* window)
@@ -53,6 +57,32 @@ void onCursorMoved(GLFWwindow* window, double x, double y)
     }
     gathered.cursor = cursor;
     gathered.cursorKnown = true;
+}
+
+void onMouseButton(GLFWwindow* window, int button, int action, int)
+{
+    if (button != GLFW_MOUSE_BUTTON_LEFT || action != GLFW_PRESS) {
+        return;
+    }
+    GatheredInput& gathered = gatheredInput(window);
+    const double now = glfwGetTime();
+    if (gathered.lastPressSeconds >= 0.0 && now - gathered.lastPressSeconds < 1.0 / 3.0 &&
+        glm::distance(gathered.cursor, gathered.lastPressCursor) <= 4.0) {
+        // The cursor is in screen coordinates; the scene is drawn in framebuffer pixels.
+        int windowWidth = 0;
+        int windowHeight = 0;
+        int framebufferWidth = 0;
+        int framebufferHeight = 0;
+        glfwGetWindowSize(window, &windowWidth, &windowHeight);
+        glfwGetFramebufferSize(window, &framebufferWidth, &framebufferHeight);
+        const glm::dvec2 scale(windowWidth > 0 ? static_cast<double>(framebufferWidth) / windowWidth : 1.0,
+                               windowHeight > 0 ? static_cast<double>(framebufferHeight) / windowHeight : 1.0);
+        gathered.input.doubleClickPixels = gathered.cursor * scale;
+        gathered.lastPressSeconds = -1.0; // a third press starts a new pair
+        return;
+    }
+    gathered.lastPressSeconds = now;
+    gathered.lastPressCursor = gathered.cursor;
 }
 
 void onScrolled(GLFWwindow* window, double, double steps)
@@ -81,6 +111,7 @@ public:
             glfwSetWindowUserPointer(window, _input.get());
             glfwSetCursorPosCallback(window, &onCursorMoved);
             glfwSetScrollCallback(window, &onScrolled);
+            glfwSetMouseButtonCallback(window, &onMouseButton);
             glfwSetKeyCallback(window, &onKey);
         }
     }

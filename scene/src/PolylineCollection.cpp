@@ -114,7 +114,12 @@ std::size_t PolylineCollection::add(std::span<const glm::dvec3> positions, const
             const std::size_t end = (i + 1 == segments) && !loop ? curve.size() : last;
             for (std::size_t k = 0; k < end; ++k) {
                 const double t = static_cast<double>(k) / static_cast<double>(last);
-                drawn.push_back({curve[k], (1.0 - t) * points[i].height + t * points[j].height});
+                double height = (1.0 - t) * points[i].height + t * points[j].height;
+                if (_options.groundHeight) {
+                    const Geodetic3D g = _ellipsoid.toGeodetic3D(curve[k]);
+                    height += _options.groundHeight(Geodetic2D(g.longitude, g.latitude));
+                }
+                drawn.push_back({curve[k], height});
             }
         }
         double widest = 0.0;

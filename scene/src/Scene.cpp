@@ -72,6 +72,46 @@ void Scene::remove(const Primitive* primitive)
     std::erase_if(_primitives, [&](const std::shared_ptr<Primitive>& p) { return p.get() == primitive; });
 }
 
+std::optional<glm::dvec3> Scene::pickGround(const glm::dvec2& windowPosition, int width, int height) const
+{
+    const Ray ray = _camera.pickRay(windowPosition, width, height);
+    std::optional<double> nearest;
+    for (const std::shared_ptr<Primitive>& primitive : _primitives) {
+        const std::optional<double> distance = primitive->pickGround(ray);
+        if (distance && (!nearest || *distance < *nearest)) {
+            nearest = distance;
+        }
+    }
+    if (nearest) {
+        return ray.pointAt(*nearest);
+    }
+    return _camera.pickEllipsoid(windowPosition, width, height, _ellipsoid);
+}
+
+double Scene::groundHeight(const Geodetic2D& position) const
+{
+    std::optional<double> highest;
+    for (const std::shared_ptr<Primitive>& primitive : _primitives) {
+        const std::optional<double> height = primitive->groundHeight(position);
+        if (height && (!highest || *height > *highest)) {
+            highest = height;
+        }
+    }
+    return highest.value_or(0.0);
+}
+
+bool Scene::keepCameraAboveGround(double clearance)
+{
+    const Geodetic3D eye = _ellipsoid.toGeodetic3D(_camera.eye());
+    const double lowest = groundHeight(Geodetic2D(eye.longitude, eye.latitude)) + clearance;
+    if (!(eye.height < lowest)) {
+        return false;
+    }
+    const glm::dvec3 lifted = _ellipsoid.toCartesian(Geodetic3D(eye.longitude, eye.latitude, lowest));
+    _camera.lookAt(lifted, _camera.target() + (lifted - _camera.eye()), _camera.up());
+    return true;
+}
+
 void Scene::setSunDirection(const glm::dvec3& direction) noexcept
 {
     const double length = glm::length(direction);

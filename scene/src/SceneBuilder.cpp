@@ -6,6 +6,7 @@
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
 #include "orbis/scene/ModelPrimitive.h"
+#include "orbis/scene/PolylineCollection.h"
 #include "orbis/scene/TiledGlobe.h"
 #include "orbis/scene/VirtualTextureGlobe.h"
 
@@ -14,10 +15,13 @@
 #include <orbis/world/GeoJson.h>
 #include <orbis/world/ImageFile.h>
 #include <orbis/world/SceneData.h>
+#include <orbis/world/TerrainHeight.h>
+#include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <type_traits>
 #include <variant>
 
@@ -37,6 +41,57 @@ PolylineStyle polylineStyle(const world::StrokeStyle& stroke)
 
 /// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
 /// default stroke.
+/// The ground a layer's heightReference measures from: the globe's terrain under a point, at its
+/// most detailed (world::TerrainHeightQuery, tiles loaded as needed) and times the exaggeration,
+/// as the surface is drawn once it has converged; 0 m without terrain.
+class Ground {
+public:
+    Ground(std::shared_ptr<world::TerrainSource> terrain, double exaggeration)
+        : _terrain(std::move(terrain)), _exaggeration(exaggeration)
+    {
+    }
+
+    double heightAt(const Geodetic2D& position)
+    {
+        if (!_terrain) {
+            return 0.0;
+        }
+        if (!_query) {
+            _query = std::make_unique<world::TerrainHeightQuery>(*_terrain);
+        }
+        const std::optional<world::TerrainHeight> height = _query->at(position);
+        return height ? height->height * _exaggeration : 0.0;
+    }
+
+    /// The angle between the terrain's finest samples (infinite without terrain): a line on the
+    /// ground needs a vertex that often to follow it.
+    double sampleSpacingRadians() const
+    {
+        if (!_terrain) {
+            return std::numeric_limits<double>::infinity();
+        }
+        const world::TerrainSourceInfo& info = _terrain->info();
+        const int samples = info.gridSize > 1 ? info.gridSize : 65; // meshes: about a 65 x 65 grid's detail
+        return kPi / std::ldexp(1.0, static_cast<int>(info.maximumLevel)) / (samples - 1);
+    }
+
+    /// A position with its height made absolute.
+    Geodetic3D place(Geodetic3D position, world::HeightReference reference)
+    {
+        if (reference == world::HeightReference::Absolute) {
+            return position;
+        }
+        const double ground = heightAt(Geodetic2D(position.longitude, position.latitude));
+        position.height = reference == world::HeightReference::ClampToGround ? ground : position.height + ground;
+        return position;
+    }
+
+private:
+    std::shared_ptr<world::TerrainSource> _terrain;
+    double _exaggeration;
+    std::unique_ptr<world::TerrainHeightQuery> _query; ///< made at the first question
+};
+
 void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
 {
     FeatureStyle style;
@@ -57,7 +112,7 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
     }
 }
 
-void addPolylineLayer(const world::PolylineLayer& layer, Scene& scene)
+void addPolylineLayer(const world::PolylineLayer& layer, const std::shared_ptr<Ground>& ground, Scene& scene)
 {
     world::StrokeStyle stroke;
     stroke.color = layer.color;
@@ -65,8 +120,20 @@ void addPolylineLayer(const world::PolylineLayer& layer, Scene& scene)
     PolylineCollectionOptions options;
     options.granularityRadians = layer.path.granularityRadians;
     options.curve = layer.path.curve;
+    std::vector<Geodetic3D> positions = layer.positions;
+    if (layer.heightReference != world::HeightReference::Absolute) {
+        // Every drawn vertex on the ground, not only the positions given, and as many as the
+        // terrain has samples.
+        options.groundHeight = [ground](const Geodetic2D& position) { return ground->heightAt(position); };
+        options.granularityRadians = std::min(options.granularityRadians, ground->sampleSpacingRadians());
+        if (layer.heightReference == world::HeightReference::ClampToGround) {
+            for (Geodetic3D& position : positions) {
+                position.height = 0.0;
+            }
+        }
+    }
     auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid(), options);
-    lines->add(std::span<const Geodetic3D>(layer.positions), polylineStyle(stroke));
+    lines->add(std::span<const Geodetic3D>(positions), polylineStyle(stroke));
     scene.add(std::move(lines));
 }
 
@@ -87,9 +154,12 @@ std::pair<HorizontalOrigin, VerticalOrigin> splitOrigin(world::Origin origin)
 }
 
 /// A billboard for every point, and a label when the layer asks for one.
-void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
+void addPointsLayer(const world::PointsLayer& layer, Ground& ground, Scene& scene)
 {
-    const world::PointsData points = world::readPointsData(layer);
+    world::PointsData points = world::readPointsData(layer);
+    for (Geodetic3D& position : points.positions) {
+        position = ground.place(position, layer.heightReference);
+    }
     const Ellipsoid& ellipsoid = scene.ellipsoid();
     const world::BillboardStyle& style = layer.billboard;
     const int size = std::max(1, static_cast<int>(std::lround(style.sizePixels)));
@@ -151,12 +221,13 @@ void addPointsLayer(const world::PointsLayer& layer, Scene& scene)
 }
 
 /// The file is read now (geometry, and its errors); GPU resources wait for the first frame.
-void addModelLayer(const world::ModelLayer& layer, bool lighting, Scene& scene)
+void addModelLayer(const world::ModelLayer& layer, bool lighting, Ground& ground, Scene& scene)
 {
     ModelOptions options;
     options.lighting = lighting;
+    const Geodetic3D position = ground.place(layer.position, layer.heightReference);
     scene.add(ModelPrimitive::fromFile(layer.source, scene.ellipsoid(),
-                                       ModelPlacement{layer.position, layer.orientation, layer.scale}, options));
+                                       ModelPlacement{position, layer.orientation, layer.scale}, options));
 }
 
 /// The tiled globe a description asks for, its tile sources opened.
@@ -259,6 +330,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
 
+    auto ground = std::make_shared<Ground>(nullptr, 1.0); // the terrain's, when the globe has one
     if (description.globe && hasVirtualTexture(*description.globe)) {
         VirtualTextureGlobeOptions options = virtualTextureGlobeOptions(*description.globe, description.sun, build);
         try {
@@ -281,8 +353,9 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
         options.shading = tiles.shading;
         scene.add(std::make_shared<ClipmapTerrain>(scene.ellipsoid(), std::move(options)));
     } else if (description.globe && (!description.globe->imagery.empty() || description.globe->terrain)) {
-        scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), tiledGlobeOptions(*description.globe, description.sun,
-                                                                                    build)));
+        TiledGlobeOptions options = tiledGlobeOptions(*description.globe, description.sun, build);
+        ground = std::make_shared<Ground>(options.terrain, options.terrainExaggeration);
+        scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), std::move(options)));
     } else if (description.globe) {
         GlobeOptions options;
         options.method = description.globe->method;
@@ -305,12 +378,12 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
                     if constexpr (std::is_same_v<Layer, world::GeoJsonLayer>) {
                         addGeoJsonLayer(layer, scene);
                     } else if constexpr (std::is_same_v<Layer, world::PolylineLayer>) {
-                        addPolylineLayer(layer, scene);
+                        addPolylineLayer(layer, ground, scene);
                     } else if constexpr (std::is_same_v<Layer, world::PointsLayer>) {
-                        addPointsLayer(layer, scene);
+                        addPointsLayer(layer, *ground, scene);
                     } else {
                         // Lit, as the globe is, only when the file places the Sun.
-                        addModelLayer(layer, description.sun.source != world::SunSource::Camera, scene);
+                        addModelLayer(layer, description.sun.source != world::SunSource::Camera, *ground, scene);
                     }
                 },
                 description.layers[i]);

@@ -9,6 +9,7 @@
 
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
+#include <orbis/core/IntersectionTests.h>
 #include <orbis/core/TileMesh.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
@@ -302,6 +303,9 @@ struct TiledGlobe::Impl {
     std::map<std::array<int, 4>, renderer::IndexBuffer> indexBuffers;
     /// The triangles of each coarsening without skirts, for heights and tests, made on first use.
     mutable std::map<std::array<int, 4>, std::vector<std::uint32_t>> surfaceIndices;
+    /// The height (as drawn, exaggeration included) of a tile's mesh at a point inside it, on
+    /// the triangle that holds it.
+    std::optional<double> meshHeightAt(const QuadtreeTile& tile, const Geodetic2D& position) const;
     const std::vector<std::uint32_t>& surfaceTriangles(const EdgeCoarsening& coarsening) const
     {
         const std::array<int, 4> name{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
@@ -1401,26 +1405,36 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
     }
 }
 
-std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
+namespace {
+
+/// The drawn tile holding a point (the first level's where it is on an edge), if any.
+const QuadtreeTile* drawnTileAt(const TileQuadtree& quadtree,
+                                const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn,
+                                const Geodetic2D& position)
 {
-    const Impl& impl = *_impl;
-    const TilingScheme& scheme = impl.quadtree.scheme();
-    const QuadtreeTile* tile = nullptr;
-    for (std::uint32_t level = 0; level <= kMaximumTileLevel && !tile; ++level) {
-        const std::optional<TileKey> key = scheme.tileAt(position, level);
+    for (std::uint32_t level = 0; level <= kMaximumTileLevel; ++level) {
+        const std::optional<TileKey> key = quadtree.scheme().tileAt(position, level);
         if (!key) {
-            return std::nullopt;
+            return nullptr;
         }
-        const auto found = impl.drawnTiles.find(*key);
-        tile = found == impl.drawnTiles.end() ? nullptr : found->second;
+        const auto found = drawn.find(*key);
+        if (found != drawn.end()) {
+            return found->second;
+        }
     }
-    if (!tile) {
-        return std::nullopt;
-    }
-    const SurfaceTile& surface = surfaceOf(*tile);
+    return nullptr;
+}
+
+} // namespace
+
+std::optional<double> TiledGlobe::Impl::meshHeightAt(const QuadtreeTile& tile, const Geodetic2D& position) const
+{
+    const TilingScheme& scheme = quadtree.scheme();
+    const Impl& impl = *this;
+    const SurfaceTile& surface = surfaceOf(tile);
     const TileMesh& mesh = surface.drawnMesh;
     const int size = mesh.size();
-    const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile->key, position), 0.0, 1.0);
+    const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile.key, position), 0.0, 1.0);
     const double column = uv.x * (size - 1);
     const double row = (1.0 - uv.y) * (size - 1);
     const std::vector<std::uint32_t>& indices = impl.surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}));
@@ -1459,11 +1473,82 @@ std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
     for (std::size_t first = ringStart; !height && first + 2 < indices.size(); first += 3) {
         height = heightOn(first);
     }
+    return height;
+}
+
+std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const
+{
+    const QuadtreeTile* tile = drawnTileAt(_impl->quadtree, _impl->drawnTiles, position);
+    const std::optional<double> height = tile ? _impl->meshHeightAt(*tile, position) : std::nullopt;
     if (!height) {
         return std::nullopt;
     }
     const double exaggeration = _options.terrainExaggeration;
     return exaggeration > 0.0 ? *height / exaggeration : 0.0;
+}
+
+std::optional<double> TiledGlobe::pickGround(const Ray& ray) const
+{
+    const Impl& impl = *_impl;
+    // The tiles whose bounds the ray enters, nearest first: a hit nearer than the next tile's
+    // bounds ends the search.
+    std::vector<std::pair<double, const QuadtreeTile*>> candidates;
+    for (const QuadtreeTile* tile : impl.selection.drawn) {
+        if (const std::optional<RayInterval> inside = intersectRaySphere(ray, tile->region.boundingSphere())) {
+            candidates.emplace_back(inside->nearDistance, tile);
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::optional<double> nearest;
+    for (const auto& [entry, tile] : candidates) {
+        if (nearest && entry > *nearest) {
+            break;
+        }
+        const SurfaceTile& surface = surfaceOf(*tile);
+        const TileMesh& mesh = surface.drawnMesh;
+        const std::vector<std::uint32_t>& indices = impl.surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}));
+        for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+            const std::optional<RayTriangleHit> hit = intersectRayTriangle(
+                ray, mesh.position(indices[t]), mesh.position(indices[t + 1]), mesh.position(indices[t + 2]));
+            if (hit && (!nearest || hit->distance < *nearest)) {
+                nearest = hit->distance;
+            }
+        }
+    }
+    return nearest;
+}
+
+std::optional<double> TiledGlobe::groundHeight(const Geodetic2D& position) const
+{
+    const Impl& impl = *_impl;
+    if (const QuadtreeTile* drawn = drawnTileAt(impl.quadtree, impl.drawnTiles, position)) {
+        return impl.meshHeightAt(*drawn, position);
+    }
+    // Not in view (under the eye of a camera looking at the horizon, say): the deepest tile
+    // loaded there, down from the root that holds the point.
+    const TilingScheme& scheme = impl.quadtree.scheme();
+    const QuadtreeTile* tile = nullptr;
+    for (const auto& root : impl.quadtree.roots()) {
+        if (scheme.tileAt(position, 0) == root->key) {
+            tile = root.get();
+        }
+    }
+    if (!tile || surfaceOf(*tile).mesh != LoadState::Ready) {
+        return std::nullopt;
+    }
+    for (bool deeper = true; deeper;) {
+        deeper = false;
+        const std::optional<TileKey> next = scheme.tileAt(position, tile->key.level + 1);
+        for (const auto& child : tile->children) {
+            if (child && next && child->key == *next && surfaceOf(*child).mesh == LoadState::Ready) {
+                tile = child.get();
+                deeper = true;
+                break;
+            }
+        }
+    }
+    return impl.meshHeightAt(*tile, position);
 }
 
 std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const

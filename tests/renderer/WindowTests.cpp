@@ -54,6 +54,7 @@ TEST_CASE("A window device draws into its window, or says clearly why there is n
     CHECK(input.dragPixels == glm::dvec2(0.0));
     CHECK(input.scrollSteps == 0.0);
     CHECK(input.pressedLetters.empty());
+    CHECK_FALSE(input.doubleClickPixels);
     CHECK_FALSE(device.window()->isKeyDown('W'));
     CHECK_FALSE(device.window()->isKeyDown('?'));
 #else

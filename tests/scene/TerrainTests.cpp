@@ -1,9 +1,17 @@
 #include "SceneTestSupport.h"
+#include "TempFiles.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Transforms.h>
+#include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Effect.h>
+#include <orbis/scene/LabelCollection.h>
+#include <orbis/scene/ModelPrimitive.h>
+#include <orbis/scene/PolylineCollection.h>
+#include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/TiledGlobe.h>
+#include <orbis/world/SceneFile.h>
+#include <orbis/world/TerrainHeight.h>
 #include <orbis/world/TerrainSource.h>
 
 #include <catch2/catch.hpp>
@@ -513,4 +521,114 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
     TerrainScene plain(std::make_shared<SyntheticTerrain>(height, 0.0));
     plain.look(Geodetic3D::fromDegrees(10.0, 45.0, 60000.0), 0.0, -90.0);
     CHECK_FALSE(hasEffect(plain.converge(32, 32).statistics.effects, Effect::TerrainShading));
+}
+
+TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for points, polylines and models",
+          "[scene][terrain][scenefile]")
+{
+    const TempDirectory directory;
+    directory.write("peaks.csv", "name,lon,lat,height\nA,-84.30,36.55,5000\nB,-84.20,36.62,5000\n");
+    const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
+    const std::string model = dataPath("models/aircraft.glb");
+    const std::filesystem::path file = directory.write("scene.json", R"({"version": 1,
+        "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2}},
+        "layers": [
+          {"type": "points", "source": "peaks.csv", "heightReference": "clampToGround", "label": {"field": "name"}},
+          {"type": "polyline", "positions": [[-84.35, 36.5], [-84.15, 36.65]], "granularity": 0.1,
+           "heightReference": "clampToGround"},
+          {"type": "polyline", "positions": [[-84.35, 36.5, 300], [-84.15, 36.65, 300]], "granularity": 0.1},
+          {"type": "model", "source": ")" + model + R"(", "position": {"lon": -84.25, "lat": 36.6, "height": 100},
+           "heightReference": "relativeToGround"}]})");
+    Scene scene(kEarth);
+    populateScene(world::parseSceneFile(file), scene);
+
+    const auto source = world::openTerrainSource(dem);
+    world::TerrainHeightQuery query(*source);
+    const auto ground = [&](const glm::dvec3& position) {
+        const Geodetic3D g = kEarth.toGeodetic3D(position);
+        return 2.0 * query.at(Geodetic2D(g.longitude, g.latitude))->height;
+    };
+    const auto heightOf = [](const glm::dvec3& position) { return kEarth.toGeodetic3D(position).height; };
+    const auto& primitives = scene.primitives();
+    REQUIRE(primitives.size() == 6); // globe, billboards, labels, two polylines, model
+
+    const auto* billboards = dynamic_cast<const BillboardCollection*>(primitives[1].get());
+    const auto* labels = dynamic_cast<const LabelCollection*>(primitives[2].get());
+    REQUIRE((billboards && labels));
+    REQUIRE(billboards->size() == 2);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const glm::dvec3 position = billboards->billboard(i).position;
+        CHECK(ground(position) > 2.0 * 236.0); // on the DEM, the file's 5000 m ignored
+        CHECK(std::abs(heightOf(position) - ground(position)) < 1e-3);
+        CHECK(glm::distance(labels->label(i).position, position) < 1e-6);
+    }
+
+    // Every drawn vertex of the clamped line on the ground, not only its two ends; the absolute
+    // line keeps its 300 m over the ellipsoid.
+    const auto* clamped = dynamic_cast<const PolylineCollection*>(primitives[3].get());
+    const auto* absolute = dynamic_cast<const PolylineCollection*>(primitives[4].get());
+    REQUIRE((clamped && absolute));
+    const std::span<const glm::dvec3> drawn = clamped->positions(0);
+    REQUIRE(drawn.size() > 20);
+    double spread = 0.0;
+    for (const glm::dvec3& position : drawn) {
+        CHECK(std::abs(heightOf(position) - clamped->liftMeters(0) - ground(position)) < 1e-3);
+        spread = std::max(spread, std::abs(ground(position) - ground(drawn.front())));
+    }
+    CHECK(spread > 100.0); // the ground it follows is not flat
+    for (const glm::dvec3& position : absolute->positions(0)) {
+        CHECK(std::abs(heightOf(position) - absolute->liftMeters(0) - 300.0) < 1e-3);
+    }
+
+    const auto* aircraft = dynamic_cast<const ModelPrimitive*>(primitives[5].get());
+    REQUIRE(aircraft);
+    const Geodetic3D placed = aircraft->placement().position;
+    CHECK(std::abs(placed.height - (100.0 + ground(kEarth.toCartesian(Geodetic3D(placed.longitude, placed.latitude, 0.0))))) < 1e-3);
+}
+
+TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",
+          "[scene][tiles][terrain][gl]")
+{
+    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 0.0), 3.0);
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 12000.0), 30.0, -10.0); // the top rows are sky
+    const int width = 160;
+    const int height = 120;
+    REQUIRE(terrain.converge(width, height).statistics.tiles->converged);
+    Scene& scene = terrain.scene;
+    int hits = 0;
+    for (int y = 70; y < height; y += 10) {
+        for (int x = 5; x < width; x += 15) {
+            const glm::dvec2 pixel(x + 0.5, y + 0.5);
+            const std::optional<glm::dvec3> picked = scene.pickGround(pixel, width, height);
+            REQUIRE(picked);
+            REQUIRE(std::isfinite(glm::length(*picked)));
+            // On the drawn surface (the ellipsoid is thousands of metres below these ridges) and
+            // under the pixel.
+            const Geodetic3D g = kEarth.toGeodetic3D(*picked);
+            const double ground = scene.groundHeight(Geodetic2D(g.longitude, g.latitude));
+            CHECK(ground > 500.0);
+            CHECK(std::abs(g.height - ground) < 0.05);
+            const std::optional<glm::dvec2> back = scene.camera().worldToWindow(*picked, width, height);
+            REQUIRE(back);
+            CHECK(glm::distance(*back, pixel) < 1e-3);
+            ++hits;
+        }
+    }
+    CHECK(hits > 40);
+    // The sky picks nothing.
+    CHECK_FALSE(scene.pickGround({80.5, 0.5}, width, height));
+
+    // An eye above the ground stays where it is; one put below the ridges rises to 2 m above them,
+    // looking the same way.
+    CHECK_FALSE(scene.keepCameraAboveGround(2.0));
+    const Geodetic2D under = Geodetic2D::fromDegrees(10.05, 46.05);
+    const double ground = scene.groundHeight(under);
+    REQUIRE(ground > 1000.0);
+    const glm::dvec3 buried = kEarth.toCartesian(Geodetic3D(under.longitude, under.latitude, ground - 300.0));
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(1.0, 2.0, -0.5));
+    scene.camera().lookAt(buried, buried + 1000.0 * direction, kEarth.geodeticSurfaceNormal(buried));
+    CHECK(scene.keepCameraAboveGround(2.0));
+    const Geodetic3D lifted = kEarth.toGeodetic3D(scene.camera().eye());
+    CHECK(std::abs(lifted.height - (ground + 2.0)) < 1e-6);
+    CHECK(glm::length(scene.camera().direction() - direction) < 1e-9);
 }

@@ -726,6 +726,26 @@ TEST_CASE("A camera path whose eye meets its target, at a keyframe or between tw
               .size() == 2);
 }
 
+TEST_CASE("Layers take a height reference: absolute by default, clampToGround or relativeToGround, nothing else",
+          "[world][scenefile][terrain]")
+{
+    const SceneDescription scene = parse(R"({"version": 1, "layers": [
+        {"type": "polyline", "positions": [[0, 0], [1, 1]]},
+        {"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "clampToGround"},
+        {"type": "model", "source": "m.glb", "position": {"lon": 0, "lat": 0}, "heightReference": "relativeToGround"},
+        {"type": "points", "source": "p.csv", "heightReference": "absolute"}]})");
+    REQUIRE(scene.layers.size() == 4);
+    CHECK(std::get<PolylineLayer>(scene.layers[0]).heightReference == HeightReference::Absolute);
+    CHECK(std::get<PolylineLayer>(scene.layers[1]).heightReference == HeightReference::ClampToGround);
+    CHECK(std::get<ModelLayer>(scene.layers[2]).heightReference == HeightReference::RelativeToGround);
+    CHECK(std::get<PointsLayer>(scene.layers[3]).heightReference == HeightReference::Absolute);
+    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "ground"}]})")
+              .find("/layers/0/heightReference: unknown value \"ground\"; expected one of \"absolute\", \"clampToGround\", \"relativeToGround\"") != std::string::npos);
+    // GeoJSON lines and polygons are not placed on the ground (yet): the key is refused, not ignored.
+    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.geojson", "heightReference": "clampToGround"}]})")
+              .find("unknown key \"heightReference\"") != std::string::npos);
+}
+
 TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their documented defaults, each checked",
           "[world][scenefile][terrain]")
 {

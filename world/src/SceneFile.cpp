@@ -111,11 +111,11 @@ constexpr std::array<std::string_view, 11> kVirtualTextureKeys = {
 constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
 constexpr std::array<std::string_view, 6> kGeoJsonKeys = {"type", "source", "stroke", "fill", "granularity", "curve"};
-constexpr std::array<std::string_view, 4> kPointsKeys = {"type", "source", "billboard", "label"};
-constexpr std::array<std::string_view, 6> kPolylineKeys = {"type",  "positions",   "width",
-                                                            "color", "granularity", "curve"};
-constexpr std::array<std::string_view, 7> kModelKeys = {"type", "source", "position", "scale",
-                                                        "heading", "pitch", "roll"};
+constexpr std::array<std::string_view, 5> kPointsKeys = {"type", "source", "billboard", "label", "heightReference"};
+constexpr std::array<std::string_view, 7> kPolylineKeys = {"type", "positions", "width", "color",
+                                                            "granularity", "curve", "heightReference"};
+constexpr std::array<std::string_view, 8> kModelKeys = {"type",    "source", "position", "scale",
+                                                        "heading", "pitch",  "roll",     "heightReference"};
 constexpr std::array<std::string_view, 4> kStrokeKeys = {"color", "width", "outlineColor", "outlineWidth"};
 constexpr std::array<std::string_view, 1> kFillKeys = {"color"};
 constexpr std::array<std::string_view, 7> kBillboardKeys = {"image",  "shape",  "size", "color",
@@ -153,6 +153,11 @@ constexpr std::array<Named<TerrainShadingDescription::Color>, 3> kShadingColors 
     {"base", TerrainShadingDescription::Color::Base},
     {"height", TerrainShadingDescription::Color::Height},
     {"slope", TerrainShadingDescription::Color::Slope},
+}};
+constexpr std::array<Named<HeightReference>, 3> kHeightReferences = {{
+    {"absolute", HeightReference::Absolute},
+    {"clampToGround", HeightReference::ClampToGround},
+    {"relativeToGround", HeightReference::RelativeToGround},
 }};
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
@@ -1082,6 +1087,7 @@ private:
         if (const Json* label = member(value, "label")) {
             attempt([&] { layer.label = readLabel(*label, pointer + "/label"); });
         }
+        readHeightReference(value, pointer, layer.heightReference);
         if (_options.checkFiles && layer.format == PointsLayer::Format::Csv) {
             checkCsvColumns(source, sourcePointer, layer, pointer + "/label/field");
         }
@@ -1228,7 +1234,15 @@ private:
             attempt([&] { layer.color = readColor(*color, pointer + "/color"); });
         }
         attempt([&] { layer.path = readLinePath(value, pointer); });
+        readHeightReference(value, pointer, layer.heightReference);
         return layer;
+    }
+
+    void readHeightReference(const Json& layer, const std::string& pointer, HeightReference& reference) const
+    {
+        if (const Json* value = member(layer, "heightReference")) {
+            attempt([&] { reference = readEnum(*value, pointer + "/heightReference", kHeightReferences); });
+        }
     }
 
     /// "granularity" and "curve" of a layer with lines.
@@ -1262,6 +1276,7 @@ private:
             });
         }
         attempt([&] { layer.orientation = readOrientation(value, pointer, HeadingPitchRoll{}); });
+        readHeightReference(value, pointer, layer.heightReference);
         return layer;
     }
 

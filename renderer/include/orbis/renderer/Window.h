@@ -2,6 +2,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <optional>
 #include <string>
 
 namespace orbis::renderer {
@@ -11,6 +12,9 @@ struct WindowInput {
     glm::dvec2 dragPixels{0.0}; ///< pointer movement with the left button held, x right, y down
     double scrollSteps = 0.0;   ///< wheel steps, positive away from the user
     std::string pressedLetters; ///< letter keys pressed, upper case, in order ("F", "WW", ...)
+    /// Where the left button was last double-clicked (two presses within a third of a second and
+    /// 4 pixels), in framebuffer pixels from the top-left corner; empty if it was not.
+    std::optional<glm::dvec2> doubleClickPixels;
 };
 
 /// The window of a Device created with GlBackend::Window (only in builds with GLFW, and only where

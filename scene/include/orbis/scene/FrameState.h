@@ -7,8 +7,11 @@
 #include <orbis/core/Ellipsoid.h>
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
+#include <orbis/core/Geodetic.h>
+#include <orbis/core/Ray.h>
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace orbis::renderer {
@@ -81,6 +84,15 @@ public:
     /// The clipmap's figures of the last update, for clipmap terrain; null for the others.
     /// Scene::render reports them in FrameStatistics::clipmap.
     virtual const ClipmapStatistics* clipmapStatistics() const { return nullptr; }
+
+    /// For a primitive that is the ground (a TiledGlobe): the distance along the ray (unit
+    /// direction) to the surface it drew in the last frame, where the ray first meets it; empty
+    /// where it misses, and for every other primitive.
+    virtual std::optional<double> pickGround(const Ray&) const { return std::nullopt; }
+    /// For a primitive that is the ground: the height above the ellipsoid (metres, as drawn,
+    /// exaggeration included) of the surface it drew in the last frame at a point; empty where it
+    /// drew none, and for every other primitive.
+    virtual std::optional<double> groundHeight(const Geodetic2D&) const { return std::nullopt; }
 };
 
 } // namespace orbis::scene

@@ -9,6 +9,7 @@
 #include <glm/vec4.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -56,6 +57,10 @@ struct PolylineCollectionOptions {
     /// The z-fighting technique of shaders/scene/vector/vector.vert.glsl. Off only to show what it
     /// prevents.
     bool depthOffset = true;
+    /// Where set, the ground's height (metres) at a point of the surface: every drawn vertex of
+    /// the curve is lifted by it, so that heights given are above the terrain (a height
+    /// reference relative to the ground; heights of 0 clamp the line to it).
+    std::function<double(const Geodetic2D&)> groundHeight;
 };
 
 /// Polylines on (or above) the ellipsoid, book chapter 7: many lines in one vertex buffer, each

@@ -81,6 +81,18 @@ public:
     void setClockSeconds(double seconds) noexcept { _clockSeconds = seconds; }
     double clockSeconds() const noexcept { return _clockSeconds; }
 
+    /// Where the ray through a window position (Camera::pickRay) first meets the ground drawn in
+    /// the last frame (the terrain of a TiledGlobe), or else the ellipsoid; empty when it meets
+    /// neither.
+    std::optional<glm::dvec3> pickGround(const glm::dvec2& windowPosition, int width, int height) const;
+    /// The height above the ellipsoid of the ground drawn in the last frame at a point (the
+    /// highest of the primitives that are ground there), 0 where none is.
+    double groundHeight(const Geodetic2D& position) const;
+    /// Lifts the eye straight up, keeping where it looks, when it is less than `clearance`
+    /// metres above the ground (groundHeight): the camera does not go under the terrain. True
+    /// when it moved the camera.
+    bool keepCameraAboveGround(double clearance);
+
     /// Draws one frame into the context's current framebuffer (which must exist: headless
     /// contexts have no default one). Throws orbis::Error from the renderer for bad commands, and
     /// for a depth strategy the context, target or primitives cannot have (named in the message).

@@ -108,6 +108,7 @@ public:
     const Ellipsoid& ellipsoid() const noexcept { return _ellipsoid; }
     const TilingScheme& scheme() const noexcept { return _scheme; }
     std::vector<std::unique_ptr<QuadtreeTile>>& roots() noexcept { return _roots; }
+    const std::vector<std::unique_ptr<QuadtreeTile>>& roots() const noexcept { return _roots; }
 
     /// Called for each tile as the traversal reaches it, before its flags are read: the owner
     /// brings them up to date with its data.

@@ -115,6 +115,12 @@ public:
     /// was drawn (a point behind the horizon is covered by the coarser tiles drawn there).
     std::optional<double> heightAt(const Geodetic2D& position) const;
 
+    /// The first hit of a ray on the triangles drawn in the last frame (their double positions):
+    /// what a click on the terrain picks.
+    std::optional<double> pickGround(const Ray& ray) const override;
+    /// heightAt times the exaggeration: the drawn surface's height above the ellipsoid.
+    std::optional<double> groundHeight(const Geodetic2D& position) const override;
+
     /// The triangles of the surface drawn in the last frame (Earth-fixed, three points each, as
     /// the GPU receives them), for checking that it is watertight.
     std::vector<glm::dvec3> drawnTriangles() const;

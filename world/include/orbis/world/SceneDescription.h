@@ -212,6 +212,15 @@ struct LinePath {
     friend bool operator==(const LinePath&, const LinePath&) = default;
 };
 
+/// What a layer's heights are measured from (docs/scene-format.md, "heightReference"): the
+/// ellipsoid, or the globe's terrain under each point (its most detailed height there, times the
+/// exaggeration; 0 m without terrain).
+enum class HeightReference {
+    Absolute,         ///< heights above the ellipsoid, as given
+    ClampToGround,    ///< on the terrain: the heights given are ignored
+    RelativeToGround, ///< the heights given above the terrain
+};
+
 /// Lines and polygons from a GeoJSON file. With neither style given, lines are stroked with
 /// the default StrokeStyle and polygons are outlined with it.
 struct GeoJsonLayer {
@@ -231,6 +240,7 @@ struct PointsLayer {
     Format format = Format::Csv;
     BillboardStyle billboard;
     std::optional<LabelStyle> label;
+    HeightReference heightReference = HeightReference::Absolute;
 
     friend bool operator==(const PointsLayer&, const PointsLayer&) = default;
 };
@@ -241,6 +251,8 @@ struct PolylineLayer {
     double widthPixels = 2.0;          ///< > 0
     glm::vec4 color{1.0f, 1.0f, 1.0f, 1.0f};
     LinePath path;
+    /// Ground references apply to every drawn vertex of the curve, not only to the positions given.
+    HeightReference heightReference = HeightReference::Absolute;
 
     friend bool operator==(const PolylineLayer&, const PolylineLayer&) = default;
 };
@@ -255,6 +267,7 @@ struct ModelLayer {
     Geodetic3D position;              ///< radians, metres
     double scale = 1.0;               ///< > 0
     HeadingPitchRoll orientation;     ///< radians
+    HeightReference heightReference = HeightReference::Absolute;
 
     friend bool operator==(const ModelLayer&, const ModelLayer&) = default;
 };
