@@ -21,6 +21,7 @@
 #include <orbis/scene/TiledGlobe.h>
 #include <orbis/scene/TileQuadtree.h>
 #include <orbis/world/FileAccess.h>
+#include <orbis/world/FunctionTerrainSource.h>
 #include <orbis/world/ImageCodec.h>
 #include <orbis/world/TileLoader.h>
 #include <orbis/world/TerrainSource.h>
@@ -416,59 +417,30 @@ bool hasHole(const Image& image, const Camera& camera)
 }
 
 /// Terrain grids of levels 0 to 14 (65 samples a side): ridges 70 km apart, 37 m higher at each
-/// level, as the filtered levels of a pyramid disagree, so that stitching has work to do.
-class SyntheticTerrain final : public world::TerrainSource {
-public:
-    /// Metres at a longitude and latitude (radians), at the finest level.
-    static double ridges(double longitude, double latitude)
-    {
-        // Five octaves, 70 km to 4.4 km, each half as high as the one before: rough at every scale
-        // the levels draw. cos(latitude) keeps one height at each pole.
-        double height = 1500.0;
-        double amplitude = 1200.0;
-        double frequency = 400.0;
-        for (int octave = 0; octave < 5; ++octave) {
-            height += amplitude * std::sin(frequency * longitude + octave) * std::cos(latitude) *
-                      std::cos(0.75 * frequency * latitude + 0.5 * octave);
-            amplitude *= 0.5;
-            frequency *= 2.0;
-        }
-        return height;
+/// level, as the filtered levels of a pyramid disagree, so that stitching has work to do:
+/// metres at a longitude and latitude (radians), at the finest level.
+double ridges(double longitude, double latitude)
+{
+    // Five octaves, 70 km to 4.4 km, each half as high as the one before: rough at every scale
+    // the levels draw. cos(latitude) keeps one height at each pole.
+    double height = 1500.0;
+    double amplitude = 1200.0;
+    double frequency = 400.0;
+    for (int octave = 0; octave < 5; ++octave) {
+        height += amplitude * std::sin(frequency * longitude + octave) * std::cos(latitude) *
+                  std::cos(0.75 * frequency * latitude + 0.5 * octave);
+        amplitude *= 0.5;
+        frequency *= 2.0;
     }
+    return height;
+}
 
-    explicit SyntheticTerrain(double levelOffset = 37.0) : _levelOffset(levelOffset)
-    {
-        _info.name = "synthetic terrain";
-        _info.format = "heightmap";
-        _info.maximumLevel = 14;
-        _info.gridSize = 65;
-    }
-    const world::TerrainSourceInfo& info() const noexcept override { return _info; }
-    bool hasTile(const TileKey& key) const override { return key.level <= _info.maximumLevel; }
-    world::TerrainFetch load(const TileKey& key) override
-    {
-        world::TerrainFetch fetched;
-        fetched.status = world::TerrainFetch::Status::Ok;
-        world::TerrainTileData& tile = fetched.tile;
-        tile.key = key;
-        tile.size = 65;
-        tile.heights.resize(65 * 65);
-        for (int row = 0; row < 65; ++row) {
-            for (int column = 0; column < 65; ++column) {
-                const Geodetic2D g = world::terrainGridPosition(key, 65, column, row);
-                tile.heights[static_cast<std::size_t>(row * 65 + column)] =
-                    static_cast<float>(ridges(g.longitude, g.latitude) + _levelOffset * key.level);
-            }
-        }
-        tile.minimumHeight = *std::min_element(tile.heights.begin(), tile.heights.end());
-        tile.maximumHeight = *std::max_element(tile.heights.begin(), tile.heights.end());
-        return fetched;
-    }
-
-private:
-    double _levelOffset;
-    world::TerrainSourceInfo _info;
-};
+/// The ridges as a terrain source, each level levelOffset metres above the one before.
+std::shared_ptr<world::TerrainSource> syntheticTerrain(double levelOffset = 37.0)
+{
+    return std::make_shared<world::FunctionTerrainSource>(
+        [](const Geodetic2D& g) { return ridges(g.longitude, g.latitude); }, 14, levelOffset);
+}
 
 /// Where a point lands on a width x height image of the camera (pixels, y down); empty behind it.
 std::optional<glm::dvec2> toPixel(const Camera& camera, const glm::dvec3& point, int width, int height)
@@ -518,7 +490,7 @@ Table pixelErrorTable(const Options& options, Context& context)
                 continue;
             }
             TiledGlobeOptions tiled;
-            tiled.terrain = std::make_shared<SyntheticTerrain>(0.0);
+            tiled.terrain = syntheticTerrain(0.0);
             tiled.maximumScreenSpaceError = setting;
             tiled.loader.workerThreads = 0;
             tiled.loader.latencyFrames = 0;
@@ -558,7 +530,7 @@ Table pixelErrorTable(const Options& options, Context& context)
                     const auto a = toPixel(camera, kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude, *drawn)), kWidth, kHeight);
                     const auto b = toPixel(camera,
                                            kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude,
-                                                                         SyntheticTerrain::ridges(g.longitude, g.latitude))),
+                                                                         ridges(g.longitude, g.latitude))),
                                            kWidth, kHeight);
                     if (a && b) {
                         errors.push_back(glm::distance(*a, *b));
@@ -605,7 +577,7 @@ std::vector<std::string> flightRow(int frames, bool terrain, Context& context)
 {
     TiledGlobeOptions tiled;
     if (terrain) {
-        tiled.terrain = std::make_shared<SyntheticTerrain>();
+        tiled.terrain = syntheticTerrain();
     }
     tiled.loader.latencyFrames = 2;
     tiled.loader.maximumStartsPerFrame = 8;

@@ -10,6 +10,7 @@
 #include <orbis/scene/PolylineCollection.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/TiledGlobe.h>
+#include <orbis/world/FunctionTerrainSource.h>
 #include <orbis/world/SceneFile.h>
 #include <orbis/world/TerrainHeight.h>
 #include <orbis/world/TerrainSource.h>
@@ -32,53 +33,16 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-/// Grid terrain tiles of levels 0 to deepestLevel (65 samples a side) from a function of longitude and
-/// latitude (degrees) plus `levelOffset` metres per level: the levels disagree, as the levels of
-/// a box-filtered pyramid do, while neighbours of one level share their edge samples.
-class SyntheticTerrain final : public world::TerrainSource {
-public:
-    SyntheticTerrain(std::function<double(double, double)> height, double levelOffset, std::uint32_t deepestLevel = 12)
-        : _height(std::move(height)), _levelOffset(levelOffset)
-    {
-        _info.name = "synthetic terrain";
-        _info.format = "heightmap";
-        _info.maximumLevel = deepestLevel;
-        _info.gridSize = 65;
-    }
-
-    const world::TerrainSourceInfo& info() const noexcept override { return _info; }
-    bool hasTile(const TileKey& key) const override { return key.level <= _info.maximumLevel; }
-
-    world::TerrainFetch load(const TileKey& key) override
-    {
-        world::TerrainFetch fetched;
-        if (!hasTile(key)) {
-            fetched.status = world::TerrainFetch::Status::Missing;
-            return fetched;
-        }
-        fetched.status = world::TerrainFetch::Status::Ok;
-        world::TerrainTileData& tile = fetched.tile;
-        tile.key = key;
-        tile.size = 65;
-        tile.heights.resize(65 * 65);
-        for (int row = 0; row < 65; ++row) {
-            for (int column = 0; column < 65; ++column) {
-                const Geodetic2D g = world::terrainGridPosition(key, 65, column, row);
-                tile.heights[static_cast<std::size_t>(row * 65 + column)] =
-                    static_cast<float>(_height(toDegrees(g.longitude), toDegrees(g.latitude)) + _levelOffset * key.level);
-            }
-        }
-        const auto [low, high] = std::minmax_element(tile.heights.begin(), tile.heights.end());
-        tile.minimumHeight = *low;
-        tile.maximumHeight = *high;
-        return fetched;
-    }
-
-private:
-    std::function<double(double, double)> _height;
-    double _levelOffset;
-    world::TerrainSourceInfo _info;
-};
+/// Grid terrain tiles of levels 0 to deepestLevel from a function of longitude and latitude
+/// (degrees) plus `levelOffset` metres per level: the levels disagree, as the levels of a
+/// box-filtered pyramid do, while neighbours of one level share their edge samples.
+std::shared_ptr<world::TerrainSource> syntheticTerrain(std::function<double(double, double)> height, double levelOffset,
+                                                       std::uint32_t deepestLevel = 12)
+{
+    return std::make_shared<world::FunctionTerrainSource>(
+        [height = std::move(height)](const Geodetic2D& g) { return height(toDegrees(g.longitude), toDegrees(g.latitude)); },
+        deepestLevel, levelOffset);
+}
 
 /// Mountains of a few kilometres, 70 km apart, everywhere: continuous across the antimeridian and
 /// one height at each pole, as real elevation is.
@@ -152,7 +116,7 @@ TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer
           "[scene][tiles][terrain][gl]")
 {
     // 37 m a level apart: without stitching every level change would open a visible crack.
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 37.0));
+    TerrainScene terrain(syntheticTerrain(ridges, 37.0));
     // Low and oblique over the ridges: many levels in one view, with the horizon at the top.
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 9000.0), 30.0, -20.0);
     const RenderedFrame frame = terrain.converge(320, 240);
@@ -198,7 +162,7 @@ TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer
 
 TEST_CASE("The surface drawn over terrain shares every inner edge between two triangles", "[scene][tiles][terrain][gl]")
 {
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 37.0));
+    TerrainScene terrain(syntheticTerrain(ridges, 37.0));
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 20000.0), 0.0, -35.0);
     REQUIRE(terrain.converge(256, 256).statistics.tiles->converged);
 
@@ -260,7 +224,7 @@ TEST_CASE("heightAt gives the terrain's height on the drawn triangles, at edges 
     // A plane in longitude and latitude: the triangles' interpolation is then exact, so any
     // difference is an error of the lookup, the stitching or the exaggeration.
     auto plane = [](double longitude, double latitude) { return 800.0 + 40.0 * longitude - 25.0 * latitude; };
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(plane, 0.0), 2.5);
+    TerrainScene terrain(syntheticTerrain(plane, 0.0), 2.5);
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 30000.0), 0.0, -60.0);
     REQUIRE(terrain.converge(256, 256).statistics.tiles->converged);
 
@@ -298,8 +262,8 @@ TEST_CASE("heightAt gives the terrain's height on the drawn triangles, at edges 
 TEST_CASE("Terrain shades the tiles by their own normals and a globe without terrain pays nothing for it",
           "[scene][tiles][terrain][gl]")
 {
-    TerrainScene flat(std::make_shared<SyntheticTerrain>([](double, double) { return 0.0; }, 0.0));
-    TerrainScene hills(std::make_shared<SyntheticTerrain>(ridges, 0.0), 3.0);
+    TerrainScene flat(syntheticTerrain([](double, double) { return 0.0; }, 0.0));
+    TerrainScene hills(syntheticTerrain(ridges, 0.0), 3.0);
     for (TerrainScene* terrain : {&flat, &hills}) {
         terrain->look(Geodetic3D::fromDegrees(10.0, 46.0, 60000.0), 0.0, -50.0);
         terrain->scene.setSunDirection(glm::normalize(kEarth.geodeticSurfaceNormal(Geodetic3D::fromDegrees(75.0, 46.0, 0.0))));
@@ -334,7 +298,7 @@ TEST_CASE("The exaggeration changes at run time: tiles rebuilt at once, bounds f
 {
     // Levels that agree: the next frame may pick other levels (the bounds grew), which then
     // differ only by the interpolation between their samples.
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 0.0));
+    TerrainScene terrain(syntheticTerrain(ridges, 0.0));
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 30000.0), 0.0, -30.0);
     REQUIRE(terrain.converge(256, 192).statistics.tiles->converged);
     const Geodetic2D probe = Geodetic2D::fromDegrees(10.0, 46.2);
@@ -383,7 +347,7 @@ TEST_CASE("Meshes kept for stitching do not count as uploads waiting: a small up
           "[scene][tiles][terrain][gl]")
 {
     TiledGlobeOptions options;
-    options.terrain = std::make_shared<SyntheticTerrain>(ridges, 0.0);
+    options.terrain = syntheticTerrain(ridges, 0.0);
     options.loader.workerThreads = 0;
     options.loader.latencyFrames = 0;
     // Four frames of this budget are less than the meshes the view keeps: loads must go on anyway.
@@ -422,7 +386,7 @@ double slopeHeight(double longitudeDegrees, double degrees)
 /// The centre pixel of a view straight down on (10, 45) from 60 km, shaded without the Sun.
 glm::dvec3 shadedCentre(std::function<double(double, double)> height, const std::function<void(TerrainShading&)>& shade)
 {
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(std::move(height), 0.0), 1.0, [&](TiledGlobeOptions& options) {
+    TerrainScene terrain(syntheticTerrain(std::move(height), 0.0), 1.0, [&](TiledGlobeOptions& options) {
         options.lighting = false;
         options.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
         shade(options.shading);
@@ -482,7 +446,7 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
 {
     // 500 m a degree eastwards: a line every 0.2 degrees of longitude, running north-south.
     const auto height = [](double longitude, double) { return 1500.0 + 500.0 * (longitude - 10.0); };
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(height, 0.0), 1.0, [](TiledGlobeOptions& options) {
+    TerrainScene terrain(syntheticTerrain(height, 0.0), 1.0, [](TiledGlobeOptions& options) {
         options.lighting = false;
         options.shading.contourInterval = 100.0;
         options.shading.contourColor = glm::vec3(1.0f, 0.0f, 0.0f);
@@ -518,7 +482,7 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
     CHECK(linePixels <= 3 * lines + 2);
 
     // Without shading options the effect is absent and no shading uniform is set.
-    TerrainScene plain(std::make_shared<SyntheticTerrain>(height, 0.0));
+    TerrainScene plain(syntheticTerrain(height, 0.0));
     plain.look(Geodetic3D::fromDegrees(10.0, 45.0, 60000.0), 0.0, -90.0);
     CHECK_FALSE(hasEffect(plain.converge(32, 32).statistics.effects, Effect::TerrainShading));
 }
@@ -589,7 +553,7 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
 TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",
           "[scene][tiles][terrain][gl]")
 {
-    TerrainScene terrain(std::make_shared<SyntheticTerrain>(ridges, 0.0), 3.0);
+    TerrainScene terrain(syntheticTerrain(ridges, 0.0), 3.0);
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 12000.0), 30.0, -10.0); // the top rows are sky
     const int width = 160;
     const int height = 120;

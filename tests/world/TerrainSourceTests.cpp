@@ -12,6 +12,7 @@
 #include <orbis/core/Math.h>
 #include <orbis/core/TilingScheme.h>
 #include <orbis/world/FileAccess.h>
+#include <orbis/world/FunctionTerrainSource.h>
 #include <orbis/world/ImageCodec.h>
 #include <orbis/world/TerrainCodec.h>
 #include <orbis/world/TerrainLayer.h>
@@ -678,4 +679,27 @@ TEST_CASE("Opening a terrain source that cannot be read says why", "[world][terr
                Contains("terrain in EPSG:3857 is not supported"));
     CHECK_THAT(errorMessage([&] { openTerrainSource((folder.path() / "{z}/{x}/{y}.jpg").string()); }),
                Contains("name the terrain format"));
+}
+
+TEST_CASE("Terrain from a function: its heights at the grid samples, shared by neighbours and levels",
+          "[world][terrain][source]")
+{
+    const auto height = [](const Geodetic2D& g) { return 1000.0 + 500.0 * std::sin(3.0 * g.longitude) * std::cos(2.0 * g.latitude); };
+    FunctionTerrainSource source(height, 8);
+    CHECK(source.info().gridSize == 65);
+    CHECK(source.info().maximumLevel == 8);
+    checkSharedSamples(source, {5, 20, 10});
+    const TerrainTileData tile = loadOk(source, {3, 5, 2}).tile;
+    for (int row = 0; row < tile.size; row += 16) {
+        for (int column = 0; column < tile.size; column += 16) {
+            CHECK(tile.heights[static_cast<std::size_t>(row * tile.size + column)] ==
+                  static_cast<float>(height(terrainGridPosition({3, 5, 2}, 65, column, row))));
+        }
+    }
+    CHECK_FALSE(source.hasTile({9, 0, 0}));
+    CHECK(source.load({9, 0, 0}).status == TerrainFetch::Status::Missing);
+    // Levels raised by the offset disagree, as a filtered pyramid's levels do.
+    FunctionTerrainSource raised(height, 8, 10.0);
+    const TerrainTileData level4 = loadOk(raised, {4, 3, 3}).tile;
+    CHECK(level4.heights[0] == static_cast<float>(height(terrainGridPosition({4, 3, 3}, 65, 0, 0)) + 40.0));
 }
