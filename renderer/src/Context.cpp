@@ -22,6 +22,16 @@
 namespace orbis::renderer {
 namespace {
 
+/// The texture target a texture is attached as: multisampled or not.
+GLenum textureTarget(const Texture2D* texture) noexcept
+{
+    return texture && texture->samples() > 1 ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
+}
+
+} // namespace
+
+namespace {
+
 using detail::AutomaticUniform;
 using detail::ShaderProgramAccess;
 
@@ -270,7 +280,8 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const detail::ErrorSour
             const auto& texture = framebuffer->_colors[i];
             const GLenum attachment = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i);
             if (i < device().info().maxColorAttachments) {
-                gl.glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture ? texture->_name : 0u, 0);
+                gl.glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, textureTarget(texture.get()),
+                                          texture ? texture->_name : 0u, 0);
             } else if (texture) {
                 throw Error(where() + ": colour attachment " + std::to_string(i) + " is beyond the device's " +
                             std::to_string(device().info().maxColorAttachments));
@@ -290,7 +301,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const detail::ErrorSour
         gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, 0u, 0);
         if (depth) {
             gl.glFramebufferTexture2D(GL_FRAMEBUFFER, depthStencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
-                                      GL_TEXTURE_2D, depth->_name, 0);
+                                      textureTarget(depth.get()), depth->_name, 0);
         }
         if (drawBufferCount > 0) {
             gl.glDrawBuffers(drawBufferCount, drawBuffers);
@@ -478,6 +489,10 @@ std::uint32_t Context::bindTextures(const DrawCommand& command)
         }
         if (!binding.texture || !binding.texture->valid()) {
             throw Error(commandLabel(command) + ": no texture on unit " + std::to_string(binding.unit));
+        }
+        if (binding.texture->samples() > 1) {
+            throw Error(commandLabel(command) + ": the texture on unit " + std::to_string(binding.unit) + " is multisampled (" +
+                        std::to_string(binding.texture->samples()) + " samples): resolve it with Context::blit first");
         }
         if (binding.texture->_device != &state.device ||
             (binding.sampler && binding.sampler->_device != &state.device)) {
@@ -716,6 +731,11 @@ void Context::blit(const Framebuffer& source, Framebuffer* destination)
     gl.glReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, destinationName);
     const bool sameSize = from.width == to.width && from.height == to.height;
+    if (!sameSize && read->_colors[0]->samples() > 1) {
+        throw Error("Context::blit: a multisampled framebuffer resolves only into one of its size (" +
+                    std::to_string(from.width) + " x " + std::to_string(from.height) + ", not " +
+                    std::to_string(to.width) + " x " + std::to_string(to.height) + ")");
+    }
     gl.glBlitFramebuffer(0, 0, from.width, from.height, 0, 0, to.width, to.height, GL_COLOR_BUFFER_BIT,
                          sameSize ? GL_NEAREST : GL_LINEAR);
     gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read->_name);

@@ -155,6 +155,7 @@ Device::Device(const DeviceOptions& options)
                                         detail::kMaxTrackedTextureUnits);
         info.maxTextureUnits = units - 1; // the last one is kept for uploads
         info.maxColorAttachments = glInteger(*gl, GL_MAX_COLOR_ATTACHMENTS);
+        info.maxSamples = std::max(1, glInteger(*gl, GL_MAX_SAMPLES));
         info.maxVertexAttributes = glInteger(*gl, GL_MAX_VERTEX_ATTRIBS);
         const bool anisotropy = extensions.count("GL_EXT_texture_filter_anisotropic") ||
                                 extensions.count("GL_ARB_texture_filter_anisotropic") || major * 10 + minor >= 46;

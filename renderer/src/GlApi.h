@@ -102,6 +102,7 @@ namespace orbis::renderer::detail {
     X(PFNGLBINDTEXTUREPROC, glBindTexture)                                                         \
     X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                                                     \
     X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                                                           \
+    X(PFNGLTEXIMAGE2DMULTISAMPLEPROC, glTexImage2DMultisample)                                     \
     X(PFNGLTEXSUBIMAGE2DPROC, glTexSubImage2D)                                                     \
     X(PFNGLGETTEXIMAGEPROC, glGetTexImage)                                                         \
     X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                                                     \

@@ -30,6 +30,7 @@ GlFormat glFormat(TextureFormat format) noexcept
     case TextureFormat::Depth24: return {GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT};
     case TextureFormat::Depth32F: return {GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT};
     case TextureFormat::Depth24Stencil8: return {GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8};
+    case TextureFormat::SRGB8Alpha8: return {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE};
     }
     return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 }
@@ -64,6 +65,7 @@ std::size_t bytesPerTexel(TextureFormat format) noexcept
     case TextureFormat::Depth24: return 4;
     case TextureFormat::Depth32F: return 4;
     case TextureFormat::Depth24Stencil8: return 4;
+    case TextureFormat::SRGB8Alpha8: return 4;
     }
     return 4;
 }
@@ -85,6 +87,7 @@ const char* textureFormatName(TextureFormat format) noexcept
     case TextureFormat::Depth24: return "Depth24";
     case TextureFormat::Depth32F: return "Depth32F";
     case TextureFormat::Depth24Stencil8: return "Depth24Stencil8";
+    case TextureFormat::SRGB8Alpha8: return "SRGB8Alpha8";
     }
     return "?";
 }
@@ -134,6 +137,26 @@ Texture2D Device::createTexture2D(const TextureDescription& description)
         throw Error("Device::createTexture2D: size " + std::to_string(description.width) + " x " +
                     std::to_string(description.height) + " is invalid (width and height must be 1.." +
                     std::to_string(maximum) + ")");
+    }
+    if (description.samples < 1 || description.samples > info().maxSamples ||
+        (description.samples > 1 && description.mipmaps)) {
+        throw Error("Device::createTexture2D: " + std::to_string(description.samples) + " samples" +
+                    (description.mipmaps ? " with mipmaps" : "") + " (1.." + std::to_string(info().maxSamples) +
+                    " on this device, and a multisampled texture has no mipmaps)");
+    }
+    if (description.samples > 1) {
+        // Bound on the upload unit's multisample target: the plain 2D binding the context tracks
+        // there is left as it was.
+        const detail::GlApi& gl = state.gl;
+        GLuint name = 0;
+        gl.glGenTextures(1, &name);
+        Texture2D texture(*this, name, description, 1);
+        state.bindTextureForUpload(0, 0); // the upload unit active
+        gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, name);
+        gl.glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, description.samples, glFormat(description.format).internalFormat,
+                                   description.width, description.height, GL_TRUE);
+        gl.glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+        return texture;
     }
     int levels = 1;
     if (description.mipmaps) {
@@ -205,6 +228,10 @@ void Texture2D::checkLevel(int level, const char* what) const
     if (!_name) {
         throw Error(std::string(what) + ": empty texture");
     }
+    if (samples() > 1) {
+        throw Error(std::string(what) + ": a multisampled texture (" + std::to_string(samples()) +
+                    " samples) has no texels to copy; resolve it with Context::blit");
+    }
     if (level < 0 || level >= _levels) {
         throw Error(std::string(what) + ": level " + std::to_string(level) + " does not exist (the texture has " +
                     std::to_string(_levels) + ")");
@@ -250,7 +277,9 @@ void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, const Pi
 void Texture2D::copyFromImage(const Image& image, int level)
 {
     checkLevel(level, "Texture2D::copyFromImage");
-    const int channels = format() == TextureFormat::RGBA8 ? 4 : format() == TextureFormat::RGB8 ? 3 : 0;
+    const int channels = format() == TextureFormat::RGBA8 || format() == TextureFormat::SRGB8Alpha8 ? 4
+                         : format() == TextureFormat::RGB8                                      ? 3
+                                                                                                : 0;
     const int levelWidth = std::max(1, width() >> level);
     const int levelHeight = std::max(1, height() >> level);
     if (channels == 0 || image.channels != channels || image.width != levelWidth || image.height != levelHeight) {
@@ -289,7 +318,9 @@ std::vector<std::byte> Texture2D::copyToSystemMemory(int level) const
 
 Image Texture2D::copyToImage() const
 {
-    const int channels = format() == TextureFormat::RGBA8 ? 4 : format() == TextureFormat::RGB8 ? 3 : 0;
+    const int channels = format() == TextureFormat::RGBA8 || format() == TextureFormat::SRGB8Alpha8 ? 4
+                         : format() == TextureFormat::RGB8                                      ? 3
+                                                                                                : 0;
     if (channels == 0) {
         throw Error(std::string("Texture2D::copyToImage: a ") + textureFormatName(format()) +
                     " texture is not an 8-bit image (use copyToSystemMemory)");

@@ -84,6 +84,9 @@ std::vector<std::string> FrameStatistics::effectsRun() const
     if (frustums.size() > 1) {
         names.emplace_back("multi-frustum");
     }
+    if (samples > 1) {
+        names.emplace_back("multisampling");
+    }
     if (depthStrategy == DepthStrategy::Logarithmic) {
         names.emplace_back("logarithmic depth");
     } else if (depthStrategy == DepthStrategy::LogarithmicVertex) {
@@ -178,6 +181,7 @@ std::string FrameStatistics::toJson() const
         << "  \"commandsExecutedMoreThanOnce\": " << commandsExecutedMoreThanOnce << ",\n"
         << "  \"depthStrategy\": \"" << depthStrategyName(depthStrategy) << "\",\n"
         << "  \"depthStrategyAutomatic\": " << (depthStrategyAutomatic ? "true" : "false") << ",\n"
+        << "  \"samples\": " << samples << ",\n"
         << "  \"frustumsReused\": " << (frustumsReused ? "true" : "false") << ",\n"
         << "  \"frustums\": [";
     for (std::size_t f = 0; f < frustums.size(); ++f) {

@@ -17,6 +17,33 @@
 
 namespace orbis::scene {
 
+namespace {
+
+/// An RGB image with an opaque alpha channel added; a 4-channel one as it is.
+Image withAlpha(Image image)
+{
+    if (image.channels == 4) {
+        return image;
+    }
+    Image rgba(image.width, image.height, 4);
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            const std::uint8_t* from = image.pixel(x, y);
+            std::uint8_t* to = rgba.pixel(x, y);
+            for (int c = 0; c < 4; ++c) {
+                to[c] = c < image.channels ? from[c] : 255;
+            }
+            if (image.channels == 1 || image.channels == 2) {
+                to[1] = to[2] = from[0]; // grey
+                to[3] = image.channels == 2 ? from[1] : 255;
+            }
+        }
+    }
+    return rgba;
+}
+
+} // namespace
+
 struct ModelPrimitive::Batch {
     Mesh mesh; ///< released once uploaded
     std::size_t material = 0;
@@ -123,8 +150,15 @@ void ModelPrimitive::createResources(FrameState& frameState)
     renderer::Device& device = frameState.device;
     std::vector<renderer::Texture2D> textures;
     for (std::size_t i = 0; i < _model.images.size(); ++i) {
-        // Mipmaps whatever the samplers say: a third more texels, and any filter can read them.
-        textures.push_back(device.createTexture2D(_model.decodeImage(i), true));
+        // The images are base colour textures, sRGB-encoded (glTF 3.9.2): the GPU decodes them to
+        // linear before filtering. Mipmaps whatever the samplers say: a third more texels, and any
+        // filter can read them.
+        const Image rgba = withAlpha(_model.decodeImage(i));
+        renderer::Texture2D texture =
+            device.createTexture2D({rgba.width, rgba.height, renderer::TextureFormat::SRGB8Alpha8, true});
+        texture.copyFromImage(rgba);
+        texture.generateMipmaps();
+        textures.push_back(std::move(texture));
     }
     std::vector<renderer::Sampler> samplers;
     for (const world::GltfTexture& texture : _model.textures) {

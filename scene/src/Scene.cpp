@@ -175,6 +175,28 @@ renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, rende
     return _floatDepthTarget.get();
 }
 
+renderer::Framebuffer* Scene::multisampleTarget(renderer::Context& context, const renderer::Framebuffer& target,
+                                                int samples, bool floatDepth)
+{
+    const renderer::TextureFormat colorFormat =
+        target.colorAttachment(0) ? target.colorAttachment(0)->format() : renderer::TextureFormat::RGBA8;
+    const renderer::TextureFormat depthFormat =
+        floatDepth ? renderer::TextureFormat::Depth32F : renderer::TextureFormat::Depth24Stencil8;
+    const renderer::Framebuffer* current = _multisampleTarget.get();
+    if (!current || _multisampleContext != &context || current->width() != target.width() ||
+        current->height() != target.height() || current->colorAttachment(0)->samples() != samples ||
+        current->colorAttachment(0)->format() != colorFormat || current->depthAttachment()->format() != depthFormat) {
+        renderer::Device& device = context.device();
+        _multisampleTarget = std::make_shared<renderer::Framebuffer>(context.createFramebuffer());
+        _multisampleTarget->setColorAttachment(0, std::make_shared<renderer::Texture2D>(device.createTexture2D(
+                                                      {target.width(), target.height(), colorFormat, false, samples})));
+        _multisampleTarget->setDepthAttachment(std::make_shared<renderer::Texture2D>(
+            device.createTexture2D({target.width(), target.height(), depthFormat, false, samples})));
+        _multisampleContext = &context;
+    }
+    return _multisampleTarget.get();
+}
+
 /// What one frame looks through: its target, the camera's view, and the volume it sees.
 struct Scene::FrameView {
     renderer::Framebuffer* target;
@@ -457,9 +479,15 @@ void Scene::drawFrame(renderer::Context& context, const FrameView& frame, const 
                       FrameStatistics& statistics)
 {
     const FramebufferRestorer restorer{context, frame.target};
-    if (plan.needsFloatDepth) {
+    const int samples = frame.target ? std::clamp(_options.samples, 1, context.device().info().maxSamples) : 1;
+    renderer::Framebuffer* multisampled =
+        samples > 1 ? multisampleTarget(context, *frame.target, samples, plan.needsFloatDepth) : nullptr;
+    if (multisampled) {
+        context.setFramebuffer(multisampled);
+    } else if (plan.needsFloatDepth) {
         context.setFramebuffer(floatDepthTarget(context, *frame.target));
     }
+    statistics.samples = samples;
     renderer::ClearState clear;
     clear.color = _options.background;
     clear.depth = plan.clearDepth;
@@ -474,6 +502,9 @@ void Scene::drawFrame(renderer::Context& context, const FrameView& frame, const 
     sceneState.depthConvention = plan.convention;
     drawFrustums(context, frame, plan, sceneState, statistics);
     drawOverlay(context, frame, plan, sceneState, statistics);
+    if (multisampled) {
+        context.blit(*multisampled, frame.target); // the samples resolved into the target's colour
+    }
     context.finish();
 }
 

@@ -329,6 +329,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
     scene.camera() = makeCamera(description.camera, scene.ellipsoid());
     scene.setSunDirection(description.sun.directionEarthFixed);
     scene.options().background = description.background;
+    scene.options().samples = description.samples;
 
     auto ground = std::make_shared<Ground>(nullptr, 1.0); // the terrain's, when the globe has one
     if (description.globe && hasVirtualTexture(*description.globe)) {

@@ -159,3 +159,49 @@ TEST_CASE("Context::blit to the window of a headless context is a clear error", 
     Framebuffer source = clearedFramebuffer(4, 4, {1.0f, 0.0f, 0.0f, 1.0f});
     REQUIRE_THROWS_WITH(context.blit(source), Contains("Context::blit: no window"));
 }
+
+TEST_CASE("A multisampled framebuffer resolved by blit has pixels between the colours along an edge; a single-sampled one has none", "[renderer][framebuffer][msaa]")
+{
+    Device& device = test::sharedDevice();
+    Context& context = device.context();
+    INFO("device maximum " << device.info().maxSamples << " samples");
+    REQUIRE(device.info().maxSamples >= 4); // llvmpipe and every GPU of the last decade
+    ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
+    // A triangle with a slanted edge across a 16 x 16 target.
+    Mesh triangle;
+    triangle.positions = {{-1.0, -1.0, 0.0}, {1.0, -1.0, 0.0}, {-0.7, 1.0, 0.0}};
+    triangle.indices = {0, 1, 2};
+    const VertexArray array = context.createVertexArray(triangle, program);
+    auto edgePixels = [&](int samples) {
+        Framebuffer drawn = context.createFramebuffer();
+        drawn.setColorAttachment(0, std::make_shared<Texture2D>(device.createTexture2D({16, 16, TextureFormat::RGBA8, false, samples})));
+        drawn.setDepthAttachment(
+            std::make_shared<Texture2D>(device.createTexture2D({16, 16, TextureFormat::Depth24Stencil8, false, samples})));
+        context.clear(ClearState{}, &drawn);
+        context.draw(test::makeCommand(array, program, drawn, {1.0f, 1.0f, 1.0f, 1.0f}, "slanted triangle"));
+        Framebuffer resolved = clearedFramebuffer(16, 16, {0.0f, 0.0f, 1.0f, 1.0f});
+        context.blit(drawn, &resolved);
+        const Image image = context.readPixels(&resolved);
+        int between = 0;
+        int white = 0;
+        for (int y = 0; y < 16; ++y) {
+            for (int x = 0; x < 16; ++x) {
+                const int red = test::pixelAt(image, x, y).r;
+                between += red > 0 && red < 255 ? 1 : 0;
+                white += red == 255 ? 1 : 0;
+            }
+        }
+        CHECK(white > 60); // the triangle covers over a third of the target either way
+        return between;
+    };
+    CHECK(edgePixels(1) == 0);
+    const int multisampled = edgePixels(4);
+    CHECK(multisampled >= 16); // about one a row along the slanted edge
+    // A multisampled texture is drawn into and resolved, never copied or sampled.
+    Texture2D samples4 = device.createTexture2D({4, 4, TextureFormat::RGBA8, false, 4});
+    REQUIRE(samples4.samples() == 4);
+    REQUIRE_THROWS_WITH(samples4.copyToSystemMemory(), Contains("multisampled"));
+    REQUIRE_THROWS_WITH(device.createTexture2D({4, 4, TextureFormat::RGBA8, true, 4}), Contains("no mipmaps"));
+    REQUIRE_THROWS_WITH(device.createTexture2D({4, 4, TextureFormat::RGBA8, false, device.info().maxSamples + 1}),
+                        Contains("samples"));
+}

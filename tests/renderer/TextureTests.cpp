@@ -352,3 +352,19 @@ TEST_CASE("Bad texture sizes and data are clear errors", "[renderer][texture][er
     Texture2D empty;
     REQUIRE_THROWS_WITH(empty.copyToSystemMemory(), Contains("empty"));
 }
+
+TEST_CASE("An sRGB texture keeps its encoded bytes and is sampled decoded: mid-grey 128 reads as linear 0.216", "[renderer][texture][srgb]")
+{
+    TexturedFixture f;
+    Image grey(1, 1, 4);
+    grey.pixels = {128, 128, 128, 200};
+    Texture2D srgb = f.device.createTexture2D({1, 1, TextureFormat::SRGB8Alpha8});
+    srgb.copyFromImage(grey);
+    CHECK(srgb.copyToImage().pixels == grey.pixels); // stored as given
+    const Texture2D plain = f.device.createTexture2D(grey);
+    // ((128 / 255 + 0.055) / 1.055)^2.4 = 0.2158, written to the 8-bit target as 55; alpha is linear.
+    const Image decoded = f.draw(srgb, nullptr);
+    INFO(test::describePixel(decoded, 8, 8));
+    CHECK(test::pixelNear(decoded, 8, 8, {55, 55, 55, 200}, 1));
+    CHECK(test::pixelNear(f.draw(plain, nullptr), 8, 8, {128, 128, 128, 200}, 0));
+}

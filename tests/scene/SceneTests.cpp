@@ -14,7 +14,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace orbis;
 using namespace orbis::renderer;
@@ -246,4 +249,34 @@ TEST_CASE("Scene::setTime places the Sun as a scene file's time does; the shader
     scene.setClockSeconds(12.5);
     REQUIRE(scene.clockSeconds() == 12.5);
     REQUIRE(glm::distance(scene.sunDirection(), sunDirectionEarthFixed(solstice)) < 1e-15);
+}
+
+TEST_CASE("A scene drawn with 4 samples a pixel has pixels between the globe and the sky at the limb; with 1, none", "[scene][msaa]")
+{
+    // The tessellated globe: its triangles' edges are what multisampling smooths. (The ray-cast
+    // globe decides coverage per pixel in its fragment shader, so its limb stays hard.)
+    Scene scene(kEarth);
+    scene.add(plainGlobe(GlobeMethod::Tessellated));
+    scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(0, 0, 2e7)), glm::dvec3(0), {0, 0, 1});
+    auto limbPixels = [&](int samples) {
+        scene.options().samples = samples;
+        const RenderedFrame frame = renderFrame(scene, 64, 64);
+        CHECK(frame.statistics.samples == samples);
+        int between = 0;
+        int blue = 0;
+        for (int y = 0; y < 64; ++y) {
+            for (int x = 0; x < 64; ++x) {
+                const int b = pixelAt(frame.image, x, y).b;
+                between += b > 0 && b < 255 ? 1 : 0;
+                blue += b == 255 ? 1 : 0;
+            }
+        }
+        CHECK(blue > 400); // the disc, about 17 pixels across the radius
+        const std::vector<std::string> effects = frame.statistics.effectsRun();
+        CHECK((std::find(effects.begin(), effects.end(), "multisampling") != effects.end()) == (samples > 1));
+        return between;
+    };
+    CHECK(limbPixels(1) == 0); // the ray-cast globe covers a pixel or not
+    CHECK(limbPixels(4) > 40); // most of the limb's 100-odd pixels
+    CHECK(limbPixels(1) == 0);
 }

@@ -283,8 +283,9 @@ TEST_CASE("Terrain shades the tiles by their own normals and a globe without ter
         }
         return highest - lowest;
     };
+    INFO("green spread over the lower half: flat " << spread(flatImage) << ", ridges " << spread(hillImage));
     CHECK(spread(flatImage) < 12);
-    CHECK(spread(hillImage) > 25);
+    CHECK(spread(hillImage) > 15); // 20 on llvmpipe, lit in linear space (the flat terrain: 1)
 
     TiledGlobeOptions options;
     options.loader.workerThreads = 0;

@@ -258,6 +258,9 @@ TEST_CASE("GeoJSON with wrong types, missing members and non-numbers is rejected
                Equals("f: features: expected an array of features, got nothing"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(R"({"type": "Topology"})", "f"); }),
                Contains("f: arcs: expected an array of arcs"));
+    // A named object whose "type" is not a string (the geojson fuzzer's crash): an error, not an
+    // escaped JSON exception.
+    CHECK_THROWS_AS(parseGeoJson(R"({"type": "Topology", "arcs": [], "objects": {"a": {"type": 7}}})", "f"), Error);
     CHECK_THAT(test::errorMessage([&] { parseGeoJson("[1, 2]", "f"); }),
                Equals("f:1:1: expected a GeoJSON object at top level, got an array of 2 elements"));
     CHECK_THAT(test::errorMessage([&] { parseGeoJson(R"({"type": "Point", "coordinates": [0, -91]})", "f"); }),

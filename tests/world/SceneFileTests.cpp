@@ -365,7 +365,7 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[world][s
             R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve")");
     // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
     CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
-            R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "globe", "layers")");
+            R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "samples", "globe", "layers")");
 }
 
 TEST_CASE("Out-of-range values are errors naming the range", "[world][scenefile][errors]")
@@ -439,6 +439,15 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
     const std::string longKey = errorOf(R"({"version": 1, ")" + std::string(1 << 20, 'k') + "\": 1}");
     CHECK_THAT(longKey, Contains("test.json:1:16: /kkkk") && Contains("... (1048577 bytes): unknown key \"kkkk"));
     CHECK(longKey.size() < 1000);
+}
+
+TEST_CASE("Samples per pixel: 1 by default, 1 to 16", "[world][scenefile]")
+{
+    REQUIRE(parse(R"({"version": 1})").samples == 1);
+    REQUIRE(parse(R"({"version": 1, "samples": 4})").samples == 4);
+    CHECK_THAT(errorOf(R"({"version": 1, "samples": 0})"), Contains("/samples:"));
+    CHECK_THAT(errorOf(R"({"version": 1, "samples": 32})"), Contains("/samples:"));
+    CHECK_THAT(errorOf(R"({"version": 1, "samples": 2.5})"), Contains("/samples:"));
 }
 
 TEST_CASE("The depth strategy reads by the name the statistics print, and by the spelling files had before", "[world][scenefile]")

@@ -85,8 +85,8 @@ bool hasColumn(const std::vector<std::string>& columns, Keys names)
 // ---------------------------------------------------------------------------------------------
 // Key tables
 
-constexpr std::array<std::string_view, 10> kRootKeys = {"version", "width",  "height", "background", "camera",
-                                                        "sun",     "time",   "depth",  "globe",      "layers"};
+constexpr std::array<std::string_view, 11> kRootKeys = {"version", "width", "height", "background", "camera", "sun",
+                                                        "time",    "depth", "samples", "globe",     "layers"};
 constexpr std::array<std::string_view, 6> kCameraKeys = {"position", "target", "heading", "pitch", "roll", "fovY"};
 constexpr std::array<std::string_view, 3> kPositionKeys = {"lon", "lat", "height"};
 constexpr std::array<std::string_view, 2> kCameraPathKeys = {"version", "keyframes"};
@@ -254,6 +254,9 @@ public:
         }
         if (const Json* background = member(root, "background")) {
             attempt([&] { scene.background = readColor(*background, "/background"); });
+        }
+        if (const Json* samples = member(root, "samples")) {
+            attempt([&] { scene.samples = readInteger(*samples, "/samples", 1, 16, "samples per pixel"); });
         }
         if (const Json* camera = member(root, "camera")) {
             attempt([&] { scene.camera = readCamera(*camera, "/camera"); });

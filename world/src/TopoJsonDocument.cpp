@@ -38,7 +38,10 @@ public:
             }
             found = true;
             const std::string at = "objects." + name;
-            if (object.is_object() && object.value("type", std::string()) == "GeometryCollection") {
+            // Compared as JSON: a "type" that is not a string is not a collection (value() would throw
+            // nlohmann's type_error for it, which escaped as a crash).
+            const auto type = object.is_object() ? object.find("type") : object.end();
+            if (type != object.end() && *type == "GeometryCollection") {
                 const auto geometries = object.find("geometries");
                 if (geometries == object.end() || !geometries->is_array()) {
                     fail(at + ".geometries", "expected an array of geometries");

@@ -68,3 +68,17 @@ float og_lightIntensity(vec3 normal, vec3 toLight, vec3 toEye, vec4 diffuseSpecu
            diffuseSpecularAmbientShininess.z;
 }
 
+
+// The sRGB transfer function (IEC 61966-2-1) each way, per channel, on values clamped to 0..1:
+// lighting is computed on linear values, textures and 8-bit framebuffers hold encoded ones.
+vec3 og_srgbToLinear(vec3 c)
+{
+    c = clamp(c, 0.0, 1.0);
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
+
+vec3 og_linearToSrgb(vec3 c)
+{
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}

@@ -90,7 +90,8 @@ vec3 shade(vec3 normal)
     float sunCosine = dot(normal, og_sunDirection);
 #endif
 #ifdef LIGHTING
-    color *= 0.2 + 0.8 * max(sunCosine, 0.0);
+    // In linear space, as models are lit: the texture and colour are sRGB-encoded.
+    color = og_linearToSrgb(og_srgbToLinear(color) * (0.2 + 0.8 * max(sunCosine, 0.0)));
 #endif
 #ifdef NIGHT_TEXTURE
     // City lights where the Sun is down, blended across a band about 5 degrees wide at the terminator.

@@ -1,6 +1,7 @@
 // A glTF base colour (factor times texture), lit by the Sun (LIGHTING) as MeshPrimitive lights its
-// meshes, in linear space: the texture is sRGB-encoded (glTF 3.9.2) and decoded here, the factor is linear,
-// and the result is encoded to sRGB for the 8-bit framebuffer.
+// meshes, in linear space: the texture is sRGB-encoded (glTF 3.9.2) and stored as such, so the GPU
+// decodes its texels before filtering; the factor is linear; the result is encoded to sRGB for the
+// 8-bit framebuffer.
 // ALPHA_MASK discards fragments under u_alphaCutoff; ALPHA_BLEND keeps alpha for blending; otherwise
 // the material is opaque and alpha is 1.
 
@@ -20,18 +21,6 @@ uniform vec4 u_baseColorFactor;
 
 out vec4 fragmentColor;
 
-vec3 srgbToLinear(vec3 c)
-{
-    c = clamp(c, 0.0, 1.0);
-    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
-}
-
-vec3 linearToSrgb(vec3 c)
-{
-    c = clamp(c, 0.0, 1.0);
-    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
-
 void main()
 {
     og_depthFragment();
@@ -39,7 +28,7 @@ void main()
 #ifdef BASE_COLOR_TEXTURE
     // glTF's v runs down the image; Texture2D stores the image upright with t running up.
     vec4 texel = texture(og_texture0, vec2(v_textureCoordinate.x, 1.0 - v_textureCoordinate.y));
-    baseColor *= vec4(srgbToLinear(texel.rgb), texel.a);
+    baseColor *= texel; // linear: the texture's format is sRGB
 #endif
 #ifdef ALPHA_MASK
     if (baseColor.a < u_alphaCutoff) {
@@ -50,9 +39,9 @@ void main()
     // Back faces of double-sided materials are lit as seen from their side.
     vec3 normal = normalize(v_normalEye) * (gl_FrontFacing ? 1.0 : -1.0);
     float diffuse = max(dot(normal, og_sunDirectionEye), 0.0);
-    vec3 color = linearToSrgb(baseColor.rgb * (0.3 + 0.7 * diffuse));
+    vec3 color = og_linearToSrgb(baseColor.rgb * (0.3 + 0.7 * diffuse));
 #else
-    vec3 color = linearToSrgb(baseColor.rgb);
+    vec3 color = og_linearToSrgb(baseColor.rgb);
 #endif
 #ifdef ALPHA_BLEND
     fragmentColor = vec4(color, baseColor.a);

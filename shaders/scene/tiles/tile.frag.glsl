@@ -53,7 +53,8 @@ void main()
     color = terrainOverlays(color, v_height, normal, up);
 #endif
 #ifdef LIGHTING
-    color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
+    // In linear space, as models are lit: the imagery and colours are sRGB-encoded.
+    color = og_linearToSrgb(og_srgbToLinear(color) * (0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0)));
 #endif
     fragmentColor = vec4(color, 1.0);
 }

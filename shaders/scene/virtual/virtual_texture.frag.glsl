@@ -233,7 +233,8 @@ void main()
     }
     color = mix(color, adjusted, texel.a * u_textureAdjustment.x);
 #ifdef LIGHTING
-    color *= 0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0);
+    // In linear space, as models are lit: the imagery and colours are sRGB-encoded.
+    color = og_linearToSrgb(og_srgbToLinear(color) * (0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0)));
 #endif
     fragmentColor = vec4(color, 1.0);
 }

@@ -59,6 +59,7 @@ struct DeviceInfo {
     int maxColorAttachments = 0;
     int maxVertexAttributes = 0;
     float maxAnisotropy = 1.0f;     ///< 1 when anisotropic filtering is missing
+    int maxSamples = 1;             ///< the most samples a multisampled texture may have (GL_MAX_SAMPLES)
     bool khrDebug = false;          ///< KHR_debug present
     bool glChecks = false;          ///< glGetError after every call
     int glMajorVersion = 3;         ///< of the context created (often above the 3.3 asked for)

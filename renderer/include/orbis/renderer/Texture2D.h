@@ -14,8 +14,20 @@ class Device;
 
 /// How a texture stores a texel, and the layout copyFromSystemMemory and copyToSystemMemory use:
 /// RGBA8 4 bytes, RGB8 3, R32F one float, RG32F two, RGBA32F four; Depth24 and Depth32F one float
-/// (0..1); Depth24Stencil8 one 32-bit word, depth in the high 24 bits, stencil in the low 8.
-enum class TextureFormat : std::uint8_t { RGBA8, RGB8, R32F, RG32F, RGBA32F, Depth24, Depth32F, Depth24Stencil8 };
+/// (0..1); Depth24Stencil8 one 32-bit word, depth in the high 24 bits, stencil in the low 8;
+/// SRGB8Alpha8 4 bytes as RGBA8, the colour sRGB-encoded: sampling decodes it to linear values
+/// (before filtering, as it should be), alpha is linear.
+enum class TextureFormat : std::uint8_t {
+    RGBA8,
+    RGB8,
+    R32F,
+    RG32F,
+    RGBA32F,
+    Depth24,
+    Depth32F,
+    Depth24Stencil8,
+    SRGB8Alpha8
+};
 
 /// Bytes per texel in the system-memory layout above.
 std::size_t bytesPerTexel(TextureFormat format) noexcept;
@@ -29,6 +41,10 @@ struct TextureDescription {
     int height = 0;
     TextureFormat format = TextureFormat::RGBA8;
     bool mipmaps = false; ///< allocate the full mipmap chain
+    /// Samples per texel: 1 for an ordinary texture; more for a multisampled one, which can only
+    /// be drawn into (a Framebuffer attachment) and resolved by Context::blit or copyDepth: it has
+    /// no mipmaps, is not sampled by commands and cannot be copied to or from memory (orbis::Error).
+    int samples = 1;
 };
 
 /// A 2D texture: one GL texture object, move-only, shared between the device's contexts. Rows in
@@ -54,6 +70,8 @@ public:
     const TextureDescription& description() const noexcept { return _description; }
     /// Mipmap levels allocated: 1 without mipmaps.
     int levelCount() const noexcept { return _levels; }
+    /// Samples per texel: above 1 for a multisampled texture (TextureDescription::samples).
+    int samples() const noexcept { return _description.samples; }
     bool valid() const noexcept { return _name != 0; }
 
     /// Replaces a whole level. Throws orbis::Error unless texels holds exactly

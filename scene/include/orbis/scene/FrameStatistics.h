@@ -28,6 +28,7 @@ struct FrameStatistics {
     std::size_t commandsExecutedMoreThanOnce = 0;
     DepthStrategy depthStrategy = DepthStrategy::MultiFrustum; ///< what ran (never Auto)
     bool depthStrategyAutomatic = false;       ///< chosen by DepthStrategy::Automatic
+    int samples = 1;                           ///< per pixel: above 1, drawn multisampled and resolved
     std::vector<FrustumRange> frustums;        ///< near to far; one for the single-frustum strategies
     std::vector<std::size_t> drawCallsPerFrustum; ///< parallel to frustums
     bool frustumsReused = false;

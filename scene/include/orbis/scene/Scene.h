@@ -35,6 +35,10 @@ struct SceneOptions {
     /// How depth is resolved (docs/precision.md compares them); Automatic picks per frame.
     DepthStrategy depthStrategy = DepthStrategy::Automatic;
     glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
+    /// Samples per pixel (MSAA): above 1 the frame is drawn into a multisampled target of the
+    /// scene's own (at most the device's maximum) and resolved into the target's colour attachment
+    /// 0, whose depth attachment is then left as it was. A window's framebuffer is drawn as it is.
+    int samples = 1;
 };
 
 /// Primitives, a camera and a sun; render() runs one frame: cull primitives whole, update the
@@ -105,6 +109,10 @@ private:
     /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
     /// is already Depth32F.
     renderer::Framebuffer* floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target);
+    /// A multisampled framebuffer of the target's size and colour format, `samples` per pixel,
+    /// with a Depth32F (floatDepth) or Depth24Stencil8 depth texture; made again when any changes.
+    renderer::Framebuffer* multisampleTarget(renderer::Context& context, const renderer::Framebuffer& target,
+                                             int samples, bool floatDepth);
 
     // The steps of render(), in order (Scene.cpp).
     struct FrameView;
@@ -147,6 +155,8 @@ private:
     /// FrameState::sceneDepth: one object for the scene's life (commands point at it), its GL
     /// texture made again when the target's depth changes format or size.
     std::shared_ptr<renderer::Texture2D> _sceneDepth;
+    std::shared_ptr<renderer::Framebuffer> _multisampleTarget;
+    const renderer::Context* _multisampleContext = nullptr;
     std::shared_ptr<renderer::Framebuffer> _sceneDepthTarget;
     const renderer::Context* _sceneDepthContext = nullptr;
 };

@@ -280,6 +280,7 @@ struct SceneDescription {
     int version = 1;
     int width = 1280;   ///< pixels, 1..16384
     int height = 720;   ///< pixels, 1..16384
+    int samples = 1;    ///< per pixel, 1..16: above 1, the scene's target is multisampled (MSAA)
     glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};
     CameraDescription camera;
     SunDescription sun;
