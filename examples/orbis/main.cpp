@@ -405,15 +405,21 @@ orbis::scene::FrameStatistics renderConverged(orbis::scene::Scene& scene, orbis:
     ProgressLine progress;
     for (int rendered = 1;; ++rendered) {
         orbis::scene::FrameStatistics statistics = scene.render(context);
-        const bool converged = !statistics.tiles || statistics.tiles->converged;
+        const bool converged = (!statistics.tiles || statistics.tiles->converged) &&
+                               (!statistics.clipmap || statistics.clipmap->converged);
         if (converged) {
             statistics.framesToConverge = static_cast<std::uint64_t>(rendered);
         }
         if (converged || rendered >= limit) {
             return statistics;
         }
-        progress.show(false, format("waiting for tiles: %d frames, %zu drawn, %zu pending", rendered,
-                                    statistics.tiles->drawn, statistics.tiles->pending));
+        if (statistics.tiles) {
+            progress.show(false, format("waiting for tiles: %d frames, %zu drawn, %zu pending", rendered,
+                                        statistics.tiles->drawn, statistics.tiles->pending));
+        } else {
+            progress.show(false, format("waiting for the clipmap: %d frames, %zu posts and %zu tiles pending", rendered,
+                                        statistics.clipmap->postsPending, statistics.clipmap->tilesPending));
+        }
     }
 }
 
@@ -490,7 +496,7 @@ int runRender(Arguments arguments)
                 std::printf("%s: %dx%d, %s\n%s", path.c_str(), framebuffer.width(), framebuffer.height(),
                             device.info().renderer.c_str(), statistics.toText().c_str());
             }
-            if (!flight && statistics.tiles) {
+            if (!flight && (statistics.tiles || statistics.clipmap)) {
                 if (statistics.framesToConverge) {
                     std::printf("converged after %llu frames\n",
                                 static_cast<unsigned long long>(*statistics.framesToConverge));

@@ -153,6 +153,17 @@ std::string FrameStatistics::toText() const
             << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
             << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << (v.converged ? "converged" : "not converged") << "\n";
     }
+    if (clipmap) {
+        const ClipmapStatistics& c = *clipmap;
+        out << "clipmap: " << c.levels << " levels, finest drawn " << c.finestLevelDrawn << ", grid "
+            << c.parameterization << "; " << c.drawCalls << " draws, " << c.trianglesSubmitted << " triangles, "
+            << c.piecesCulled << " pieces culled\n"
+            << "  update: " << c.postsUpdated << " posts in " << number(c.updateMilliseconds) << " ms, "
+            << c.postsPending << " pending over " << c.levelsPending << " levels; uploaded "
+            << number(static_cast<double>(c.bytesUploaded) / 1048576.0) << " MiB; loads: " << c.tilesRequested
+            << " started, " << c.tilesLoaded << " arrived, " << c.tilesPending << " pending; GPU "
+            << number(static_cast<double>(c.gpuBytes) / 1048576.0) << " MiB; " << (c.converged ? "converged" : "not converged") << "\n";
+    }
     return out.str();
 }
 
@@ -221,6 +232,18 @@ std::string FrameStatistics::toJson() const
             << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
             << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
             << ", \"gpuBytes\": " << v.gpuBytes << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
+    }
+    if (clipmap) {
+        const ClipmapStatistics& c = *clipmap;
+        out << ",\n  \"clipmap\": {\"levels\": " << c.levels << ", \"finestLevelDrawn\": " << c.finestLevelDrawn
+            << ", \"parameterization\": " << c.parameterization << ", \"postsUpdated\": " << c.postsUpdated
+            << ", \"postsPending\": " << c.postsPending << ", \"levelsPending\": " << c.levelsPending
+            << ", \"bytesUploaded\": " << c.bytesUploaded << ", \"drawCalls\": " << c.drawCalls
+            << ", \"piecesCulled\": " << c.piecesCulled << ", \"trianglesSubmitted\": " << c.trianglesSubmitted
+            << ", \"tilesRequested\": " << c.tilesRequested << ", \"tilesLoaded\": " << c.tilesLoaded
+            << ", \"tilesPending\": " << c.tilesPending << ", \"gpuBytes\": " << c.gpuBytes
+            << ", \"updateMilliseconds\": " << number(c.updateMilliseconds)
+            << ", \"converged\": " << (c.converged ? "true" : "false") << "}";
     }
     if (framesToConverge) {
         out << ",\n  \"framesToConverge\": " << *framesToConverge;

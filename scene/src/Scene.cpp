@@ -356,6 +356,9 @@ detail::DepthPlan Scene::prepareCommands(renderer::Context& context, const Frame
             }
             statistics.tiles->add(*tiles);
         }
+        if (const ClipmapStatistics* clipmap = primitive->clipmapStatistics()) {
+            statistics.clipmap = *clipmap; // one clipmap terrain per scene
+        }
         if (const VirtualTextureStatistics* pages = primitive->virtualTextureStatistics()) {
             if (!statistics.virtualTexture) {
                 statistics.virtualTexture = *pages;

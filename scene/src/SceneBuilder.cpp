@@ -1,6 +1,7 @@
 #include "orbis/scene/SceneBuilder.h"
 
 #include "orbis/scene/BillboardCollection.h"
+#include "orbis/scene/ClipmapTerrain.h"
 #include "orbis/scene/FeaturePrimitives.h"
 #include "orbis/scene/Globe.h"
 #include "orbis/scene/LabelCollection.h"
@@ -338,6 +339,20 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
         } catch (const Error& error) {
             throw Error("/globe/imagery/0/virtualTexture: " + std::string(error.what()));
         }
+    } else if (description.globe && description.globe->terrain &&
+               description.globe->terrain->method == world::TerrainMethod::Clipmap) {
+        // The same sources as the tiles would read, drawn as clipmaps.
+        TiledGlobeOptions tiles = tiledGlobeOptions(*description.globe, description.sun, build);
+        ClipmapTerrainOptions options;
+        options.terrain = std::move(tiles.terrain);
+        options.imagery = std::move(tiles.imagery);
+        options.posts = description.globe->terrain->posts;
+        options.exaggeration = description.globe->terrain->exaggeration;
+        options.loader = build.loader;
+        options.cacheBytes = tiles.cacheBytes;
+        options.lighting = tiles.lighting;
+        options.shading = tiles.shading;
+        scene.add(std::make_shared<ClipmapTerrain>(scene.ellipsoid(), std::move(options)));
     } else if (description.globe && (!description.globe->imagery.empty() || description.globe->terrain)) {
         TiledGlobeOptions options = tiledGlobeOptions(*description.globe, description.sun, build);
         ground = std::make_shared<Ground>(options.terrain, options.terrainExaggeration);

@@ -73,6 +73,12 @@ TEST_CASE("The chapter 11 example renders its golden image: an 80 m DEM lit, col
                          kTolerance);
 }
 
+TEST_CASE("The chapter 13 example renders its golden image: clipmap levels coloured, shaded, and from near the North Pole",
+          "[scene][golden][examples][terrain][clipmap]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch13_clipmap", "ch13_clipmap"), "scene/ch13_clipmap", kTolerance);
+}
+
 TEST_CASE("The chapter 14 example renders its golden image: tiles by level over ETOPO5, then imagery at two errors",
           "[scene][golden][examples][terrain]")
 {

@@ -105,7 +105,7 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
         parsed.insert(entry.path().stem().string());
     }
     // The examples docs and tests name, every one of them (a new one is added here).
-    REQUIRE(parsed == std::set<std::string>{"capitals", "countries", "default", "model", "routes", "virtual-texture"});
+    REQUIRE(parsed == std::set<std::string>{"capitals", "clipmap", "countries", "default", "model", "routes", "virtual-texture"});
 }
 
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
@@ -827,4 +827,22 @@ TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cac
               .find("a globe with terrain has no \"texture\"") != std::string::npos);
     CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "no-such-folder"}}})", true)
               .find("/globe/terrain/source") != std::string::npos);
+}
+
+TEST_CASE("Terrain drawn as clipmaps: the method and the posts, each checked; the quadtree stays the default",
+          "[world][scenefile][terrain][clipmap]")
+{
+    const SceneDescription quadtree = parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5"}}})");
+    CHECK(quadtree.globe->terrain->method == TerrainMethod::Quadtree);
+    CHECK(quadtree.globe->terrain->posts == 255);
+    const SceneDescription clipmap = parse(
+        R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5", "method": "clipmap", "posts": 127}}})");
+    CHECK(clipmap.globe->terrain->method == TerrainMethod::Clipmap);
+    CHECK(clipmap.globe->terrain->posts == 127);
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "method": "geoclipmap"}}})") ==
+          R"(test.json:1:63: /globe/terrain/method: unknown value "geoclipmap"; expected one of "quadtree", "clipmap")");
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "method": "clipmap", "posts": 256}}})") ==
+          "test.json:1:83: /globe/terrain/posts: 256 is not 2^k - 1 (15, 31, 63, 127, 255, 511, 1023)");
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "posts": 7}}})") ==
+          "test.json:1:62: /globe/terrain/posts: 7 is out of range [15, 1023]");
 }

@@ -95,7 +95,8 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "terrain",
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
-constexpr std::array<std::string_view, 5> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading"};
+constexpr std::array<std::string_view, 7> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading",
+                                                          "method", "posts"};
 constexpr std::array<std::string_view, 4> kShadingKeys = {"color", "heightRange", "contours", "hillshade"};
 constexpr std::array<std::string_view, 3> kContourKeys = {"interval", "color", "width"};
 constexpr std::array<std::string_view, 2> kHillshadeKeys = {"azimuth", "altitude"};
@@ -139,6 +140,10 @@ constexpr std::array<Named<DepthStrategy>, 5> kDepthStrategies = {{
 constexpr std::array<Named<GlobeMethod>, 2> kGlobeMethods = {{
     {"raycast", GlobeMethod::RayCast},
     {"tessellated", GlobeMethod::Tessellated},
+}};
+constexpr std::array<Named<TerrainMethod>, 2> kTerrainMethods = {{
+    {"quadtree", TerrainMethod::Quadtree},
+    {"clipmap", TerrainMethod::Clipmap},
 }};
 constexpr std::array<Named<TilingProjection>, 2> kTilingSchemes = {{
     {"geographic", TilingProjection::Geographic},
@@ -803,6 +808,15 @@ private:
         }
         if (const Json* shading = member(value, "shading")) {
             terrain.shading = readShading(*shading, pointer + "/shading");
+        }
+        if (const Json* method = member(value, "method")) {
+            terrain.method = readEnum(*method, pointer + "/method", kTerrainMethods);
+        }
+        if (const Json* posts = member(value, "posts")) {
+            terrain.posts = readInteger(*posts, pointer + "/posts", 15, 1023, "an integer 2^k - 1 from 15 to 1023");
+            if (((terrain.posts + 1) & terrain.posts) != 0) {
+                fail(pointer + "/posts", std::to_string(terrain.posts) + " is not 2^k - 1 (15, 31, 63, 127, 255, 511, 1023)");
+            }
         }
         return terrain;
     }

@@ -24,6 +24,7 @@ enum class Effect : std::uint32_t {
     Terrain = 1u << 11,      ///< heights on the streamed tiles
     VirtualTexture = 1u << 12, ///< the globe's surface reading one virtual texture (and its feedback pass)
     TerrainShading = 1u << 13, ///< colour by height or slope, contours or hillshade (TerrainShading)
+    ClipmapTerrain = 1u << 14, ///< terrain drawn as geometry clipmaps (with Terrain)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

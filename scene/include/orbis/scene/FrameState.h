@@ -24,6 +24,7 @@ namespace orbis::scene {
 
 struct TileStatistics;
 struct VirtualTextureStatistics;
+struct ClipmapStatistics;
 
 /// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {
@@ -79,6 +80,10 @@ public:
     /// VirtualTextureGlobe); null for the others. Scene::render reports them in
     /// FrameStatistics::virtualTexture.
     virtual const VirtualTextureStatistics* virtualTextureStatistics() const { return nullptr; }
+
+    /// The clipmap's figures of the last update, for clipmap terrain; null for the others.
+    /// Scene::render reports them in FrameStatistics::clipmap.
+    virtual const ClipmapStatistics* clipmapStatistics() const { return nullptr; }
 
     /// For a primitive that is the ground (a TiledGlobe): the distance along the ray (unit
     /// direction) to the surface it drew in the last frame, where the ray first meets it; empty

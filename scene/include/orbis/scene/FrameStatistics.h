@@ -1,5 +1,6 @@
 #pragma once
 
+#include "orbis/scene/ClipmapStatistics.h"
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/MultiFrustum.h"
 #include "orbis/scene/TileStatistics.h"
@@ -46,6 +47,9 @@ struct FrameStatistics {
     /// The virtual texture's figures; empty in a scene without one, which compiles no virtual
     /// texture program and runs no feedback pass.
     std::optional<VirtualTextureStatistics> virtualTexture;
+    /// Clipmap terrain's figures (its update's posts, budget and draws); empty in a scene without
+    /// one, which compiles none of its programs.
+    std::optional<ClipmapStatistics> clipmap;
     /// Set by a caller that renders a still picture until its tiles converge (`orbis render`): how
     /// many frames that took; empty when it did not.
     std::optional<std::uint64_t> framesToConverge;

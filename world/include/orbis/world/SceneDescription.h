@@ -107,6 +107,10 @@ struct ImageryLayerDescription {
     friend bool operator==(const ImageryLayerDescription&, const ImageryLayerDescription&) = default;
 };
 
+/// How terrain is drawn: the streamed tiles' quadtree (chunked LOD, book chapter 12) or geometry
+/// clipmaps around the viewer (book chapter 13).
+enum class TerrainMethod { Quadtree, Clipmap };
+
 /// The heights under a tiled globe.
 /// How the terrain is coloured and shaded beside the Sun's light (docs/scene-format.md, "shading").
 struct TerrainShadingDescription {
@@ -132,6 +136,8 @@ struct TerrainDescription {
     TerrainShadingDescription shading;
     /// Where tiles fetched over HTTP are kept on disk between runs; empty: nowhere.
     std::optional<std::filesystem::path> cacheFolder;
+    TerrainMethod method = TerrainMethod::Quadtree;
+    int posts = 255; ///< Clipmap: posts a side of each level, 2^k - 1 from 15 to 1023
 
     friend bool operator==(const TerrainDescription&, const TerrainDescription&) = default;
 };

@@ -1,0 +1,1190 @@
+#include "orbis/scene/ClipmapTerrain.h"
+
+#include "orbis/scene/Effect.h"
+#include "orbis/scene/TerrainSampler.h"
+
+#include <orbis/core/ClipmapLayout.h>
+#include <orbis/core/ClipmapUpsampling.h>
+#include <orbis/core/Error.h>
+#include <orbis/core/Intersect.h>
+#include <orbis/core/Math.h>
+#include <orbis/core/TilingScheme.h>
+#include <orbis/core/ToroidalGrid.h>
+#include <orbis/renderer/Context.h>
+#include <orbis/renderer/Device.h>
+#include <orbis/renderer/IndexBuffer.h>
+#include <orbis/renderer/Sampler.h>
+#include <orbis/renderer/ShaderCache.h>
+#include <orbis/renderer/ShaderProgram.h>
+#include <orbis/renderer/Texture2D.h>
+#include <orbis/renderer/VertexArray.h>
+#include <orbis/renderer/VertexBuffer.h>
+#include <orbis/world/ImageCodec.h>
+#include <orbis/world/TerrainSource.h>
+#include <orbis/world/TileSource.h>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <ctime>
+#include <cmath>
+#include <iostream>
+#include <list>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace orbis::scene {
+
+namespace {
+
+/// How far the viewer may stray from the grid's equator before the grid changes.
+const double kSwitchSine = std::sin(toRadians(40.0));
+const double kReturnSine = std::sin(toRadians(30.0));
+/// The coarsest level's half-width at most: 40 + 48 keeps every post 2 degrees off the grid's pole.
+constexpr double kMaximumHalfWidthRadians = 48.0 * kPi / 180.0;
+
+/// Earth-fixed direction of a direction in the coordinates of parameterisation `frame`: 0 the
+/// geodetic one, 1 with its pole on +x, 2 with its pole on +y (cyclic permutations: rotations).
+glm::dvec3 toEarth(int frame, const glm::dvec3& u) noexcept
+{
+    switch (frame) {
+    case 1: return {u.z, u.x, u.y};
+    case 2: return {u.y, u.z, u.x};
+    default: return u;
+    }
+}
+glm::dvec3 toFrame(int frame, const glm::dvec3& e) noexcept
+{
+    switch (frame) {
+    case 1: return {e.y, e.z, e.x};
+    case 2: return {e.z, e.x, e.y};
+    default: return e;
+    }
+}
+glm::mat3 frameMatrix(int frame) noexcept
+{
+    const glm::dvec3 x = toEarth(frame, {1, 0, 0}), y = toEarth(frame, {0, 1, 0}), z = toEarth(frame, {0, 0, 1});
+    return glm::mat3(glm::vec3(x), glm::vec3(y), glm::vec3(z));
+}
+
+constexpr std::uint32_t kLevelPalette[8] = {0xff3030e0u, 0xff30c030u, 0xffe07020u, 0xff20c0e0u,
+                                            0xffc030c0u, 0xff20e0e0u, 0xff808080u, 0xffe0e0e0u}; // ABGR
+
+glm::vec4 unpack(std::uint32_t abgr) noexcept
+{
+    return {static_cast<float>(abgr & 0xffu) / 255.0f, static_cast<float>((abgr >> 8) & 0xffu) / 255.0f,
+            static_cast<float>((abgr >> 16) & 0xffu) / 255.0f, 1.0f};
+}
+std::uint32_t pack(const glm::vec4& color) noexcept
+{
+    auto byte = [](float v) { return static_cast<std::uint32_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+    return byte(color.r) | (byte(color.g) << 8) | (byte(color.b) << 16) | (byte(color.a) << 24);
+}
+
+/// A decoded imagery tile, RGBA.
+class ImageryContent final : public world::TileContent {
+public:
+    explicit ImageryContent(Image image_)
+        : image(std::move(image_))
+    {
+    }
+    std::size_t byteSize() const noexcept override { return image.pixels.size(); }
+    Image image;
+};
+
+/// A terrain tile as a 129 x 129 lattice of its surface (TerrainSampler: on a mesh's triangles),
+/// made on the worker that loaded it, so that a post's height is a bilinear lookup rather than a
+/// search for its triangle (a level's write is twice as fast). Twice as fine as the 65 x 65
+/// samples quantized-mesh tiles (ETOPO5's among them) are usually made from.
+struct TerrainGrid {
+    static constexpr int kSamplesLog2 = 7;
+    static constexpr int kSize = (1 << kSamplesLog2) + 1;
+    std::vector<float> heights; ///< kSize^2, row by row from the north
+
+    /// u 0 west .. 1 east, v 0 south .. 1 north, clamped.
+    double height(double u, double v) const noexcept
+    {
+        const double last = kSize - 1;
+        const double column = std::clamp(u, 0.0, 1.0) * last, row = (1.0 - std::clamp(v, 0.0, 1.0)) * last;
+        const int c = std::min(static_cast<int>(column), kSize - 2), r = std::min(static_cast<int>(row), kSize - 2);
+        const double fc = column - c, fr = row - r;
+        const float* top = &heights[static_cast<std::size_t>(r) * kSize + static_cast<std::size_t>(c)];
+        const float* bottom = top + kSize;
+        return (1.0 - fr) * ((1.0 - fc) * static_cast<double>(top[0]) + fc * static_cast<double>(top[1])) +
+               fr * ((1.0 - fc) * static_cast<double>(bottom[0]) + fc * static_cast<double>(bottom[1]));
+    }
+};
+
+class TerrainContent final : public world::TileContent {
+public:
+    explicit TerrainContent(std::shared_ptr<const TerrainGrid> grid_)
+        : grid(std::move(grid_))
+    {
+    }
+    std::size_t byteSize() const noexcept override { return grid->heights.size() * sizeof(float); }
+    std::shared_ptr<const TerrainGrid> grid;
+};
+
+/// This thread's CPU time: the writes' cost whoever else runs on the machine.
+double threadCpuMilliseconds() noexcept
+{
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
+}
+
+std::uint64_t ticketFor(int kind, const TileKey& key) noexcept
+{
+    return (static_cast<std::uint64_t>(kind) << 62) | (static_cast<std::uint64_t>(key.level) << 56) |
+           (static_cast<std::uint64_t>(key.x) << 28) | static_cast<std::uint64_t>(key.y);
+}
+
+struct KeyHash {
+    std::size_t operator()(const TileKey& key) const noexcept { return static_cast<std::size_t>(ticketFor(0, key)); }
+};
+
+/// Loaded tiles of one kind, least recently used last, capped in bytes.
+template <typename Value>
+class TileCache {
+public:
+    const Value* find(const TileKey& key)
+    {
+        const auto found = _entries.find(key);
+        if (found == _entries.end()) {
+            return nullptr;
+        }
+        _order.splice(_order.begin(), _order, found->second.position);
+        return &found->second.value;
+    }
+    bool contains(const TileKey& key) const { return _entries.contains(key); }
+    void insert(const TileKey& key, Value value, std::size_t bytes, std::size_t capBytes)
+    {
+        if (_entries.contains(key)) {
+            return;
+        }
+        _order.push_front(key);
+        _entries.emplace(key, Entry{std::move(value), bytes, _order.begin()});
+        _bytes += bytes;
+        while (_bytes > capBytes && _order.size() > 1) {
+            const auto last = _entries.find(_order.back());
+            _bytes -= last->second.bytes;
+            _entries.erase(last);
+            _order.pop_back();
+        }
+    }
+
+private:
+    struct Entry {
+        Value value;
+        std::size_t bytes;
+        std::list<TileKey>::iterator position;
+    };
+    std::unordered_map<TileKey, Entry, KeyHash> _entries;
+    std::list<TileKey> _order;
+    std::size_t _bytes = 0;
+};
+
+/// The finest tile in a cache over a point, from `level` up, remembering the last one found so
+/// that a row of posts in one tile looks it up once.
+template <typename Value>
+struct TileFinder {
+    TileCache<Value>* cache = nullptr;
+    TilingScheme scheme = TilingScheme::geographic();
+    std::uint32_t minimumLevel = 0;
+    TileKey lastKey{};
+    GeodeticExtent lastExtent{};
+    const Value* last = nullptr;
+    std::uint32_t lastAsked = 0;
+
+    /// The finest tile over g from `level` up, and where g lies in it (0..1 west to east, south
+    /// to north); null where none is loaded.
+    const Value* find(const Geodetic2D& g, std::uint32_t level, glm::dvec2& uv)
+    {
+        if (!(last && lastAsked == level && g.longitude >= lastExtent.west && g.longitude <= lastExtent.east &&
+              g.latitude >= lastExtent.south && g.latitude <= lastExtent.north)) {
+            TileKey key;
+            if (!search(g, level, key)) {
+                return nullptr;
+            }
+        }
+        if (scheme.projection() == TilingProjection::Geographic) {
+            // From the extent found, without the scheme's general arithmetic: g is inside it.
+            uv = {(g.longitude - lastExtent.west) / (lastExtent.east - lastExtent.west),
+                  (g.latitude - lastExtent.south) / (lastExtent.north - lastExtent.south)};
+        } else {
+            uv = scheme.positionInTile(lastKey, g);
+        }
+        return last;
+    }
+
+private:
+    bool search(const Geodetic2D& g, std::uint32_t level, TileKey& key)
+    {
+        for (std::int64_t l = level; l >= static_cast<std::int64_t>(minimumLevel); --l) {
+            const std::optional<TileKey> at = scheme.tileAt(g, static_cast<std::uint32_t>(l));
+            if (!at) {
+                continue;
+            }
+            if (const Value* value = cache->find(*at)) {
+                last = value;
+                lastKey = *at;
+                lastAsked = level;
+                lastExtent = scheme.tileExtent(*at);
+                key = *at;
+                return true;
+            }
+        }
+        last = nullptr;
+        return false;
+    }
+};
+
+} // namespace
+
+struct ClipmapTerrain::Impl {
+    struct Level {
+        ToroidalGrid<float> heights;
+        ToroidalGrid<glm::vec2> gradients;
+        ToroidalGrid<std::uint32_t> colors;
+        std::vector<GridRegion> pending; ///< came into view, not written: the level is not drawn
+        std::vector<GridRegion> refresh; ///< written from coarser data than has arrived since: drawn as it is
+        double minimumHeight = 0.0, maximumHeight = 0.0;
+        std::uint32_t terrainLevel = 0; ///< the terrain tiles matching its spacing
+        std::uint32_t imageryLevel = 0;
+        bool needed = false;
+        GeodeticExtent bounds = GeodeticExtent::maximum(); ///< geodetic rectangle holding the level
+        renderer::Texture2D heightTexture, gradientTexture, colorTexture;
+
+        explicit Level(int size)
+            : heights(size)
+            , gradients(size)
+            , colors(size)
+        {
+        }
+    };
+
+    Ellipsoid ellipsoid;
+    const ClipmapTerrainOptions& options;
+    ClipmapBlockLayout layout;
+    int size;          ///< texels a side of each level's textures: n + 1
+    double spacing0;   ///< radians between level 0's posts
+    std::vector<Level> levels;
+    int frame = -1;    ///< the parameterisation in use
+    double viewerLongitude = 0.0; ///< in the grid's coordinates, followed continuously
+    double viewerLatitude = 0.0;
+
+    std::shared_ptr<world::TerrainSource> terrain;
+    std::shared_ptr<world::TileSource> imagery;
+    world::TileLoader loader;
+    TileCache<std::shared_ptr<const TerrainGrid>> terrainTiles;
+    TileCache<std::shared_ptr<const Image>> imageryTiles;
+    std::unordered_set<std::uint64_t> failedOrMissing;
+    std::set<std::string> warned;
+
+    // GPU resources, made at the first update.
+    bool created = false;
+    renderer::VertexBuffer postBuffer;
+    renderer::IndexBuffer indexBuffer;
+    std::optional<renderer::VertexArray> vertexArray;
+    std::optional<renderer::Sampler> nearest;
+    std::optional<renderer::Sampler> repeatLinear;
+    std::array<std::shared_ptr<renderer::ShaderProgram>, 6> programs;
+    std::vector<std::byte> scratch;
+
+    // For drawnTriangles: what the last frame drew.
+    struct Drawn {
+        int level;
+        std::size_t firstIndex, indexCount;
+    };
+    std::vector<Drawn> drawn;
+    int drawnFinest = 0;
+    int lastFinestDrawn = -1;
+
+    Impl(const Ellipsoid& e, const ClipmapTerrainOptions& o, double spacing, int levelCount)
+        : ellipsoid(e)
+        , options(o)
+        , layout(o.posts)
+        , size(o.posts + 1)
+        , spacing0(spacing)
+        , terrain(o.terrain)
+        , imagery(o.imagery.empty() ? nullptr : o.imagery.front().source)
+        , loader(o.loader)
+    {
+        for (int l = 0; l < levelCount; ++l) {
+            levels.emplace_back(size);
+            Level& level = levels.back();
+            const double s = spacing0 * std::ldexp(1.0, l);
+            if (terrain) {
+                const world::TerrainSourceInfo& info = terrain->info();
+                const int samples = info.gridSize > 0 ? info.gridSize - 1 : 64;
+                std::uint32_t z = info.minimumLevel;
+                while (z < info.maximumLevel && kPi / std::ldexp(1.0, static_cast<int>(z)) / samples > s) {
+                    ++z;
+                }
+                level.terrainLevel = z;
+            }
+            if (imagery) {
+                const world::TileSourceInfo& info = imagery->info();
+                std::uint32_t z = info.minimumLevel;
+                const double across = info.scheme.projection() == TilingProjection::WebMercator ? 2.0 * kPi : kPi;
+                while (z < info.maximumLevel && across / std::ldexp(1.0, static_cast<int>(z)) / info.tileWidth > s) {
+                    ++z;
+                }
+                level.imageryLevel = z;
+            }
+        }
+    }
+
+    double levelSpacing(int l) const noexcept { return spacing0 * std::ldexp(1.0, l); }
+    int centerPost() const noexcept { return (options.posts - 1) / 2; }
+
+    /// The Earth-fixed unit normal at a post of the grid (global post numbers of level l).
+    glm::dvec3 postNormal(int l, std::int64_t x, std::int64_t y) const noexcept
+    {
+        const double s = levelSpacing(l);
+        const double longitude = static_cast<double>(x) * s, latitude = static_cast<double>(y) * s;
+        return toEarth(frame, {std::cos(latitude) * std::cos(longitude), std::cos(latitude) * std::sin(longitude),
+                               std::sin(latitude)});
+    }
+
+    glm::dvec3 surfacePoint(const glm::dvec3& normal, double height) const noexcept
+    {
+        const glm::dvec3 r2 = ellipsoid.radii() * ellipsoid.radii();
+        const glm::dvec3 k = r2 * normal;
+        return k / std::sqrt(glm::dot(normal, k)) + height * normal;
+    }
+
+    static Geodetic2D geodetic(const glm::dvec3& normal) noexcept
+    {
+        return {std::atan2(normal.y, normal.x), std::asin(std::clamp(normal.z, -1.0, 1.0))};
+    }
+
+    /// What the vertex shader computes a level's posts from: its centre post's grid angles, normal,
+    /// surface point relative to the eye and radius of curvature, as floats.
+    struct Reference {
+        float spacing;
+        glm::vec4 trig;
+        glm::vec3 normal;
+        glm::vec3 relativeToEye;
+        float radius;
+    };
+    Reference reference(int l, const glm::dvec3& eye) const noexcept
+    {
+        const std::int64_t cx = originX(l) + centerPost(), cy = originY(l) + centerPost();
+        const double s = levelSpacing(l);
+        const double longitude = static_cast<double>(cx) * s, latitude = static_cast<double>(cy) * s;
+        const glm::dvec3 normal = postNormal(l, cx, cy);
+        const double a = ellipsoid.radii().x;
+        const double e2 = 1.0 - (ellipsoid.radii().z * ellipsoid.radii().z) / (a * a);
+        return {static_cast<float>(s),
+                glm::vec4(static_cast<float>(std::cos(latitude)), static_cast<float>(std::sin(latitude)),
+                          static_cast<float>(std::cos(longitude)), static_cast<float>(std::sin(longitude))),
+                glm::vec3(normal), glm::vec3(surfacePoint(normal, 0.0) - eye),
+                static_cast<float>(a / std::sqrt(1.0 - e2 * normal.z * normal.z))};
+    }
+
+    std::int64_t originX(int l) const noexcept { return levels[static_cast<std::size_t>(l)].heights.originX(); }
+    std::int64_t originY(int l) const noexcept { return levels[static_cast<std::size_t>(l)].heights.originY(); }
+
+    void warn(const std::string& message)
+    {
+        if (!warned.insert(message).second) {
+            return;
+        }
+        if (options.onWarning) {
+            options.onWarning(message);
+        } else {
+            std::cerr << "warning: " << message << "\n";
+        }
+    }
+
+    /// Chooses the parameterisation and follows the viewer in it; true when it changed.
+    bool followViewer(const glm::dvec3& eye)
+    {
+        const glm::dvec3 normal = ellipsoid.geodeticSurfaceNormal(eye);
+        // The geodetic grid while the viewer is within 40 degrees of the equator; past that, the
+        // rotated grid whose pole is farthest from the viewer (then within 32.8 degrees of its
+        // equator); back to the geodetic one under 30 degrees.
+        int wanted = frame;
+        if (frame < 0 || std::abs(toFrame(frame, normal).z) > kSwitchSine ||
+            (frame != 0 && std::abs(normal.z) < kReturnSine)) {
+            wanted = std::abs(normal.z) <= kSwitchSine ? 0 : (std::abs(normal.x) <= std::abs(normal.y) ? 1 : 2);
+        }
+        const bool switched = wanted != frame;
+        frame = wanted;
+        const glm::dvec3 u = toFrame(frame, normal);
+        const double longitude = std::atan2(u.y, u.x);
+        viewerLatitude = std::asin(std::clamp(u.z, -1.0, 1.0));
+        if (switched) {
+            viewerLongitude = longitude;
+        } else {
+            // The nearest turn to where it was: crossing the antimeridian moves nothing.
+            viewerLongitude = longitude + kTwoPi * std::round((viewerLongitude - longitude) / kTwoPi);
+        }
+        return switched;
+    }
+
+    /// The geodetic rectangle around a level's window, from posts every eighth of it.
+    GeodeticExtent levelBounds(int l) const noexcept
+    {
+        const int n = options.posts;
+        double west = kPi, east = -kPi, south = kHalfPi, north = -kHalfPi;
+        double minimumLongitude = 10.0, maximumLongitude = -10.0;
+        for (int j = 0; j <= 8; ++j) {
+            for (int i = 0; i <= 8; ++i) {
+                const Geodetic2D g = geodetic(postNormal(l, originX(l) + i * (n - 1) / 8, originY(l) + j * (n - 1) / 8));
+                south = std::min(south, g.latitude);
+                north = std::max(north, g.latitude);
+                minimumLongitude = std::min(minimumLongitude, g.longitude);
+                maximumLongitude = std::max(maximumLongitude, g.longitude);
+            }
+        }
+        // A pole inside the window, or a window across the antimeridian: all longitudes (the
+        // rectangle only decides which tiles to ask for and which arrivals concern the level).
+        const double margin = 2.0 * levelSpacing(l) * (n - 1) / 8;
+        west = minimumLongitude - margin;
+        east = maximumLongitude + margin;
+        south = std::max(-kHalfPi, south - margin);
+        north = std::min(kHalfPi, north + margin);
+        for (const double pole : {-1.0, 1.0}) {
+            const glm::dvec3 u = toFrame(frame, {0.0, 0.0, pole});
+            const double latitude = std::asin(std::clamp(u.z, -1.0, 1.0)) / levelSpacing(l);
+            double longitude = std::atan2(u.y, u.x) / levelSpacing(l);
+            const double turn = kTwoPi / levelSpacing(l);
+            longitude += turn * std::round((static_cast<double>(originX(l)) + 0.5 * (n - 1) - longitude) / turn);
+            if (longitude >= static_cast<double>(originX(l)) && longitude <= static_cast<double>(originX(l) + n) &&
+                latitude >= static_cast<double>(originY(l)) && latitude <= static_cast<double>(originY(l) + n)) {
+                (pole > 0 ? north : south) = pole * kHalfPi;
+                west = -kPi;
+                east = kPi;
+            }
+        }
+        if (east - west >= kTwoPi - 1e-9 || maximumLongitude - minimumLongitude > kPi) {
+            west = -kPi;
+            east = kPi;
+        }
+        return {west, south, east, north};
+    }
+
+    /// Offers the tiles a level wants that are not loaded.
+    std::size_t requestTiles(int l)
+    {
+        const int n = options.posts;
+        const Level& level = levels[static_cast<std::size_t>(l)];
+        std::set<std::uint64_t> offered;
+        std::size_t requests = 0;
+        auto offer = [&](int kind, const TileKey& key) {
+            const std::uint64_t ticket = ticketFor(kind, key);
+            if (!offered.insert(ticket).second || failedOrMissing.contains(ticket) || loader.isLoading(ticket)) {
+                return;
+            }
+            if (kind == 0) {
+                if (terrainTiles.contains(key) || !terrain->hasTile(key)) {
+                    return;
+                }
+                std::shared_ptr<world::TerrainSource> source = terrain;
+                loader.request(ticket, static_cast<double>(static_cast<int>(levels.size()) - l), [source, key]() -> std::unique_ptr<world::TileContent> {
+                    world::TerrainFetch fetched = source->load(key);
+                    if (fetched.status == world::TerrainFetch::Status::Failed) {
+                        throw Error(fetched.message);
+                    }
+                    if (fetched.status == world::TerrainFetch::Status::Missing) {
+                        return nullptr;
+                    }
+                    const TerrainSampler sampler(std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
+                    auto grid = std::make_shared<TerrainGrid>();
+                    grid->heights = sampler.latticeHeights(key, TerrainGrid::kSamplesLog2);
+                    return std::make_unique<TerrainContent>(std::move(grid));
+                });
+            } else {
+                if (imageryTiles.contains(key)) {
+                    return;
+                }
+                std::shared_ptr<world::TileSource> source = imagery;
+                loader.request(ticket, static_cast<double>(static_cast<int>(levels.size()) - l) + 0.5, [source, key]() -> std::unique_ptr<world::TileContent> {
+                    world::TileFetch fetched = source->fetch(key);
+                    if (fetched.status == world::TileFetch::Status::Failed) {
+                        throw Error(fetched.message);
+                    }
+                    if (fetched.status == world::TileFetch::Status::Missing) {
+                        return nullptr;
+                    }
+                    return std::make_unique<ImageryContent>(world::decodeImage(fetched.bytes, source->locate(key), 4));
+                });
+            }
+            ++requests;
+        };
+        for (int j = 0; j <= 16; ++j) {
+            for (int i = 0; i <= 16; ++i) {
+                const Geodetic2D g = geodetic(postNormal(l, originX(l) + i * (n - 1) / 16, originY(l) + j * (n - 1) / 16));
+                if (terrain) {
+                    if (const auto key = terrain->info().scheme.tileAt(g, level.terrainLevel)) {
+                        offer(0, *key);
+                    }
+                }
+                if (imagery) {
+                    if (const auto key = imagery->info().scheme.tileAt(g, level.imageryLevel)) {
+                        offer(1, *key);
+                    }
+                }
+            }
+        }
+        return requests;
+    }
+
+    /// A tile arrived: the levels that would read it are rewritten (drawn meanwhile as they are).
+    void arrived(int kind, const TileKey& key, const GeodeticExtent& extent)
+    {
+        for (std::size_t l = 0; l < levels.size(); ++l) {
+            Level& level = levels[l];
+            const std::uint32_t wants = kind == 0 ? level.terrainLevel : level.imageryLevel;
+            if (!level.heights.placed() || key.level > wants) {
+                continue;
+            }
+            const GeodeticExtent& b = level.bounds;
+            const bool overlaps = extent.south <= b.north && extent.north >= b.south &&
+                                  ((b.east - b.west >= kTwoPi - 1e-9) || (extent.west <= b.east && extent.east >= b.west) ||
+                                   (extent.west + kTwoPi <= b.east) || (extent.east - kTwoPi >= b.west));
+            if (overlaps) {
+                level.refresh = {{originX(static_cast<int>(l)), originY(static_cast<int>(l)), size, size}};
+            }
+        }
+    }
+
+    /// Heights, colours and then normals of a region's posts (inside the window), and their upload.
+    std::size_t write(int l, GridRegion region, TileFinder<std::shared_ptr<const TerrainGrid>>& terrainFinder,
+                      TileFinder<std::shared_ptr<const Image>>& imageryFinder)
+    {
+        Level& level = levels[static_cast<std::size_t>(l)];
+        // Clip to the window (a region pending from an earlier move may have left it in part).
+        const std::int64_t x0 = std::max(region.x, originX(l)), y0 = std::max(region.y, originY(l));
+        const std::int64_t x1 = std::min(region.x + region.width, originX(l) + size);
+        const std::int64_t y1 = std::min(region.y + region.height, originY(l) + size);
+        if (x0 >= x1 || y0 >= y1) {
+            return 0;
+        }
+        const double s = levelSpacing(l);
+        const bool hasCoarser = l + 1 < static_cast<int>(levels.size());
+        const std::uint32_t coarserTerrainLevel = hasCoarser ? levels[static_cast<std::size_t>(l) + 1].terrainLevel : 0;
+        const Level* coarser = hasCoarser ? &levels[static_cast<std::size_t>(l) + 1] : nullptr;
+        auto coarse = [&](std::int64_t X, std::int64_t Y) { return static_cast<double>(coarser->heights.at(X, Y)); };
+        const glm::vec4 base = options.baseColor;
+        // Per column and per row once: the grid's longitude (wrapped, for the geodetic grid) and
+        // its sine and cosine.
+        std::vector<double> cosLongitude(static_cast<std::size_t>(x1 - x0)), sinLongitude(cosLongitude.size()),
+            wrappedLongitude(cosLongitude.size());
+        for (std::int64_t x = x0; x < x1; ++x) {
+            cosLongitude[static_cast<std::size_t>(x - x0)] = std::cos(static_cast<double>(x) * s);
+            sinLongitude[static_cast<std::size_t>(x - x0)] = std::sin(static_cast<double>(x) * s);
+            wrappedLongitude[static_cast<std::size_t>(x - x0)] = std::remainder(static_cast<double>(x) * s, kTwoPi);
+        }
+        for (std::int64_t y = y0; y < y1; ++y) {
+            const double latitude = static_cast<double>(y) * s;
+            const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
+            for (std::int64_t x = x0; x < x1; ++x) {
+                const std::size_t i = static_cast<std::size_t>(x - x0);
+                const glm::dvec3 normal =
+                    toEarth(frame, {cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude});
+                const Geodetic2D g = frame == 0 ? Geodetic2D{wrappedLongitude[i], latitude} : geodetic(normal);
+                double height = 0.0;
+                bool fromTile = false;
+                if (terrain) {
+                    glm::dvec2 uv;
+                    if (const auto* grid = terrainFinder.find(g, level.terrainLevel, uv)) {
+                        // A tile no finer than the coarser level's data gives nothing the coarser
+                        // level has not: the four-point filter of it is smoother.
+                        if (!hasCoarser || terrainFinder.lastKey.level > coarserTerrainLevel) {
+                            height = (*grid)->height(uv.x, uv.y);
+                            fromTile = true;
+                        }
+                    }
+                }
+                if (!fromTile && hasCoarser) {
+                    height = fourPointUpsample(coarse, x, y);
+                }
+                level.heights.at(x, y) = static_cast<float>(height);
+                level.minimumHeight = std::min(level.minimumHeight, height);
+                level.maximumHeight = std::max(level.maximumHeight, height);
+
+                glm::vec4 color = base;
+                if (imagery) {
+                    glm::dvec2 uv;
+                    if (const auto* image = imageryFinder.find(g, level.imageryLevel, uv)) {
+                        color = sampleImage(**image, uv);
+                    } else if (hasCoarser) {
+                        color = unpack(coarser->colors.at(x >> 1, y >> 1));
+                    }
+                }
+                level.colors.at(x, y) = pack(color);
+            }
+        }
+        // Normals from central differences (one-sided at the window's edges, where the blend
+        // takes the coarser level's anyway), for the region and the posts next to it.
+        const std::int64_t gx0 = std::max(x0 - 1, originX(l)), gy0 = std::max(y0 - 1, originY(l));
+        const std::int64_t gx1 = std::min(x1 + 1, originX(l) + size), gy1 = std::min(y1 + 1, originY(l) + size);
+        const double radius = ellipsoid.maximumRadius();
+        for (std::int64_t y = gy0; y < gy1; ++y) {
+            const double north = radius * s;
+            const double east = std::max(north * std::cos(static_cast<double>(y) * s), 1e-3);
+            for (std::int64_t x = gx0; x < gx1; ++x) {
+                const std::int64_t xw = std::max(x - 1, originX(l)), xe = std::min(x + 1, originX(l) + size - 1);
+                const std::int64_t ys = std::max(y - 1, originY(l)), yn = std::min(y + 1, originY(l) + size - 1);
+                const double dx = (static_cast<double>(level.heights.at(xe, y)) - static_cast<double>(level.heights.at(xw, y))) / (static_cast<double>(xe - xw) * east);
+                const double dy = (static_cast<double>(level.heights.at(x, yn)) - static_cast<double>(level.heights.at(x, ys))) / (static_cast<double>(yn - ys) * north);
+                level.gradients.at(x, y) = glm::vec2(static_cast<float>(dx), static_cast<float>(dy));
+            }
+        }
+        const GridRegion written{gx0, gy0, static_cast<int>(gx1 - gx0), static_cast<int>(gy1 - gy0)};
+        return upload(level.heightTexture, level.heights, written) + upload(level.gradientTexture, level.gradients, written) +
+               upload(level.colorTexture, level.colors, written);
+    }
+
+    static glm::vec4 sampleImage(const Image& image, const glm::dvec2& uv) noexcept
+    {
+        const double px = std::clamp(uv.x, 0.0, 1.0) * image.width - 0.5;
+        const double py = (1.0 - std::clamp(uv.y, 0.0, 1.0)) * image.height - 0.5;
+        const int ix = static_cast<int>(std::floor(px)), iy = static_cast<int>(std::floor(py));
+        const double fx = px - ix, fy = py - iy;
+        glm::dvec4 sum(0.0);
+        for (int dy = 0; dy < 2; ++dy) {
+            for (int dx = 0; dx < 2; ++dx) {
+                const int cx = std::clamp(ix + dx, 0, image.width - 1), cy = std::clamp(iy + dy, 0, image.height - 1);
+                const std::uint8_t* p = &image.pixels[(static_cast<std::size_t>(cy) * static_cast<std::size_t>(image.width) +
+                                                       static_cast<std::size_t>(cx)) * 4];
+                const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
+                sum += w * glm::dvec4(p[0], p[1], p[2], p[3]);
+            }
+        }
+        return glm::vec4(sum / 255.0);
+    }
+
+    template <typename T>
+    std::size_t upload(renderer::Texture2D& texture, const ToroidalGrid<T>& grid, const GridRegion& region)
+    {
+        std::size_t bytes = 0;
+        for (const TexelRectangle& r : grid.texelRectangles(region)) {
+            scratch.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * sizeof(T));
+            T* out = reinterpret_cast<T*>(scratch.data());
+            for (int y = 0; y < r.height; ++y) {
+                const T* row = &grid.texels()[static_cast<std::size_t>(r.y + y) * static_cast<std::size_t>(size) + static_cast<std::size_t>(r.x)];
+                std::copy(row, row + r.width, out + static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width));
+            }
+            texture.copyFromSystemMemory(scratch, {r.x, r.y, r.width, r.height});
+            bytes += scratch.size();
+        }
+        return bytes;
+    }
+
+    void createResources(FrameState& frameState)
+    {
+        const int n = options.posts;
+        std::vector<float> posts;
+        posts.reserve(static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 2);
+        for (int y = 0; y < n; ++y) {
+            for (int x = 0; x < n; ++x) {
+                posts.push_back(static_cast<float>(x));
+                posts.push_back(static_cast<float>(y));
+            }
+        }
+        postBuffer = frameState.device.createVertexBuffer(std::as_bytes(std::span(posts)));
+        indexBuffer = frameState.device.createIndexBuffer(std::span(layout.indices()));
+        vertexArray = frameState.context.createVertexArray();
+        vertexArray->setAttribute("position", postBuffer, {renderer::ComponentType::Float, 2});
+        vertexArray->setIndexBuffer(&indexBuffer);
+        SamplerDescription point;
+        point.minificationFilter = TextureMinificationFilter::Nearest;
+        point.magnificationFilter = TextureMagnificationFilter::Nearest;
+        nearest = frameState.device.createSampler(point);
+        SamplerDescription repeat;
+        repeat.wrapS = TextureWrap::Repeat;
+        repeat.wrapT = TextureWrap::Repeat;
+        repeatLinear = frameState.device.createSampler(repeat);
+        for (Level& level : levels) {
+            level.heightTexture = frameState.device.createTexture2D({size, size, renderer::TextureFormat::R32F});
+            level.gradientTexture = frameState.device.createTexture2D({size, size, renderer::TextureFormat::RG32F});
+            level.colorTexture = frameState.device.createTexture2D({size, size, renderer::TextureFormat::RGBA8});
+        }
+        created = true;
+    }
+
+    renderer::ShaderProgram& program(FrameState& frameState)
+    {
+        std::shared_ptr<renderer::ShaderProgram>& program = programs[static_cast<std::size_t>(frameState.depthStrategy)];
+        if (!program) {
+            renderer::ShaderProgramDescription description;
+            description.name = "clipmap terrain";
+            description.vertex = renderer::ShaderSource::embedded("scene/clipmap/clipmap.vert.glsl");
+            description.fragment = renderer::ShaderSource::embedded("scene/clipmap/clipmap.frag.glsl");
+            if (options.shading.any()) {
+                description.fragment.text.insert(0, terrainShadingSource());
+                addTerrainShadingDefines(options.shading, description.defines);
+            }
+            if (imagery) {
+                description.defines.push_back({"IMAGERY"});
+            }
+            if (options.lighting) {
+                description.defines.push_back({"LIGHTING"});
+            }
+            if (options.colorByLevel) {
+                description.defines.push_back({"COLOR_BY_LEVEL"});
+            }
+            for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
+                description.defines.push_back(std::move(define));
+            }
+            program = frameState.device.shaderCache().get(description);
+        }
+        return *program;
+    }
+
+    /// A bounding sphere of a piece of level l, from 3 x 3 of its posts at the level's lowest and
+    /// highest heights, grown by the bulge of the ellipsoid between them.
+    BoundingSphere pieceSphere(int l, const ClipmapPiece& piece, double exaggeration) const
+    {
+        std::array<glm::dvec3, 18> points;
+        std::size_t count = 0;
+        const Level& level = levels[static_cast<std::size_t>(l)];
+        for (int j = 0; j < 3; ++j) {
+            for (int i = 0; i < 3; ++i) {
+                const std::int64_t x = originX(l) + piece.minimumX + (piece.maximumX - piece.minimumX) * i / 2;
+                const std::int64_t y = originY(l) + piece.minimumY + (piece.maximumY - piece.minimumY) * j / 2;
+                const glm::dvec3 normal = postNormal(l, x, y);
+                points[count++] = surfacePoint(normal, exaggeration * level.minimumHeight);
+                points[count++] = surfacePoint(normal, exaggeration * level.maximumHeight);
+            }
+        }
+        BoundingSphere sphere = BoundingSphere::fromPoints(points);
+        const double halfAngle = 0.25 * levelSpacing(l) * std::max(piece.maximumX - piece.minimumX, piece.maximumY - piece.minimumY);
+        sphere.radius += ellipsoid.maximumRadius() * (1.0 - std::cos(halfAngle)) + 1.0;
+        return sphere;
+    }
+};
+
+ClipmapTerrain::ClipmapTerrain(const Ellipsoid& ellipsoid, ClipmapTerrainOptions options)
+    : _options(std::move(options))
+{
+    const int n = _options.posts;
+    if (n < 15 || n > 1023 || ((n + 1) & n) != 0) {
+        throw Error("ClipmapTerrain: posts must be 2^k - 1 from 15 to 1023, not " + std::to_string(n));
+    }
+    if (_options.levels < 0 || _options.levels > 24) {
+        throw Error("ClipmapTerrain: levels must be 0 (automatic) to 24, not " + std::to_string(_options.levels));
+    }
+    if (!std::isfinite(_options.finestSpacingDegrees) || _options.finestSpacingDegrees < 0.0) {
+        throw Error("ClipmapTerrain: the finest spacing must be a finite number of degrees >= 0");
+    }
+    if (!std::isfinite(_options.exaggeration) || _options.exaggeration < 0.0) {
+        throw Error("ClipmapTerrain: the exaggeration must be finite and >= 0");
+    }
+    if (ellipsoid.radii().x != ellipsoid.radii().y) {
+        throw Error("ClipmapTerrain: the ellipsoid must be one of revolution (equal x and y radii)");
+    }
+    for (const ImageryLayer& layer : _options.imagery) {
+        if (!layer.source) {
+            throw Error("ClipmapTerrain: an imagery layer has no source");
+        }
+    }
+    validateTerrainShading(_options.shading, "ClipmapTerrain");
+    // The coarsest spacing that keeps the grid clear of its pole.
+    const double coarsest = kMaximumHalfWidthRadians / (0.5 * (n - 1));
+    double finest = toRadians(_options.finestSpacingDegrees);
+    if (finest == 0.0) {
+        if (_options.terrain) {
+            const world::TerrainSourceInfo& info = _options.terrain->info();
+            const int samples = info.gridSize > 0 ? info.gridSize - 1 : 64;
+            finest = kPi / std::ldexp(1.0, static_cast<int>(info.maximumLevel)) / samples / 8.0;
+        } else {
+            finest = toRadians(1.0 / 64.0);
+        }
+    }
+    int levels = _options.levels;
+    if (levels == 0) {
+        levels = 1;
+        while (levels < 24 && finest * std::ldexp(1.0, levels) <= coarsest) {
+            ++levels;
+        }
+    } else if (finest * std::ldexp(1.0, levels - 1) > coarsest) {
+        // As many levels as asked, the finest made finer so that the coarsest still fits.
+        finest = coarsest / std::ldexp(1.0, levels - 1);
+    }
+    finest = std::min(finest, coarsest);
+    _impl = std::make_unique<Impl>(ellipsoid, _options, finest, levels);
+    _statistics.levels = levels;
+}
+
+ClipmapTerrain::~ClipmapTerrain() = default;
+
+int ClipmapTerrain::levels() const noexcept
+{
+    return static_cast<int>(_impl->levels.size());
+}
+
+double ClipmapTerrain::finestSpacing() const noexcept
+{
+    return _impl->spacing0;
+}
+
+std::optional<BoundingSphere> ClipmapTerrain::boundingSphere() const
+{
+    return BoundingSphere{glm::dvec3(0.0), _impl->ellipsoid.maximumRadius() + 10000.0 * std::max(1.0, _options.exaggeration)};
+}
+
+void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
+{
+    Impl& impl = *_impl;
+    ClipmapStatistics statistics;
+    statistics.levels = static_cast<int>(impl.levels.size());
+    const int n = _options.posts;
+    const int L = static_cast<int>(impl.levels.size());
+
+    if (!impl.created) {
+        impl.createResources(frameState);
+    }
+    // Arrivals first: they enter at the frame boundary.
+    for (world::TileLoadResult& result : impl.loader.beginFrame(frameState.frameNumber)) {
+        const int kind = static_cast<int>(result.ticket >> 62);
+        const TileKey key{static_cast<std::uint32_t>((result.ticket >> 56) & 0x3f),
+                          static_cast<std::uint32_t>((result.ticket >> 28) & 0xfffffff),
+                          static_cast<std::uint32_t>(result.ticket & 0xfffffff)};
+        if (result.status == world::TileLoadResult::Status::Failed) {
+            impl.warn(result.message);
+        }
+        if (result.status != world::TileLoadResult::Status::Loaded) {
+            impl.failedOrMissing.insert(result.ticket);
+            continue;
+        }
+        ++statistics.tilesLoaded;
+        if (kind == 0) {
+            auto* content = static_cast<TerrainContent*>(result.content.get());
+            impl.terrainTiles.insert(key, content->grid, content->byteSize(), _options.cacheBytes / 2);
+            impl.arrived(0, key, impl.terrain->info().scheme.tileExtent(key));
+        } else {
+            auto* content = static_cast<ImageryContent*>(result.content.get());
+            const std::size_t bytes = content->byteSize();
+            impl.imageryTiles.insert(key, std::make_shared<const Image>(std::move(content->image)), bytes, _options.cacheBytes / 2);
+            impl.arrived(1, key, impl.imagery->info().scheme.tileExtent(key));
+        }
+    }
+
+    // Place the levels around the viewer.
+    if (impl.followViewer(frameState.camera.eye())) {
+        for (Impl::Level& level : impl.levels) {
+            level.heights.invalidate();
+            level.gradients.invalidate();
+            level.colors.invalidate();
+            level.pending.clear();
+            level.refresh.clear();
+        }
+    }
+    statistics.parameterization = impl.frame;
+    const std::vector<std::int64_t> origins =
+        clipmapOrigins(impl.viewerLongitude / impl.spacing0, impl.viewerLatitude / impl.spacing0, L, n);
+    // Levels finer than the eye's height needs are neither updated nor drawn (Losasso and Hoppe:
+    // a level is useful while the eye is lower than 0.4 of its width).
+    auto finestLevelNeeded = [&] {
+        const double eyeHeight = std::max(1.0, impl.ellipsoid.toGeodetic3D(frameState.camera.eye()).height -
+                                                   _options.exaggeration * impl.levels.back().maximumHeight);
+        int finest = 0;
+        while (finest < L - 1 && eyeHeight > 0.4 * (n - 1) * impl.levelSpacing(finest) * impl.ellipsoid.maximumRadius()) {
+            ++finest;
+        }
+        return finest;
+    };
+    const int finestNeeded = finestLevelNeeded();
+    for (int l = 0; l < L; ++l) {
+        Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        level.needed = l >= finestNeeded;
+        if (!level.needed) {
+            // Rewritten whole when it is needed again.
+            level.heights.invalidate();
+            level.gradients.invalidate();
+            level.colors.invalidate();
+            level.pending.clear();
+            level.refresh.clear();
+            continue;
+        }
+        const std::int64_t x = origins[2 * static_cast<std::size_t>(l)], y = origins[2 * static_cast<std::size_t>(l) + 1];
+        const bool wasPlaced = level.heights.placed();
+        std::vector<GridRegion> regions = level.heights.moveTo(x, y);
+        level.gradients.moveTo(x, y);
+        level.colors.moveTo(x, y);
+        if (!wasPlaced) {
+            level.minimumHeight = 0.0;
+            level.maximumHeight = 0.0;
+            level.pending.clear();
+            level.refresh.clear();
+        }
+        if (!regions.empty()) {
+            level.pending.insert(level.pending.end(), regions.begin(), regions.end());
+            level.bounds = impl.levelBounds(l);
+            // A refresh under way starts again over the window as it is now.
+            if (!level.refresh.empty()) {
+                level.refresh = {{x, y, impl.size, impl.size}};
+            }
+        }
+    }
+    for (int l = L - 1; l >= finestNeeded; --l) {
+        statistics.tilesRequested += (impl.terrain || impl.imagery) ? impl.requestTiles(l) : 0;
+    }
+    impl.loader.endFrame();
+
+    // Writes, coarse levels first, within the budget; pending moves before refreshes.
+    TileFinder<std::shared_ptr<const TerrainGrid>> terrainFinder{&impl.terrainTiles,
+                                                                    impl.terrain ? impl.terrain->info().scheme : TilingScheme::geographic(),
+                                                                    impl.terrain ? impl.terrain->info().minimumLevel : 0};
+    TileFinder<std::shared_ptr<const Image>> imageryFinder{&impl.imageryTiles,
+                                                          impl.imagery ? impl.imagery->info().scheme : TilingScheme::geographic(),
+                                                          impl.imagery ? impl.imagery->info().minimumLevel : 0};
+    const double writesStarted = threadCpuMilliseconds();
+    std::size_t budget = std::max<std::size_t>(_options.postsPerFrame, static_cast<std::size_t>(impl.size));
+    for (const bool refreshing : {false, true}) {
+        for (int l = L - 1; l >= finestNeeded; --l) {
+            Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+            std::vector<GridRegion>& queue = refreshing ? level.refresh : level.pending;
+            // A refresh waits for the coarser level's moves (it may upsample from them).
+            if (refreshing && l + 1 < L && !impl.levels[static_cast<std::size_t>(l) + 1].pending.empty()) {
+                continue;
+            }
+            while (!queue.empty() && budget > 0) {
+                GridRegion& region = queue.front();
+                const std::size_t rowPosts = static_cast<std::size_t>(std::max(region.width, 1));
+                const int rows = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(region.height),
+                                                                        std::max<std::size_t>(1, budget / rowPosts)));
+                const GridRegion part{region.x, region.y, region.width, rows};
+                statistics.bytesUploaded += impl.write(l, part, terrainFinder, imageryFinder);
+                const std::size_t posts = rowPosts * static_cast<std::size_t>(rows);
+                statistics.postsUpdated += posts;
+                budget -= std::min(budget, posts);
+                region.y += rows;
+                region.height -= rows;
+                if (region.height <= 0) {
+                    queue.erase(queue.begin());
+                }
+            }
+            if (!refreshing && !queue.empty()) {
+                // Finer levels upsample from this one: they wait.
+                break;
+            }
+        }
+    }
+    statistics.updateMilliseconds = threadCpuMilliseconds() - writesStarted;
+    // The finest level drawn: the finest one with every coarser level complete; none (L) while
+    // the coarsest has strips left to write.
+    int finestDrawn = L;
+    for (int l = L - 1; l >= finestNeeded; --l) {
+        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        if (!level.pending.empty() || !level.heights.placed()) {
+            break;
+        }
+        finestDrawn = l;
+    }
+    for (int l = finestNeeded; l < L; ++l) {
+        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        for (const GridRegion& region : level.pending) {
+            statistics.postsPending += static_cast<std::size_t>(region.width) * static_cast<std::size_t>(region.height);
+        }
+        for (const GridRegion& region : level.refresh) {
+            statistics.postsPending += static_cast<std::size_t>(region.width) * static_cast<std::size_t>(region.height);
+        }
+        statistics.levelsPending += (!level.pending.empty() || !level.refresh.empty()) ? 1 : 0;
+    }
+    statistics.tilesPending = impl.loader.inFlight();
+    statistics.finestLevelDrawn = finestDrawn;
+    // Heights written this frame may move the level the eye needs (it is measured from the terrain).
+    statistics.converged = statistics.postsPending == 0 && statistics.tilesPending == 0 &&
+                           statistics.tilesRequested == 0 && finestLevelNeeded() == finestNeeded;
+
+    renderer::ShaderProgram& program = impl.program(frameState);
+    statistics.gpuBytes = static_cast<std::size_t>(L) * static_cast<std::size_t>(impl.size) * static_cast<std::size_t>(impl.size) * (4 + 8 + 4) +
+                          impl.layout.indices().size() * 4 + static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 8;
+
+    // The commands: per level one arc of its pieces (two ranges where the arc wraps), the finest
+    // drawn level's interior besides.
+    impl.drawn.clear();
+    impl.drawnFinest = finestDrawn;
+    const glm::dvec3 eye = frameState.camera.eye();
+    const glm::mat3 frameRotation = frameMatrix(impl.frame);
+    const double a = impl.ellipsoid.radii().x;
+    const double e2 = 1.0 - (impl.ellipsoid.radii().z * impl.ellipsoid.radii().z) / (a * a);
+    const int c = impl.centerPost();
+    const float blendWidth = static_cast<float>(std::max(2, n / 10));
+    for (int l = finestDrawn; l < L; ++l) {
+        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        const bool finest = l == finestDrawn;
+        const bool hasCoarser = l + 1 < L;
+        ClipmapTrim trim = ClipmapTrim::SouthWest;
+        if (!finest) {
+            trim = ClipmapBlockLayout::trimFor(static_cast<int>(impl.originX(l - 1) / 2 - impl.originX(l)),
+                                               static_cast<int>(impl.originY(l - 1) / 2 - impl.originY(l)),
+                                               impl.layout.blockPosts());
+        }
+        const std::vector<ClipmapPiece>& ring = impl.layout.ring(trim);
+        std::vector<char> visible(ring.size(), 0);
+        std::vector<BoundingSphere> spheres(ring.size());
+        for (std::size_t p = 0; p < ring.size(); ++p) {
+            spheres[p] = impl.pieceSphere(l, ring[p], _options.exaggeration);
+            visible[p] = frameState.cullingVolume.intersect(spheres[p]) != Intersect::Outside;
+            statistics.piecesCulled += visible[p] ? 0 : 1;
+        }
+        // The longest circular run of culled pieces is left out; the rest is drawn as one arc.
+        std::vector<std::pair<std::size_t, std::size_t>> ranges; // piece index ranges [first, last]
+        const std::size_t count = ring.size();
+        if (std::count(visible.begin(), visible.end(), 1) == static_cast<std::ptrdiff_t>(count)) {
+            ranges.push_back({0, count - 1});
+        } else if (std::count(visible.begin(), visible.end(), 1) > 0) {
+            std::size_t bestStart = 0, bestLength = 0;
+            for (std::size_t start = 0; start < count; ++start) {
+                if (visible[start] || !visible[(start + count - 1) % count]) {
+                    continue; // runs start after a visible piece
+                }
+                std::size_t length = 0;
+                while (length < count && !visible[(start + length) % count]) {
+                    ++length;
+                }
+                if (length > bestLength) {
+                    bestLength = length;
+                    bestStart = start;
+                }
+            }
+            const std::size_t first = (bestStart + bestLength) % count;
+            const std::size_t last = (bestStart + count - 1) % count;
+            if (first <= last) {
+                ranges.push_back({first, last});
+            } else {
+                ranges.push_back({first, count - 1});
+                ranges.push_back({0, last});
+            }
+        }
+        std::vector<std::tuple<std::size_t, std::size_t, BoundingSphere>> draws;
+        for (const auto& [first, last] : ranges) {
+            BoundingSphere sphere = spheres[first];
+            for (std::size_t p = first + 1; p <= last; ++p) {
+                sphere = BoundingSphere::merge(sphere, spheres[p]);
+            }
+            draws.emplace_back(ring[first].firstIndex, ring[last].firstIndex + ring[last].indexCount - ring[first].firstIndex, sphere);
+        }
+        if (finest) {
+            const ClipmapPiece& interior = impl.layout.interior();
+            const BoundingSphere sphere = impl.pieceSphere(l, interior, _options.exaggeration);
+            if (frameState.cullingVolume.intersect(sphere) != Intersect::Outside) {
+                draws.emplace_back(interior.firstIndex, interior.indexCount, sphere);
+            } else {
+                ++statistics.piecesCulled;
+            }
+        }
+        if (draws.empty()) {
+            continue;
+        }
+        const std::int64_t wrap = 2 * static_cast<std::int64_t>(impl.size) - 1;
+        const Impl::Level& coarserLevel = impl.levels[static_cast<std::size_t>(hasCoarser ? l + 1 : l)];
+        const Impl::Reference reference = impl.reference(l, eye);
+        const Impl::Reference coarserReference = impl.reference(hasCoarser ? l + 1 : l, eye);
+        for (const auto& [first, indexCount, sphere] : draws) {
+            SceneCommand command;
+            command.draw.debugName = "clipmap terrain level " + std::to_string(l);
+            // The globe's surface, as the tiles' is.
+            command.tags = Effect::Globe | Effect::Terrain | Effect::ClipmapTerrain;
+            if (_options.lighting) {
+                command.tags = command.tags | Effect::Lighting;
+            }
+            if (_options.shading.any()) {
+                command.tags = command.tags | Effect::TerrainShading;
+                setTerrainShadingUniforms(_options.shading, command.draw.uniforms);
+            }
+            command.draw.vertexArray = &*impl.vertexArray;
+            command.draw.shaderProgram = &program;
+            command.draw.first = first;
+            command.draw.count = indexCount;
+            command.boundingSphere = sphere;
+            const double distance = glm::length(sphere.centre - eye);
+            command.nearestDistance = std::max(0.0, distance - sphere.radius);
+            command.farthestDistance = distance + sphere.radius;
+            auto set = [&](std::string_view name, const renderer::UniformValue& value) {
+                if (program.hasUniform(name)) {
+                    command.draw.uniforms.set(name, value);
+                }
+            };
+            set("u_levelOrigin", glm::ivec2(static_cast<int>(impl.originX(l) & wrap), static_cast<int>(impl.originY(l) & wrap)));
+            set("u_textureSize", impl.size);
+            set("u_centerPost", static_cast<float>(c));
+            set("u_spacing", reference.spacing);
+            set("u_centerTrig", reference.trig);
+            set("u_centerNormal", reference.normal);
+            set("u_centerRelativeToEye", reference.relativeToEye);
+            set("u_centerRadius", reference.radius);
+            set("u_coarserSpacing", coarserReference.spacing);
+            set("u_coarserCenterTrig", coarserReference.trig);
+            set("u_coarserCenterNormal", coarserReference.normal);
+            set("u_coarserCenterRelativeToEye", coarserReference.relativeToEye);
+            set("u_coarserCenterRadius", coarserReference.radius);
+            set("u_hasCoarser", hasCoarser);
+            set("u_originOnCoarser", hasCoarser ? glm::ivec2(static_cast<int>(impl.originX(l) / 2 - impl.originX(l + 1)),
+                                                             static_cast<int>(impl.originY(l) / 2 - impl.originY(l + 1)))
+                                                : glm::ivec2(0));
+            set("u_eccentricitySquared", static_cast<float>(e2));
+            set("u_frame", frameRotation);
+            set("u_blend", glm::vec2(hasCoarser ? static_cast<float>(c) - blendWidth : 1e9f, blendWidth));
+            set("u_exaggeration", static_cast<float>(_options.exaggeration));
+            set("u_levelColor", unpack(kLevelPalette[l % 8]));
+            set("u_coarserLevelColor", unpack(kLevelPalette[(hasCoarser ? l + 1 : l) % 8]));
+            command.draw.textures.push_back({0, &level.heightTexture, &*impl.nearest});
+            command.draw.textures.push_back({1, &level.gradientTexture, &*impl.nearest});
+            command.draw.textures.push_back({2, &level.colorTexture, &*impl.repeatLinear});
+            command.draw.textures.push_back({3, &coarserLevel.heightTexture, &*impl.nearest});
+            command.draw.textures.push_back({4, &coarserLevel.gradientTexture, &*impl.nearest});
+            command.draw.textures.push_back({5, &coarserLevel.colorTexture, &*impl.repeatLinear});
+            commands.push_back(std::move(command));
+            impl.drawn.push_back({l, first, indexCount});
+            ++statistics.drawCalls;
+            statistics.trianglesSubmitted += indexCount / 3;
+        }
+    }
+    _statistics = statistics;
+}
+
+std::vector<glm::dvec3> ClipmapTerrain::drawnTriangles(bool withDegenerates) const
+{
+    const Impl& impl = *_impl;
+    const int n = _options.posts;
+    const int c = impl.centerPost();
+    const int L = static_cast<int>(impl.levels.size());
+    const double blendWidth = std::max(2, n / 10);
+    std::vector<glm::dvec3> triangles;
+    // The vertex shader's position of a post, in double.
+    auto position = [&](int l, int x, int y) {
+        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        const std::int64_t X = impl.originX(l) + x, Y = impl.originY(l) + y;
+        double height = static_cast<double>(level.heights.at(X, Y));
+        if (l + 1 < L) {
+            const double distance = std::max(std::abs(x - c), std::abs(y - c));
+            const double alpha = std::clamp((distance - (c - blendWidth)) / blendWidth, 0.0, 1.0);
+            const Impl::Level& coarser = impl.levels[static_cast<std::size_t>(l) + 1];
+            const std::int64_t cx = X >> 1, cy = Y >> 1;
+            const double coarse = 0.5 * (static_cast<double>(coarser.heights.at(cx, cy)) + static_cast<double>(coarser.heights.at(cx + (X & 1), cy + (Y & 1))));
+            height += alpha * (coarse - height);
+        }
+        return impl.surfacePoint(impl.postNormal(l, X, Y), _options.exaggeration * height);
+    };
+    for (const Impl::Drawn& d : impl.drawn) {
+        for (std::size_t i = d.firstIndex; i < d.firstIndex + d.indexCount; i += 3) {
+            std::array<glm::ivec2, 3> posts;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t index = impl.layout.indices()[i + static_cast<std::size_t>(k)];
+                posts[static_cast<std::size_t>(k)] = {static_cast<int>(index % static_cast<std::uint32_t>(n)),
+                                                      static_cast<int>(index / static_cast<std::uint32_t>(n))};
+            }
+            const glm::ivec2 e1 = posts[1] - posts[0], e2 = posts[2] - posts[0];
+            if (!withDegenerates && e1.x * e2.y - e1.y * e2.x == 0) {
+                continue;
+            }
+            for (const glm::ivec2& p : posts) {
+                triangles.push_back(position(d.level, p.x, p.y));
+            }
+        }
+    }
+    return triangles;
+}
+
+} // namespace orbis::scene
