@@ -5,13 +5,12 @@
 // Usage: ch11_terrain_shading [--out file.png] [--width W] [--height H]
 #include "../common/SceneExample.h"
 
+#include <orbis/core/HeadingPitchRoll.h>
+#include <orbis/core/Math.h>
 #include <orbis/core/SunPosition.h>
-#include <orbis/core/Transforms.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/scene/TiledGlobe.h>
 #include <orbis/world/TerrainSource.h>
-
-#include <glm/geometric.hpp>
 
 #include <cstdio>
 
@@ -57,15 +56,9 @@ int main(int argc, char** argv)
             scene.options().background = glm::vec4(0.53f, 0.66f, 0.82f, 1.0f);
             scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), options));
             scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-06-20T12:30:00Z")));
-            const glm::dvec3 eye = scene.ellipsoid().toCartesian(Geodetic3D::fromDegrees(-84.245, 36.44, 10000.0));
-            const ViewOrientation view = headingPitchRollToView(scene.ellipsoid(), eye, 0.0, toRadians(-45.0), 0.0);
-            scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
-            FrameStatistics statistics;
-            int frames = 0;
-            while (frames < 600 && !(statistics.tiles && statistics.tiles->converged)) {
-                statistics = scene.render(context);
-                ++frames;
-            }
+            scene.camera().setView(scene.ellipsoid(), Geodetic3D::fromDegrees(-84.245, 36.44, 10000.0),
+                                   HeadingPitchRoll{0.0, toRadians(-45.0), 0.0});
+            const FrameStatistics statistics = examples::renderUntilTilesConverge(scene, context).statistics;
             char caption[128];
             std::snprintf(caption, sizeof caption, "%s\n%zu tiles, levels to %u", panel.caption,
                           statistics.tiles->drawn, statistics.tiles->deepestLevelDrawn);

@@ -5,14 +5,13 @@
 // Usage: ch14_chunked_lod [--out file.png] [--width W] [--height H]
 #include "../common/SceneExample.h"
 
+#include <orbis/core/HeadingPitchRoll.h>
+#include <orbis/core/Math.h>
 #include <orbis/core/SunPosition.h>
-#include <orbis/core/Transforms.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/scene/TiledGlobe.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
-
-#include <glm/geometric.hpp>
 
 #include <cstdio>
 
@@ -46,15 +45,9 @@ int main(int argc, char** argv)
             Scene scene;
             scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), options));
             scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-03-20T09:00:00Z")));
-            const glm::dvec3 eye = scene.ellipsoid().toCartesian(Geodetic3D::fromDegrees(10.0, 36.0, 800000.0));
-            const ViewOrientation view = headingPitchRollToView(scene.ellipsoid(), eye, 0.0, toRadians(-40.0), 0.0);
-            scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
-            FrameStatistics statistics;
-            int frames = 0;
-            while (frames < 600 && !(statistics.tiles && statistics.tiles->converged)) {
-                statistics = scene.render(context);
-                ++frames;
-            }
+            scene.camera().setView(scene.ellipsoid(), Geodetic3D::fromDegrees(10.0, 36.0, 800000.0),
+                                   HeadingPitchRoll{0.0, toRadians(-40.0), 0.0});
+            const auto [statistics, frames] = examples::renderUntilTilesConverge(scene, context);
             const TileStatistics& tiles = *statistics.tiles;
             char caption[256];
             std::snprintf(caption, sizeof caption, "%s, SSE %.0f px\n%zu tiles, levels to %u, %d frames",

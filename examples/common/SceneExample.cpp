@@ -232,4 +232,14 @@ void lookAtEarthFrom(Scene& scene, const Geodetic3D& eye)
     scene.camera().lookAt(scene.ellipsoid().toCartesian(eye), glm::dvec3(0.0), glm::dvec3(0.0, 0.0, 1.0));
 }
 
+ConvergedFrame renderUntilTilesConverge(Scene& scene, renderer::Context& context, int maxFrames)
+{
+    ConvergedFrame frame;
+    while (frame.frames < maxFrames && !(frame.statistics.tiles && frame.statistics.tiles->converged)) {
+        frame.statistics = scene.render(context);
+        ++frame.frames;
+    }
+    return frame;
+}
+
 } // namespace orbis::examples

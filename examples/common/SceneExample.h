@@ -75,4 +75,12 @@ std::shared_ptr<scene::BillboardCollection> cityBillboards(const Ellipsoid& elli
 /// A camera looking at the Earth's centre from a geodetic position.
 void lookAtEarthFrom(scene::Scene& scene, const Geodetic3D& eye);
 
+/// A streamed scene drawn until its tiles converge, at most maxFrames: the last frame's statistics
+/// and how many frames it took.
+struct ConvergedFrame {
+    scene::FrameStatistics statistics;
+    int frames = 0;
+};
+ConvergedFrame renderUntilTilesConverge(scene::Scene& scene, renderer::Context& context, int maxFrames = 600);
+
 } // namespace orbis::examples

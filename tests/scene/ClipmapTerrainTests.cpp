@@ -30,13 +30,6 @@ std::string dataPath(const std::string& relative)
     return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
 }
 
-void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
-{
-    const glm::dvec3 eye = kEarth.toCartesian(position);
-    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
-    scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
-}
-
 ClipmapTerrainOptions etopo5Options()
 {
     ClipmapTerrainOptions options;
@@ -145,7 +138,7 @@ TEST_CASE("Clipmap terrain over ETOPO5 converges, draws at most 2L + 1 commands 
     Scene scene(kEarth);
     auto terrain = std::make_shared<ClipmapTerrain>(kEarth, etopo5Options());
     scene.add(terrain);
-    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 150000.0), 0.0, -30.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 150000.0), 0.0, -30.0);
     const RenderedFrame frame = renderConverged(scene, *terrain, 160, 90);
     REQUIRE(frame.statistics.clipmap);
     INFO(frame.statistics.toText());
@@ -174,12 +167,12 @@ TEST_CASE("A moving viewer's clipmap updates stay within the budget, coarse leve
     Scene moving(kEarth);
     auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
     moving.add(terrain);
-    place(moving, Geodetic3D::fromDegrees(5.0, 45.0, 60000.0), 90.0, -40.0);
+    placeCamera(moving, Geodetic3D::fromDegrees(5.0, 45.0, 60000.0), 90.0, -40.0);
     renderConverged(moving, *terrain, 128, 72, 400);
     REQUIRE(terrain->converged());
     bool waited = false;
     for (int step = 1; step <= 24; ++step) {
-        place(moving, Geodetic3D::fromDegrees(5.0 + 0.3 * step, 45.0 + 0.1 * step, 60000.0), 90.0, -40.0);
+        placeCamera(moving, Geodetic3D::fromDegrees(5.0 + 0.3 * step, 45.0 + 0.1 * step, 60000.0), 90.0, -40.0);
         const RenderedFrame frame = renderFrame(moving, 128, 72);
         const ClipmapStatistics& clipmap = *frame.statistics.clipmap;
         // At most the budget, rounded up to whole rows of one region.
@@ -194,7 +187,7 @@ TEST_CASE("A moving viewer's clipmap updates stay within the budget, coarse leve
     Scene fresh(kEarth);
     auto freshTerrain = std::make_shared<ClipmapTerrain>(kEarth, options);
     fresh.add(freshTerrain);
-    place(fresh, Geodetic3D::fromDegrees(5.0 + 0.3 * 24, 45.0 + 0.1 * 24, 60000.0), 90.0, -40.0);
+    placeCamera(fresh, Geodetic3D::fromDegrees(5.0 + 0.3 * 24, 45.0 + 0.1 * 24, 60000.0), 90.0, -40.0);
     const RenderedFrame freshFrame = renderConverged(fresh, *freshTerrain, 128, 72, 400);
     REQUIRE(freshTerrain->converged());
     CHECK(movedFrame.image.pixels == freshFrame.image.pixels);
@@ -222,7 +215,7 @@ TEST_CASE("Clipmap terrain at the poles and across the antimeridian draws no col
         Scene scene(kEarth);
         auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
         scene.add(terrain);
-        place(scene, view.position, view.heading, view.pitch);
+        placeCamera(scene, view.position, view.heading, view.pitch);
         const RenderedFrame frame = renderConverged(scene, *terrain, 128, 96);
         REQUIRE(terrain->converged());
         CHECK((frame.statistics.clipmap->parameterization == 0) == view.geodetic);
@@ -236,7 +229,7 @@ TEST_CASE("A scene without clipmap terrain compiles none of its programs", "[sce
     renderer::Device& device = sharedDevice();
     Scene plain(kEarth);
     plain.add(std::make_shared<Globe>(kEarth));
-    place(plain, Geodetic3D::fromDegrees(8.0, 44.0, 3000000.0), 0.0, -90.0);
+    placeCamera(plain, Geodetic3D::fromDegrees(8.0, 44.0, 3000000.0), 0.0, -90.0);
     const RenderedFrame first = renderFrame(plain, 64, 64);
     CHECK_FALSE(first.statistics.clipmap);
     renderFrame(plain, 64, 64);
@@ -249,7 +242,7 @@ TEST_CASE("A scene without clipmap terrain compiles none of its programs", "[sce
     options.baseColor = {0.5f, 0.25f, 0.125f, 1.0f};
     Scene clipmapScene(kEarth);
     clipmapScene.add(std::make_shared<ClipmapTerrain>(kEarth, options));
-    place(clipmapScene, Geodetic3D::fromDegrees(8.0, 44.0, 3000.0), 0.0, -90.0);
+    placeCamera(clipmapScene, Geodetic3D::fromDegrees(8.0, 44.0, 3000.0), 0.0, -90.0);
     const RenderedFrame frame = renderFrame(clipmapScene, 64, 64);
     REQUIRE(frame.statistics.clipmap);
     // Its program was compiled now, not found in the cache: the plain scene had not made it.
@@ -280,7 +273,7 @@ TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole and th
         Scene scene(kEarth);
         auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
         scene.add(terrain);
-        place(scene, view.position, view.heading, view.pitch);
+        placeCamera(scene, view.position, view.heading, view.pitch);
         // The Sun 50 degrees up behind the viewer's left shoulder: slopes facing it light up.
         const glm::dvec3 up = kEarth.geodeticSurfaceNormal(scene.camera().eye());
         const glm::dvec3 back = glm::normalize(glm::cross(scene.camera().right(), up));
@@ -306,7 +299,7 @@ TEST_CASE("Clipmap terrain takes the terrain shading: the height ramp blue over 
     auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
     scene.add(terrain);
     // The Ligurian Sea in front, the Alps behind.
-    place(scene, Geodetic3D::fromDegrees(8.5, 42.5, 150000.0), 0.0, -40.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(8.5, 42.5, 150000.0), 0.0, -40.0);
     const RenderedFrame frame = renderConverged(scene, *terrain, 160, 90);
     REQUIRE(terrain->converged());
     const std::vector<std::string> effects = frame.statistics.effectsRun();

@@ -35,6 +35,24 @@ RenderedFrame renderFrame(Scene& scene, int width, int height)
     return frame;
 }
 
+void placeCamera(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
+{
+    scene.camera().setView(scene.ellipsoid(), position,
+                           HeadingPitchRoll{toRadians(headingDegrees), toRadians(pitchDegrees), 0.0});
+}
+
+RenderedFrame renderUntilTilesConverge(Scene& scene, int width, int height, int maxFrames)
+{
+    RenderedFrame frame;
+    for (int i = 0; i < maxFrames; ++i) {
+        frame = renderFrame(scene, width, height);
+        if (frame.statistics.tiles && frame.statistics.tiles->converged) {
+            break;
+        }
+    }
+    return frame;
+}
+
 glm::ivec2 projectToPixel(const Scene& scene, const glm::dvec3& position, int width, int height)
 {
     const Camera& camera = scene.camera();

@@ -25,6 +25,12 @@ RenderedFrame renderFrame(scene::Scene& scene, int width, int height);
 /// Where a world position lands in an image rendered with renderFrame (x from the left, y from the top).
 glm::ivec2 projectToPixel(const scene::Scene& scene, const glm::dvec3& position, int width, int height);
 
+/// Puts the camera at a geodetic position looking along a heading and pitch (degrees), without roll.
+void placeCamera(scene::Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees);
+
+/// Renders until the frame statistics say the tiles converged, at most maxFrames; the last frame.
+RenderedFrame renderUntilTilesConverge(scene::Scene& scene, int width, int height, int maxFrames);
+
 /// A path in the project's data/ folder.
 inline std::string dataPath(const std::string& relative)
 {

@@ -78,23 +78,10 @@ struct TerrainScene {
 
     void look(const Geodetic3D& position, double headingDegrees, double pitchDegrees)
     {
-        const glm::dvec3 eye = kEarth.toCartesian(position);
-        const ViewOrientation view =
-            headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
-        scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
+        placeCamera(scene, position, headingDegrees, pitchDegrees);
     }
 
-    RenderedFrame converge(int width, int height)
-    {
-        RenderedFrame frame;
-        for (int i = 0; i < 300; ++i) {
-            frame = renderFrame(scene, width, height);
-            if (frame.statistics.tiles->converged) {
-                break;
-            }
-        }
-        return frame;
-    }
+    RenderedFrame converge(int width, int height) { return renderUntilTilesConverge(scene, width, height, 300); }
 };
 
 /// Pixels of the background below the horizon's row band: the sky is at the top of these views.

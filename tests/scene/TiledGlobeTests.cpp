@@ -28,27 +28,6 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-/// A camera at a geodetic position looking along a heading and pitch (degrees).
-void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
-{
-    const glm::dvec3 eye = kEarth.toCartesian(position);
-    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
-    scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
-}
-
-/// Renders until the tiles converge (at most maxFrames); returns the last frame.
-RenderedFrame renderConverged(Scene& scene, int width, int height, int maxFrames = 200)
-{
-    RenderedFrame frame;
-    for (int i = 0; i < maxFrames; ++i) {
-        frame = renderFrame(scene, width, height);
-        if (frame.statistics.tiles && frame.statistics.tiles->converged) {
-            break;
-        }
-    }
-    return frame;
-}
-
 } // namespace
 
 TEST_CASE("A tiled globe over the Alps converges to the Blue Marble's deepest level", "[scene][tiles][gl]")
@@ -58,8 +37,8 @@ TEST_CASE("A tiled globe over the Alps converges to the Blue Marble's deepest le
     options.lighting = false;
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
-    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
-    const RenderedFrame frame = renderConverged(scene, 640, 360);
+    placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, 640, 360, 200);
     REQUIRE(frame.statistics.tiles);
     INFO(frame.statistics.toText());
     world::writePng(frame.image, "/tmp/tiled-alps.png");
@@ -84,7 +63,7 @@ void descend(Scene& scene, int frame, int frames)
 {
     const double t = static_cast<double>(frame) / (frames - 1);
     const double height = std::exp(std::log(2.0e7) * (1.0 - t) + std::log(4.0e4) * t);
-    place(scene, Geodetic3D::fromDegrees(7.0 + 3.0 * t, 46.0, height), 360.0 * t, -90.0 + 50.0 * t);
+    placeCamera(scene, Geodetic3D::fromDegrees(7.0 + 3.0 * t, 46.0, height), 360.0 * t, -90.0 + 50.0 * t);
 }
 
 struct Flight {
@@ -153,7 +132,7 @@ TEST_CASE("Streaming never leaves a hole: a nadir flight across the antimeridian
         const double height = 6.0e5 * std::pow(0.1, std::min(1.0, 2.0 * t));
         const Geodetic3D position = t < 0.5 ? Geodetic3D::fromDegrees(170.0 + 40.0 * t, 60.0, height)
                                             : Geodetic3D::fromDegrees(-170.0, 60.0 + 60.0 * (t - 0.5), height);
-        place(scene, Geodetic3D(position.longitude, std::min(position.latitude, toRadians(89.999)), height), 0.0, -90.0);
+        placeCamera(scene, Geodetic3D(position.longitude, std::min(position.latitude, toRadians(89.999)), height), 0.0, -90.0);
         const RenderedFrame rendered = renderFrame(scene, 64, 64);
         standIns += rendered.statistics.tiles->standIns;
         int holes = 0;
@@ -173,7 +152,7 @@ TEST_CASE("A scene without tiled imagery does none of the tile work", "[scene][t
 {
     Scene plain(kEarth);
     plain.add(std::make_shared<Globe>(kEarth, GlobeOptions{}));
-    place(plain, Geodetic3D::fromDegrees(0.0, 0.0, 1.0e7), 0.0, -90.0);
+    placeCamera(plain, Geodetic3D::fromDegrees(0.0, 0.0, 1.0e7), 0.0, -90.0);
     const RenderedFrame frame = renderFrame(plain, 64, 64);
     CHECK_FALSE(frame.statistics.tiles);
     const std::vector<std::string> effects = frame.statistics.effectsRun();
@@ -182,7 +161,7 @@ TEST_CASE("A scene without tiled imagery does none of the tile work", "[scene][t
 
     Scene tiled(kEarth);
     tiled.add(std::make_shared<TiledGlobe>(kEarth, TiledGlobeOptions{}));
-    place(tiled, Geodetic3D::fromDegrees(0.0, 0.0, 1.0e7), 0.0, -90.0);
+    placeCamera(tiled, Geodetic3D::fromDegrees(0.0, 0.0, 1.0e7), 0.0, -90.0);
     const RenderedFrame tiledFrame = renderFrame(tiled, 64, 64);
     REQUIRE(tiledFrame.statistics.tiles);
     CHECK(tiledFrame.statistics.tiles->drawn == 2); // the roots: no imagery asks for more
@@ -206,7 +185,7 @@ TEST_CASE("The tile cache never holds more than its cap: the selection coarsens 
     std::size_t evicted = 0;
     for (int frame = 0; frame < 150; ++frame) {
         // Low and fast along the 45th parallel, looking down: always new tiles.
-        place(scene, Geodetic3D::fromDegrees(-20.0 + 0.8 * frame, 45.0, 150000.0), 90.0, -90.0);
+        placeCamera(scene, Geodetic3D::fromDegrees(-20.0 + 0.8 * frame, 45.0, 150000.0), 90.0, -90.0);
         const RenderedFrame rendered = renderFrame(scene, 128, 128);
         const TileStatistics& tiles = *rendered.statistics.tiles;
         INFO("frame " << frame << "\n" << rendered.statistics.toText());
@@ -300,7 +279,7 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
         return holes;
     };
     // Looking down on Europe from 1,500 km: level 2 and 3 tiles wanted.
-    place(scene, Geodetic3D::fromDegrees(10.0, 45.0, 1.5e6), 0.0, -90.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(10.0, 45.0, 1.5e6), 0.0, -90.0);
     RenderedFrame frame;
     for (int i = 0; i < 60 && !(frame.statistics.tiles && frame.statistics.tiles->converged); ++i) {
         frame = renderFrame(scene, 128, 128);
@@ -325,7 +304,7 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
 
     // The server goes away; a new view needs tiles it can no longer give: they fail, the parents stay.
     server.stop();
-    place(scene, Geodetic3D::fromDegrees(-100.0, 40.0, 1.5e6), 0.0, -90.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(-100.0, 40.0, 1.5e6), 0.0, -90.0);
     for (int i = 0; i < 60 && !(frame.statistics.tiles->converged && i > 0); ++i) {
         frame = renderFrame(scene, 128, 128);
         REQUIRE(countHoles(frame.image) == 0);
@@ -402,9 +381,9 @@ TEST_CASE("A Web Mercator layer over a geographic one: its parallels fall where 
     options.lighting = false;
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
-    place(scene, Geodetic3D::fromDegrees(15.0, 60.0, 2.5e6), 0.0, -90.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(15.0, 60.0, 2.5e6), 0.0, -90.0);
     constexpr int kSize = 256;
-    const RenderedFrame frame = renderConverged(scene, kSize, kSize);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, kSize, kSize, 200);
     INFO(frame.statistics.toText());
     REQUIRE(frame.statistics.tiles->converged);
     world::writePng(frame.image, "/tmp/tiled-mercator-over-geographic.png");
@@ -434,9 +413,9 @@ TEST_CASE("Beyond the Web Mercator limit the first layer's edge row reaches the 
     options.baseColor = glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
-    place(scene, Geodetic3D::fromDegrees(0.0, 89.9999, 1.5e6), 0.0, -90.0);
+    placeCamera(scene, Geodetic3D::fromDegrees(0.0, 89.9999, 1.5e6), 0.0, -90.0);
     constexpr int kSize = 128;
-    const RenderedFrame frame = renderConverged(scene, kSize, kSize);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, kSize, kSize, 200);
     REQUIRE(frame.statistics.tiles->converged);
     world::writePng(frame.image, "/tmp/tiled-mercator-pole.png");
     for (const double latitude : {90.0, 88.0, 86.0}) {
@@ -481,8 +460,8 @@ TEST_CASE("Tiled globe golden images: 10 km over Paris, the North Pole and the a
         options.lighting = false;
         Scene scene(kEarth);
         scene.add(std::make_shared<TiledGlobe>(kEarth, options));
-        place(scene, view.position, view.heading, view.pitch);
-        const RenderedFrame frame = renderConverged(scene, 256, 144);
+        placeCamera(scene, view.position, view.heading, view.pitch);
+        const RenderedFrame frame = renderUntilTilesConverge(scene, 256, 144, 200);
         INFO(view.name << "\n" << frame.statistics.toText());
         REQUIRE(frame.statistics.tiles->converged);
         // llvmpipe draws these exactly; the tolerance allows another rasteriser's edges, not a tile

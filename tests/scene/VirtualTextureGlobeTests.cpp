@@ -30,26 +30,6 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-void place(Scene& scene, const Geodetic3D& position, double headingDegrees, double pitchDegrees)
-{
-    const glm::dvec3 eye = kEarth.toCartesian(position);
-    const ViewOrientation view = headingPitchRollToView(kEarth, eye, toRadians(headingDegrees), toRadians(pitchDegrees), 0.0);
-    scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
-}
-
-/// Renders until the frame statistics say converged (at most maxFrames); the last frame.
-RenderedFrame renderConverged(Scene& scene, int width, int height, int maxFrames = 100)
-{
-    RenderedFrame frame;
-    for (int i = 0; i < maxFrames; ++i) {
-        frame = renderFrame(scene, width, height);
-        if (frame.statistics.tiles && frame.statistics.tiles->converged) {
-            break;
-        }
-    }
-    return frame;
-}
-
 VirtualTextureGlobeOptions blueMarble()
 {
     VirtualTextureGlobeOptions options;
@@ -68,8 +48,8 @@ TEST_CASE("A virtual texture over the Alps converges to the Blue Marble's deepes
     auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
     Scene scene(kEarth);
     scene.add(globe);
-    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
-    const RenderedFrame frame = renderConverged(scene, 640, 360);
+    placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, 640, 360, 100);
     INFO(frame.statistics.toText());
     REQUIRE(frame.statistics.virtualTexture);
     CHECK(frame.statistics.virtualTexture->converged);
@@ -98,8 +78,8 @@ TEST_CASE("A converged virtual texture draws the tiled globe's golden images", "
     for (const View& view : views) {
         Scene scene(kEarth);
         scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
-        place(scene, view.position, view.heading, view.pitch);
-        const RenderedFrame frame = renderConverged(scene, 256, 144);
+        placeCamera(scene, view.position, view.heading, view.pitch);
+        const RenderedFrame frame = renderUntilTilesConverge(scene, 256, 144, 100);
         INFO(view.name << "\n" << frame.statistics.toText());
         REQUIRE(frame.statistics.virtualTexture->converged);
         ORBIS_REQUIRE_GOLDEN(frame.image, view.name, view.tolerance);
@@ -334,8 +314,8 @@ TEST_CASE("A tiny physical texture shows coarser texels, never another page's", 
     const Geodetic3D position = Geodetic3D::fromDegrees(8.0, 44.0, 400000.0);
     Scene reference(kEarth);
     reference.add(std::make_shared<VirtualTextureGlobe>(kEarth, procedural(512, levelPattern)));
-    place(reference, position, 20.0, -60.0);
-    const RenderedFrame fine = renderConverged(reference, 256, 144);
+    placeCamera(reference, position, 20.0, -60.0);
+    const RenderedFrame fine = renderUntilTilesConverge(reference, 256, 144, 100);
     REQUIRE(fine.statistics.virtualTexture->converged);
     CHECK_FALSE(fine.statistics.virtualTexture->lodBiasRaised);
 
@@ -344,8 +324,8 @@ TEST_CASE("A tiny physical texture shows coarser texels, never another page's", 
     auto tinyGlobe = std::make_shared<VirtualTextureGlobe>(kEarth, procedural(4, levelPattern));
     Scene tiny(kEarth);
     tiny.add(tinyGlobe);
-    place(tiny, position, 20.0, -60.0);
-    const RenderedFrame coarse = renderConverged(tiny, 256, 144);
+    placeCamera(tiny, position, 20.0, -60.0);
+    const RenderedFrame coarse = renderUntilTilesConverge(tiny, 256, 144, 100);
     INFO(coarse.statistics.toText());
     const VirtualTextureStatistics& stats = *coarse.statistics.virtualTexture;
     REQUIRE(stats.converged);
@@ -386,7 +366,7 @@ TEST_CASE("Virtual texture frames are the same whatever the loader's thread coun
         scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
         std::vector<std::uint64_t> hashes;
         for (int frame = 0; frame < 24; ++frame) {
-            place(scene, Geodetic3D::fromDegrees(-5.0 + frame * 1.5, 40.0 + frame * 0.3, 350000.0), 60.0, -40.0);
+            placeCamera(scene, Geodetic3D::fromDegrees(-5.0 + frame * 1.5, 40.0 + frame * 0.3, 350000.0), 60.0, -40.0);
             const RenderedFrame rendered = renderFrame(scene, 160, 96);
             hashes.push_back(hashOf(rendered.image));
             hashes.push_back(rendered.statistics.virtualTexture->pagesLoaded * 1000 +
@@ -405,8 +385,8 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][vi
     tiledOptions.lighting = false;
     Scene tiled(kEarth);
     tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
-    place(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
-    const RenderedFrame without = renderConverged(tiled, 160, 90);
+    placeCamera(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame without = renderUntilTilesConverge(tiled, 160, 90, 100);
     const std::vector<std::string> effects = without.statistics.effectsRun();
     CHECK_FALSE(without.statistics.virtualTexture);
     CHECK(std::find(effects.begin(), effects.end(), "virtual texture") == effects.end());
@@ -416,8 +396,8 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][vi
 
     Scene virtualScene(kEarth);
     virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
-    place(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
-    const RenderedFrame with = renderConverged(virtualScene, 160, 90);
+    placeCamera(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame with = renderUntilTilesConverge(virtualScene, 160, 90, 100);
     const std::vector<std::string> withEffects = with.statistics.effectsRun();
     CHECK(std::find(withEffects.begin(), withEffects.end(), "virtual texture") != withEffects.end());
     CHECK(std::find(withEffects.begin(), withEffects.end(), "feedback pass") != withEffects.end());
@@ -446,7 +426,7 @@ TEST_CASE("A scene without a virtual texture compiles no virtual-texture program
     tiledOptions.lighting = false;
     Scene tiled(kEarth);
     tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
-    place(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    placeCamera(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
     REQUIRE(converge(tiled).tiles->converged);
     const std::uint64_t tiledCompiles = device.shaderCache().compiles();
     const std::uint64_t tiledHits = device.shaderCache().hits();
@@ -457,7 +437,7 @@ TEST_CASE("A scene without a virtual texture compiles no virtual-texture program
     // compiled none of them.
     Scene virtualScene(kEarth);
     virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
-    place(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+    placeCamera(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
     REQUIRE(converge(virtualScene).virtualTexture->converged);
     CHECK(device.shaderCache().compiles() >= tiledCompiles + 2);
     CHECK(device.shaderCache().hits() == tiledHits);
@@ -476,7 +456,7 @@ TEST_CASE("A flight with few slots evicts the least recently used pages and keep
     std::size_t loaded = 0;
     std::optional<std::size_t> gpuBytes;
     for (int frame = 0; frame < 60; ++frame) {
-        place(scene, Geodetic3D::fromDegrees(-10.0 + frame * 1.0, 45.0, 200000.0), 90.0, -50.0);
+        placeCamera(scene, Geodetic3D::fromDegrees(-10.0 + frame * 1.0, 45.0, 200000.0), 90.0, -50.0);
         const RenderedFrame rendered = renderFrame(scene, 128, 72);
         const VirtualTextureStatistics& stats = *rendered.statistics.virtualTexture;
         INFO("frame " << frame << "\n" << rendered.statistics.toText());
@@ -514,8 +494,8 @@ TEST_CASE("A failing page is named once, its ancestor stays, and the view conver
     options.onWarning = [&](const std::string& message) { warnings.push_back(message); };
     Scene scene(kEarth);
     scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
-    place(scene, Geodetic3D::fromDegrees(8.0, 44.0, 1500000.0), 0.0, -70.0);
-    const RenderedFrame frame = renderConverged(scene, 160, 90);
+    placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 1500000.0), 0.0, -70.0);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, 160, 90, 100);
     INFO(frame.statistics.toText());
     const VirtualTextureStatistics& stats = *frame.statistics.virtualTexture;
     CHECK(stats.converged);
@@ -536,8 +516,8 @@ TEST_CASE("With asynchronous timing the feedback and the pages arrive when ready
     options.virtualTexture.feedbackLatencyFrames = 2;
     Scene scene(kEarth);
     scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
-    place(scene, Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0);
-    const RenderedFrame frame = renderConverged(scene, 160, 90, 400);
+    placeCamera(scene, Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0);
+    const RenderedFrame frame = renderUntilTilesConverge(scene, 160, 90, 400);
     INFO(frame.statistics.toText());
     CHECK(frame.statistics.virtualTexture->converged);
     CHECK(frame.statistics.virtualTexture->feedbackLatencyFrames >= 2);
