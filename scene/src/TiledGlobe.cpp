@@ -74,6 +74,8 @@ class TerrainCache {
 public:
     explicit TerrainCache(std::shared_ptr<world::TerrainSource> source) : _source(std::move(source)) {}
 
+    const world::TerrainSource& source() const noexcept { return *_source; }
+
     /// The deepest tile at or above `key` that the source has; null where it has none (the
     /// ellipsoid then). Throws orbis::Error with the source's message for a tile that failed.
     std::shared_ptr<const TerrainSampler> samplerFor(TileKey key)
@@ -264,9 +266,13 @@ struct TiledGlobe::Impl {
     std::uint32_t terrainDeepestLevel() const noexcept
     {
         const world::TerrainSourceInfo& info = options->terrain->info();
-        // A grid of 2^k + 1 samples is as fine as 2^(k - samplesLog2) levels of meshes; a mesh
-        // tile (quantized-mesh) holds detail of about two levels more than its own.
-        int finer = 2;
+        // A grid of 2^k + 1 samples is as fine as 2^(k - samplesLog2) levels of meshes. A mesh
+        // tile's (quantized-mesh) triangles cross the lattice's cells, and a lattice follows their
+        // creases only as closely as its cells are small: six levels more (cells 64 times finer than
+        // the data's spacing) let the selection's error estimate decide, as it does on grids (with
+        // two, ETOPO5 drawn 8 km over the Alps was 2.4 pixels off its own tiles at any setting:
+        // docs/accuracy-cost.md, "terrain pixel error").
+        int finer = 6;
         if (info.gridSize > 1) {
             finer = static_cast<int>(std::lround(std::log2(info.gridSize - 1))) - options->samplesLog2;
         }
@@ -370,10 +376,7 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
     tile.refinable = tile.key.level < kMaximumTileLevel - static_cast<std::uint32_t>(options->samplesLog2);
 }
 
-namespace {
-
-/// Eight colours, told apart at a glance, for tiles shown by their level.
-glm::vec4 levelColor(std::uint32_t level)
+glm::vec4 tileLevelColor(std::uint32_t level) noexcept
 {
     static constexpr std::array<glm::vec4, 8> kPalette{{{0.90f, 0.30f, 0.25f, 1.0f}, {0.95f, 0.65f, 0.20f, 1.0f},
                                                          {0.90f, 0.90f, 0.30f, 1.0f}, {0.40f, 0.80f, 0.35f, 1.0f},
@@ -381,6 +384,8 @@ glm::vec4 levelColor(std::uint32_t level)
                                                          {0.65f, 0.40f, 0.85f, 1.0f}, {0.90f, 0.45f, 0.70f, 1.0f}}};
     return kPalette[level % kPalette.size()];
 }
+
+namespace {
 
 enum EdgeSide { NorthEdge, EastEdge, SouthEdge, WestEdge };
 
@@ -547,8 +552,14 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
     }
     tile.renderable = surface.mesh == LoadState::Ready && imageryReady;
     tile.wantsLoad = wants;
-    if (terrain && !surface.heightsKnown) {
-        boundFromAncestor(tile);
+    if (terrain) {
+        // The level's estimate (which also keeps the imagery's texels within the limit), or the
+        // error the data states where that is larger: a tile is refined for either.
+        const double stated = terrain->source().geometricError(tile.key).value_or(0.0);
+        tile.geometricError = std::max(quadtree.geometricErrorOf(tile.key.level), stated * options->terrainExaggeration);
+        if (!surface.heightsKnown) {
+            boundFromAncestor(tile);
+        }
     }
 }
 
@@ -1238,6 +1249,13 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         statistics.missing = impl.missingCount;
         statistics.residentBytesCpu = impl.cpuBytes;
         statistics.residentBytesGpu = impl.gpuBytes;
+        statistics.residentTiles = impl.residentTiles.size();
+        statistics.residentImageryTiles = 0;
+        for (const auto& layer : impl.layers) {
+            for (const auto& [key, imagery] : layer.tiles) {
+                statistics.residentImageryTiles += imagery.state == LoadState::Ready;
+            }
+        }
         statistics.maximumScreenSpaceError = impl.effectiveScreenSpaceError;
         const bool refusedForRoom = statistics.memoryLimited; // set by an upload the cap refused
         statistics.memoryLimited = refusedForRoom || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
@@ -1299,7 +1317,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
         if (program.hasUniform("u_baseColor")) { // not with a colour ramp in its place
-            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
+            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? tileLevelColor(tile.key.level) : _options.baseColor);
         }
         if (program.hasUniform("u_oneOverRadiiSquared")) { // for the ellipsoid's normals
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
@@ -1549,6 +1567,15 @@ std::optional<double> TiledGlobe::groundHeight(const Geodetic2D& position) const
         }
     }
     return impl.meshHeightAt(*tile, position);
+}
+
+std::vector<TiledGlobe::DrawnTile> TiledGlobe::drawnTiles() const
+{
+    std::vector<DrawnTile> tiles;
+    for (const QuadtreeTile* tile : _impl->selection.drawn) {
+        tiles.push_back({tile->key, tile->region});
+    }
+    return tiles;
 }
 
 std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const

@@ -2,6 +2,7 @@
 #include "TempFiles.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/OrientedBoundingBox.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Effect.h>
@@ -18,6 +19,8 @@
 #include <catch2/catch.hpp>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -145,6 +148,30 @@ TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer
     }
     CHECK(sampled > 1000);
     CHECK(largestJump < 0.01);
+}
+
+TEST_CASE("The triangles drawn lie inside the drawn tiles' bounding boxes, the boxes the frustum culls",
+          "[scene][tiles][terrain][gl]")
+{
+    TerrainScene terrain(syntheticTerrain(ridges, 37.0), 3.0);
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 20000.0), 30.0, -20.0);
+    REQUIRE(terrain.converge(160, 120).statistics.tiles->converged);
+    const std::vector<TiledGlobe::DrawnTile> tiles = terrain.globe->drawnTiles();
+    const std::vector<glm::dvec3> triangles = terrain.globe->drawnTriangles();
+    REQUIRE(tiles.size() > 10);
+    std::size_t outside = 0;
+    for (std::size_t i = 0; i < triangles.size(); i += 5) {
+        // In box coordinates (-1..1 on each half-axis) of some drawn tile, within a millimetre.
+        const bool inside = std::any_of(tiles.begin(), tiles.end(), [&](const TiledGlobe::DrawnTile& tile) {
+            const OrientedBoundingBox& box = tile.region.orientedBox();
+            const glm::dvec3 local = glm::inverse(box.halfAxes) * (triangles[i] - box.centre);
+            const glm::dvec3 slack = 1e-3 / glm::dvec3(glm::length(box.halfAxes[0]), glm::length(box.halfAxes[1]),
+                                                       glm::length(box.halfAxes[2]));
+            return glm::all(glm::lessThanEqual(glm::abs(local), glm::dvec3(1.0) + slack));
+        });
+        outside += inside ? 0 : 1;
+    }
+    CHECK(outside == 0);
 }
 
 TEST_CASE("The surface drawn over terrain shares every inner edge between two triangles", "[scene][tiles][terrain][gl]")
@@ -280,6 +307,55 @@ TEST_CASE("Terrain shades the tiles by their own normals and a globe without ter
     plain.add(std::make_shared<TiledGlobe>(kEarth, options));
     const RenderedFrame frame = renderFrame(plain, 64, 64);
     CHECK_FALSE(hasEffect(frame.statistics.effects, Effect::Terrain));
+}
+
+namespace {
+
+/// A terrain source stating a geometric error for every tile of levels up to `level`, as our
+/// tiler's layer.json does, over another source's tiles.
+class StatedErrorSource final : public world::TerrainSource {
+public:
+    StatedErrorSource(std::shared_ptr<world::TerrainSource> tiles, std::uint32_t level, double error)
+        : _tiles(std::move(tiles)), _level(level), _error(error)
+    {
+    }
+    const world::TerrainSourceInfo& info() const noexcept override { return _tiles->info(); }
+    world::TerrainFetch load(const TileKey& key) override { return _tiles->load(key); }
+    bool hasTile(const TileKey& key) const override { return _tiles->hasTile(key); }
+    std::optional<double> geometricError(const TileKey& key) const override
+    {
+        return key.level <= _level ? std::optional<double>(_error) : std::nullopt;
+    }
+
+private:
+    std::shared_ptr<world::TerrainSource> _tiles;
+    std::uint32_t _level;
+    double _error;
+};
+
+} // namespace
+
+TEST_CASE("A tile whose data states a larger geometric error than its level's estimate is refined for it",
+          "[scene][tiles][terrain][gl]")
+{
+    const auto levelsDrawn = [](std::shared_ptr<world::TerrainSource> source, double exaggeration) {
+        TerrainScene terrain(std::move(source), exaggeration);
+        terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 3.0e6), 0.0, -90.0);
+        const RenderedFrame frame = terrain.converge(128, 128);
+        REQUIRE(frame.statistics.tiles->converged);
+        return frame.statistics.tiles->deepestLevelDrawn;
+    };
+    const auto ridgesTerrain = [] { return syntheticTerrain(ridges, 0.0); };
+    const std::uint32_t estimated = levelsDrawn(ridgesTerrain(), 1.0);
+    REQUIRE(estimated < 7);
+    // 2,000 km stated for every tile down to level 6: from 3,000 km up every one of them is
+    // refined, however small its level's estimate; smaller stated errors change nothing.
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 2.0e6), 1.0) == 7);
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 1.0e4), 1.0) == estimated);
+    // The stated error is in the data's metres: the exaggeration scales it (10 km is 0.4 px a
+    // tile from 3,000 km up, ten times exaggerated 4 px).
+    REQUIRE(levelsDrawn(ridgesTerrain(), 10.0) < 7);
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 1.0e4), 10.0) == 7);
 }
 
 TEST_CASE("The exaggeration changes at run time: tiles rebuilt at once, bounds following, no crack", "[scene][tiles][terrain][gl]")
