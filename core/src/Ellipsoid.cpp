@@ -256,7 +256,12 @@ Ellipsoid::MeridianFoot Ellipsoid::footInMeridianPlane(double rho, double zAbs) 
     // to keep it well away from underflow.
     glm::dvec2 normal(foot.x * b * b, foot.y * a * a);
     normal *= 1.0 / std::sqrt(normal.x * normal.x + normal.y * normal.y);
-    const double height = (rho - foot.x) * normal.x + (zAbs - foot.y) * normal.y;
+    // The height is the length of p - foot (parallel to the normal), signed by the side of p: a
+    // dot product with the rounded unit normal would add the normal's length error, up to 4 units
+    // in the last place of the height far out, where the round trip must stay within its bound.
+    const glm::dvec2 offset(rho - foot.x, zAbs - foot.y);
+    const double distance = std::hypot(offset.x, offset.y);
+    const double height = offset.x * normal.x + offset.y * normal.y < 0.0 ? -distance : distance;
     return {foot, normal, height};
 }
 

@@ -17,8 +17,9 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 
-// The error bound the foundation issue sets: 10 nm near the Earth plus 4e-16 of the distance
-// from the centre (two units in the last place far out).
+// The error bound the foundation issue sets for one conversion, against the exact answer (the
+// accuracy report measures both directions against it in extended precision): 10 nm near the
+// Earth plus 4e-16 of the distance from the centre (two units in the last place far out).
 double bound(const glm::dvec3& p)
 {
     return 10e-9 + 4e-16 * glm::length(p);
@@ -38,7 +39,11 @@ void requireRoundTrip(const glm::dvec3& p)
     REQUIRE(g.latitude <= kHalfPi);
     REQUIRE(g.longitude >= -kPi);
     REQUIRE(g.longitude <= kPi);
-    REQUIRE(glm::length(kEarth.toCartesian(g) - p) <= bound(p));
+    // A round trip is two conversions, each rounding within the bound: toCartesian(g) lies within
+    // bound(p) of the exact position of g, which lies within bound(p) of p. One bound is not enough:
+    // far out toCartesian alone errs by up to 3.4e-16 |p| (measured in extended precision), which
+    // leaves toGeodetic3D almost no room (seed 526245 went over by 4.5 nm at 79,000 km).
+    REQUIRE(glm::length(kEarth.toCartesian(g) - p) <= 2 * bound(p));
 }
 
 /// GeographicLib's answer for p, in radians.

@@ -5,6 +5,7 @@
 #include <orbis/core/Error.h>
 #include <orbis/scene/FeaturePrimitives.h>
 #include <orbis/scene/PolygonCollection.h>
+#include <orbis/world/TopoJson.h>
 
 #include <glm/geometric.hpp>
 
@@ -130,6 +131,65 @@ TEST_CASE("Every country of countries-110m fills, Fiji and Russia across the ant
         }
         ORBIS_REQUIRE_GOLDEN(frame.image, std::string("scene/polygons_") + view.name, GoldenTolerance{3, 0.002});
     }
+}
+
+TEST_CASE("Every country of Natural Earth 1:50m draws in its own colour at a point inside it", "[polygon][natural-earth]")
+{
+    // Each country's fill gets a red channel of its own (feature index + 1; 241 countries), so a
+    // pixel tells which country covers it. For each country the camera looks straight down at the
+    // incentre of its widest drawn triangle, from ten times the triangle's inradius (the inscribed
+    // circle then spans about 15 pixels across at 45 degrees' field of view): the pixel there must
+    // be that country's colour exactly, not the globe's nor a neighbour's.
+    const FeatureCollection countries =
+        loadTopoJson(ORBIS_SOURCE_DIR "/data/natural-earth/countries-50m.json", "countries");
+    REQUIRE(countries.features.size() == 241);
+    auto red = [](std::size_t featureIndex) { return static_cast<int>(featureIndex) + 1; };
+    FeatureStyle style;
+    style.borders = false;
+    style.fillColorOf = [&](const Feature& feature) { return glm::vec4(static_cast<float>(red(feature.index)) / 255.0f, 0.0f, 0.0f, 1.0f); };
+    const FeaturePrimitives primitives = buildFeaturePrimitives(kEarth, countries, style);
+    REQUIRE(primitives.warnings.empty());
+    const PolygonCollection& fills = *primitives.fills;
+
+    struct Widest {
+        glm::dvec3 incentre{0.0};
+        double inradius = 0.0;
+    };
+    std::vector<Widest> widest(countries.features.size());
+    for (std::size_t i = 0; i < fills.size(); ++i) {
+        const auto feature = static_cast<std::size_t>(std::lround(fills.color(i).r * 255.0f)) - 1;
+        REQUIRE(feature < widest.size());
+        const Mesh& mesh = fills.mesh(i);
+        for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+            const glm::dvec3& a = mesh.positions[mesh.indices[t]];
+            const glm::dvec3& b = mesh.positions[mesh.indices[t + 1]];
+            const glm::dvec3& c = mesh.positions[mesh.indices[t + 2]];
+            const double ab = glm::length(b - a), bc = glm::length(c - b), ca = glm::length(a - c);
+            const double inradius = glm::length(glm::cross(b - a, c - a)) / (ab + bc + ca);
+            if (inradius > widest[feature].inradius) {
+                widest[feature] = {(bc * a + ca * b + ab * c) / (ab + bc + ca), inradius};
+            }
+        }
+    }
+
+    Scene scene(kEarth);
+    scene.add(unlitGlobe(kEarth, kBlue));
+    primitives.addTo(scene);
+    const int size = 64;
+    std::size_t checked = 0;
+    for (const Feature& feature : countries.features) {
+        const Widest& w = widest[feature.index];
+        INFO(feature.stringProperty("name").value_or("?") << " (feature " << feature.index << "), inradius " << w.inradius << " m");
+        // Every country has a triangle: quantization collapses islets, never a whole country.
+        REQUIRE(w.inradius > 0.0);
+        lookDownAt(scene, kEarth.toGeodetic3D(w.incentre), 10.0 * w.inradius);
+        const RenderedFrame frame = renderFrame(scene, size, size);
+        const glm::ivec2 p = projectToPixel(scene, w.incentre, size, size);
+        INFO("pixel " << p.x << ", " << p.y << ": " << describePixel(frame.image, p.x, p.y));
+        REQUIRE(pixelNear(frame.image, p.x, p.y, {red(feature.index), 0, 0, 255}, 0));
+        ++checked;
+    }
+    REQUIRE(checked == 241);
 }
 
 TEST_CASE("The triangles drawn for each country have the polygon's area on the ellipsoid", "[polygon][natural-earth][area]")
