@@ -105,7 +105,8 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
         parsed.insert(entry.path().stem().string());
     }
     // The examples docs and tests name, every one of them (a new one is added here).
-    REQUIRE(parsed == std::set<std::string>{"capitals", "clipmap", "countries", "default", "model", "routes", "virtual-texture"});
+    REQUIRE(parsed == std::set<std::string>{"capitals", "clipmap", "countries", "default", "draped", "model", "routes",
+                                            "virtual-texture"});
 }
 
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
