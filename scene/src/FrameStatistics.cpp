@@ -38,6 +38,8 @@ void TileStatistics::add(const TileStatistics& other) noexcept
     residentBytesCpu += other.residentBytesCpu;
     residentBytesGpu += other.residentBytesGpu;
     uploadedBytes += other.uploadedBytes;
+    residentTiles += other.residentTiles;
+    residentImageryTiles += other.residentImageryTiles;
     deepestLevelDrawn = std::max(deepestLevelDrawn, other.deepestLevelDrawn);
     largestScreenSpaceErrorDrawn = std::max(largestScreenSpaceErrorDrawn, other.largestScreenSpaceErrorDrawn);
     maximumScreenSpaceError = std::max(maximumScreenSpaceError, other.maximumScreenSpaceError);
@@ -136,7 +138,8 @@ std::string FrameStatistics::toText() const
             << number(t.largestScreenSpaceErrorDrawn) << " px (limit " << number(t.maximumScreenSpaceError) << " px"
             << (t.memoryLimited ? ", raised: the cache is full" : "") << ")\n"
             << "  resident: " << number(static_cast<double>(t.residentBytesCpu) / 1048576.0) << " MiB CPU, "
-            << number(static_cast<double>(t.residentBytesGpu) / 1048576.0) << " MiB GPU; uploaded "
+            << number(static_cast<double>(t.residentBytesGpu) / 1048576.0) << " MiB GPU, " << t.residentTiles
+            << " surface and " << t.residentImageryTiles << " imagery tiles; uploaded "
             << number(static_cast<double>(t.uploadedBytes) / 1048576.0) << " MiB; "
             << (t.converged ? "converged" : "not converged") << "\n";
     }
@@ -214,7 +217,8 @@ std::string FrameStatistics::toJson() const
             << ", \"loadedThisFrame\": " << t.loadedThisFrame << ", \"pending\": " << t.pending
             << ", \"failed\": " << t.failed << ", \"missing\": " << t.missing << ", \"evicted\": " << t.evicted
             << ", \"residentBytesCpu\": " << t.residentBytesCpu << ", \"residentBytesGpu\": " << t.residentBytesGpu
-            << ", \"uploadedBytes\": " << t.uploadedBytes << ", \"deepestLevelDrawn\": " << t.deepestLevelDrawn
+            << ", \"uploadedBytes\": " << t.uploadedBytes << ", \"residentTiles\": " << t.residentTiles
+            << ", \"residentImageryTiles\": " << t.residentImageryTiles << ", \"deepestLevelDrawn\": " << t.deepestLevelDrawn
             << ", \"largestScreenSpaceErrorDrawn\": " << number(t.largestScreenSpaceErrorDrawn)
             << ", \"maximumScreenSpaceError\": " << number(t.maximumScreenSpaceError)
             << ", \"memoryLimited\": " << (t.memoryLimited ? "true" : "false")

@@ -264,9 +264,13 @@ struct TiledGlobe::Impl {
     std::uint32_t terrainDeepestLevel() const noexcept
     {
         const world::TerrainSourceInfo& info = options->terrain->info();
-        // A grid of 2^k + 1 samples is as fine as 2^(k - samplesLog2) levels of meshes; a mesh
-        // tile (quantized-mesh) holds detail of about two levels more than its own.
-        int finer = 2;
+        // A grid of 2^k + 1 samples is as fine as 2^(k - samplesLog2) levels of meshes. A mesh
+        // tile's (quantized-mesh) triangles cross the lattice's cells, and a lattice follows their
+        // creases only as closely as its cells are small: six levels more (cells 64 times finer than
+        // the data's spacing) let the selection's error estimate decide, as it does on grids (with
+        // two, ETOPO5 drawn 8 km over the Alps was 2.4 pixels off its own tiles at any setting:
+        // docs/accuracy-cost.md, "terrain pixel error").
+        int finer = 6;
         if (info.gridSize > 1) {
             finer = static_cast<int>(std::lround(std::log2(info.gridSize - 1))) - options->samplesLog2;
         }
@@ -1238,6 +1242,13 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         statistics.missing = impl.missingCount;
         statistics.residentBytesCpu = impl.cpuBytes;
         statistics.residentBytesGpu = impl.gpuBytes;
+        statistics.residentTiles = impl.residentTiles.size();
+        statistics.residentImageryTiles = 0;
+        for (const auto& layer : impl.layers) {
+            for (const auto& [key, imagery] : layer.tiles) {
+                statistics.residentImageryTiles += imagery.state == LoadState::Ready;
+            }
+        }
         statistics.maximumScreenSpaceError = impl.effectiveScreenSpaceError;
         const bool refusedForRoom = statistics.memoryLimited; // set by an upload the cap refused
         statistics.memoryLimited = refusedForRoom || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;

@@ -911,6 +911,8 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         tiles.missing = s.pagesMissing;
         tiles.evicted = s.pagesEvicted;
         tiles.residentBytesGpu = impl.meshBytes + s.gpuBytes;
+        tiles.residentTiles = impl.meshTiles.size();
+        tiles.residentImageryTiles = s.pagesResident;
         tiles.uploadedBytes = impl.meshUploadedBytes + s.uploadedBytes;
         tiles.maximumScreenSpaceError = _options.maximumScreenSpaceError;
         tiles.converged = s.converged;

@@ -190,6 +190,11 @@ TEST_CASE("The tile cache never holds more than its cap: the selection coarsens 
         const TileStatistics& tiles = *rendered.statistics.tiles;
         INFO("frame " << frame << "\n" << rendered.statistics.toText());
         REQUIRE(tiles.residentBytesCpu + tiles.residentBytesGpu <= options.cacheBytes);
+        // The tiles holding those bytes: every tile drawn and every imagery tile read is resident,
+        // and the Blue Marble's textures (256 x 256 RGBA with mipmaps) are within the GPU bytes.
+        REQUIRE(tiles.residentTiles >= tiles.drawn);
+        REQUIRE(tiles.residentImageryTiles >= tiles.imageryDrawn);
+        REQUIRE(tiles.residentImageryTiles * (256 * 256 * 4 * 4 / 3) <= tiles.residentBytesGpu);
         // An upload may go over the budget by its one tile, never more (the first frame loads the
         // roots whatever the budget, so that it has no hole).
         if (frame > 0) {

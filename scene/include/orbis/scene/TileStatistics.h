@@ -25,6 +25,8 @@ struct TileStatistics {
     std::size_t residentBytesCpu = 0; ///< loaded data not yet on the GPU, and tile data kept in memory
     std::size_t residentBytesGpu = 0; ///< vertex buffers and textures
     std::size_t uploadedBytes = 0;    ///< sent to the GPU this frame
+    std::size_t residentTiles = 0;    ///< surface tiles whose mesh is on the GPU
+    std::size_t residentImageryTiles = 0; ///< imagery tiles on the GPU (a virtual texture: its pages)
     std::uint32_t deepestLevelDrawn = 0;
     double largestScreenSpaceErrorDrawn = 0.0; ///< pixels
     /// The limit the selection used: the one asked for, or higher when the cache's cap binds.
