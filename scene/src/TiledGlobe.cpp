@@ -74,6 +74,8 @@ class TerrainCache {
 public:
     explicit TerrainCache(std::shared_ptr<world::TerrainSource> source) : _source(std::move(source)) {}
 
+    const world::TerrainSource& source() const noexcept { return *_source; }
+
     /// The deepest tile at or above `key` that the source has; null where it has none (the
     /// ellipsoid then). Throws orbis::Error with the source's message for a tile that failed.
     std::shared_ptr<const TerrainSampler> samplerFor(TileKey key)
@@ -551,8 +553,14 @@ void TiledGlobe::Impl::refresh(QuadtreeTile& tile)
     }
     tile.renderable = surface.mesh == LoadState::Ready && imageryReady;
     tile.wantsLoad = wants;
-    if (terrain && !surface.heightsKnown) {
-        boundFromAncestor(tile);
+    if (terrain) {
+        // The level's estimate (which also keeps the imagery's texels within the limit), or the
+        // error the data states where that is larger: a tile is refined for either.
+        const double stated = terrain->source().geometricError(tile.key).value_or(0.0);
+        tile.geometricError = std::max(quadtree.geometricErrorOf(tile.key.level), stated * options->terrainExaggeration);
+        if (!surface.heightsKnown) {
+            boundFromAncestor(tile);
+        }
     }
 }
 

@@ -283,6 +283,55 @@ TEST_CASE("Terrain shades the tiles by their own normals and a globe without ter
     CHECK_FALSE(hasEffect(frame.statistics.effects, Effect::Terrain));
 }
 
+namespace {
+
+/// A terrain source stating a geometric error for every tile of levels up to `level`, as our
+/// tiler's layer.json does, over another source's tiles.
+class StatedErrorSource final : public world::TerrainSource {
+public:
+    StatedErrorSource(std::shared_ptr<world::TerrainSource> tiles, std::uint32_t level, double error)
+        : _tiles(std::move(tiles)), _level(level), _error(error)
+    {
+    }
+    const world::TerrainSourceInfo& info() const noexcept override { return _tiles->info(); }
+    world::TerrainFetch load(const TileKey& key) override { return _tiles->load(key); }
+    bool hasTile(const TileKey& key) const override { return _tiles->hasTile(key); }
+    std::optional<double> geometricError(const TileKey& key) const override
+    {
+        return key.level <= _level ? std::optional<double>(_error) : std::nullopt;
+    }
+
+private:
+    std::shared_ptr<world::TerrainSource> _tiles;
+    std::uint32_t _level;
+    double _error;
+};
+
+} // namespace
+
+TEST_CASE("A tile whose data states a larger geometric error than its level's estimate is refined for it",
+          "[scene][tiles][terrain][gl]")
+{
+    const auto levelsDrawn = [](std::shared_ptr<world::TerrainSource> source, double exaggeration) {
+        TerrainScene terrain(std::move(source), exaggeration);
+        terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 3.0e6), 0.0, -90.0);
+        const RenderedFrame frame = terrain.converge(128, 128);
+        REQUIRE(frame.statistics.tiles->converged);
+        return frame.statistics.tiles->deepestLevelDrawn;
+    };
+    const auto ridgesTerrain = [] { return syntheticTerrain(ridges, 0.0); };
+    const std::uint32_t estimated = levelsDrawn(ridgesTerrain(), 1.0);
+    REQUIRE(estimated < 7);
+    // 2,000 km stated for every tile down to level 6: from 3,000 km up every one of them is
+    // refined, however small its level's estimate; smaller stated errors change nothing.
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 2.0e6), 1.0) == 7);
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 1.0e4), 1.0) == estimated);
+    // The stated error is in the data's metres: the exaggeration scales it (10 km is 0.4 px a
+    // tile from 3,000 km up, ten times exaggerated 4 px).
+    REQUIRE(levelsDrawn(ridgesTerrain(), 10.0) < 7);
+    CHECK(levelsDrawn(std::make_shared<StatedErrorSource>(ridgesTerrain(), 6, 1.0e4), 10.0) == 7);
+}
+
 TEST_CASE("The exaggeration changes at run time: tiles rebuilt at once, bounds following, no crack", "[scene][tiles][terrain][gl]")
 {
     // Levels that agree: the next frame may pick other levels (the bounds grew), which then

@@ -209,6 +209,10 @@ TEST_CASE("A quantized-mesh folder: layer.json's availability, errors and levels
     CHECK(info.maximumLevel == 1);
     CHECK(info.attribution == "made here");
 
+    // The errors are known before any tile loads: the selection reads them.
+    CHECK(source->geometricError({0, 1, 0}) == 7.0);
+    CHECK_FALSE(source->geometricError({1, 0, 1}));
+
     const TerrainFetch first = loadOk(*source, {0, 0, 0});
     CHECK(first.tile.vertices.size() == 25);
     CHECK(first.tile.geometricError == 12.5);

@@ -130,6 +130,11 @@ public:
 
     const TerrainSourceInfo& info() const noexcept override { return _info; }
 
+    std::optional<double> geometricError(const TileKey& key) const override
+    {
+        return _layer ? _layer->geometricError(key) : std::nullopt;
+    }
+
     bool hasTile(const TileKey& key) const override
     {
         if (!detail::sourceHasTile(_tiles->info(), key) || key.level < _info.minimumLevel || key.level > _info.maximumLevel) {

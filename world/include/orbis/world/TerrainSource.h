@@ -84,6 +84,9 @@ public:
     /// tiles loaded so far) or its levels and extent; cheap, no I/O. Where availability is given
     /// by tiles not loaded yet (the metadata extension), true for children of available tiles.
     virtual bool hasTile(const orbis::TileKey& key) const = 0;
+    /// The tile's geometric error (metres: how far its surface is from the data it stands for)
+    /// where the source states it before loading it (our tiler's layer.json); cheap, no I/O.
+    virtual std::optional<double> geometricError(const orbis::TileKey&) const { return std::nullopt; }
 };
 
 struct TerrainSourceOptions {
