@@ -376,10 +376,7 @@ void TiledGlobe::Impl::created(QuadtreeTile& tile)
     tile.refinable = tile.key.level < kMaximumTileLevel - static_cast<std::uint32_t>(options->samplesLog2);
 }
 
-namespace {
-
-/// Eight colours, told apart at a glance, for tiles shown by their level.
-glm::vec4 levelColor(std::uint32_t level)
+glm::vec4 tileLevelColor(std::uint32_t level) noexcept
 {
     static constexpr std::array<glm::vec4, 8> kPalette{{{0.90f, 0.30f, 0.25f, 1.0f}, {0.95f, 0.65f, 0.20f, 1.0f},
                                                          {0.90f, 0.90f, 0.30f, 1.0f}, {0.40f, 0.80f, 0.35f, 1.0f},
@@ -387,6 +384,8 @@ glm::vec4 levelColor(std::uint32_t level)
                                                          {0.65f, 0.40f, 0.85f, 1.0f}, {0.90f, 0.45f, 0.70f, 1.0f}}};
     return kPalette[level % kPalette.size()];
 }
+
+namespace {
 
 enum EdgeSide { NorthEdge, EastEdge, SouthEdge, WestEdge };
 
@@ -1318,7 +1317,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
         if (program.hasUniform("u_baseColor")) { // not with a colour ramp in its place
-            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? levelColor(tile.key.level) : _options.baseColor);
+            command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? tileLevelColor(tile.key.level) : _options.baseColor);
         }
         if (program.hasUniform("u_oneOverRadiiSquared")) { // for the ellipsoid's normals
             command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
@@ -1569,6 +1568,15 @@ std::optional<double> TiledGlobe::groundHeight(const Geodetic2D& position) const
         }
     }
     return impl.meshHeightAt(*tile, position);
+}
+
+std::vector<TiledGlobe::DrawnTile> TiledGlobe::drawnTiles() const
+{
+    std::vector<DrawnTile> tiles;
+    for (const QuadtreeTile* tile : _impl->selection.drawn) {
+        tiles.push_back({tile->key, tile->region});
+    }
+    return tiles;
 }
 
 std::vector<glm::dvec3> TiledGlobe::drawnTriangles() const

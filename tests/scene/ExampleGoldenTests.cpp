@@ -79,6 +79,14 @@ TEST_CASE("The chapter 13 example renders its golden image: clipmap levels colou
     ORBIS_REQUIRE_GOLDEN(runExample("ch13_clipmap", "ch13_clipmap"), "scene/ch13_clipmap", kTolerance);
 }
 
+TEST_CASE("The chapter 12 example renders its golden image: a view's tiles by level, then their boxes and the frustum "
+          "from outside",
+          "[scene][golden][examples][terrain]")
+{
+    ORBIS_REQUIRE_GOLDEN(runExample("ch12_levels_and_culling", "ch12_levels_and_culling"), "scene/ch12_levels_and_culling",
+                         kTolerance);
+}
+
 TEST_CASE("The chapter 14 example renders its golden image: tiles by level over ETOPO5, then imagery at two errors",
           "[scene][golden][examples][terrain]")
 {

@@ -2,6 +2,7 @@
 #include "TempFiles.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/OrientedBoundingBox.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/BillboardCollection.h>
 #include <orbis/scene/Effect.h>
@@ -19,6 +20,8 @@
 #include <catch2/catch.hpp>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -146,6 +149,30 @@ TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer
     }
     CHECK(sampled > 1000);
     CHECK(largestJump < 0.01);
+}
+
+TEST_CASE("The triangles drawn lie inside the drawn tiles' bounding boxes, the boxes the frustum culls",
+          "[scene][tiles][terrain][gl]")
+{
+    TerrainScene terrain(syntheticTerrain(ridges, 37.0), 3.0);
+    terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 20000.0), 30.0, -20.0);
+    REQUIRE(terrain.converge(160, 120).statistics.tiles->converged);
+    const std::vector<TiledGlobe::DrawnTile> tiles = terrain.globe->drawnTiles();
+    const std::vector<glm::dvec3> triangles = terrain.globe->drawnTriangles();
+    REQUIRE(tiles.size() > 10);
+    std::size_t outside = 0;
+    for (std::size_t i = 0; i < triangles.size(); i += 5) {
+        // In box coordinates (-1..1 on each half-axis) of some drawn tile, within a millimetre.
+        const bool inside = std::any_of(tiles.begin(), tiles.end(), [&](const TiledGlobe::DrawnTile& tile) {
+            const OrientedBoundingBox& box = tile.region.orientedBox();
+            const glm::dvec3 local = glm::inverse(box.halfAxes) * (triangles[i] - box.centre);
+            const glm::dvec3 slack = 1e-3 / glm::dvec3(glm::length(box.halfAxes[0]), glm::length(box.halfAxes[1]),
+                                                       glm::length(box.halfAxes[2]));
+            return glm::all(glm::lessThanEqual(glm::abs(local), glm::dvec3(1.0) + slack));
+        });
+        outside += inside ? 0 : 1;
+    }
+    CHECK(outside == 0);
 }
 
 TEST_CASE("The surface drawn over terrain shares every inner edge between two triangles", "[scene][tiles][terrain][gl]")

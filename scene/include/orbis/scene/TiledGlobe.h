@@ -79,6 +79,10 @@ struct TiledGlobeOptions {
     std::function<void(const std::string&)> onWarning;
 };
 
+/// Eight colours told apart at a glance, by level (TiledGlobeOptions::colorByLevel), for showing
+/// tiles by their level elsewhere too.
+glm::vec4 tileLevelColor(std::uint32_t level) noexcept;
+
 /// The globe's surface streamed as tiles (book chapter 12, course chapter 3): each frame selects
 /// tiles by screen-space error from a quadtree over the ellipsoid, loads what is missing on worker
 /// threads (TileLoader), uploads it under a byte budget, keeps a byte-capped cache, and draws one
@@ -120,6 +124,14 @@ public:
     std::optional<double> pickGround(const Ray& ray) const override;
     /// heightAt times the exaggeration: the drawn surface's height above the ellipsoid.
     std::optional<double> groundHeight(const Geodetic2D& position) const override;
+
+    /// A tile drawn in the last frame and the region that bounds it (its oriented box is what the
+    /// frustum culls, its horizon point what the horizon culls), for showing the selection.
+    struct DrawnTile {
+        TileKey key;
+        BoundingRegion region;
+    };
+    std::vector<DrawnTile> drawnTiles() const;
 
     /// The triangles of the surface drawn in the last frame (Earth-fixed, three points each, as
     /// the GPU receives them), for checking that it is watertight.
