@@ -244,13 +244,43 @@ TEST_CASE("Most-detailed heights from quantized-mesh tiles cut from a DEM: every
     checkAgainstDem(*source, 1.1); // measured: 1.05
 }
 
+TEST_CASE("Most-detailed heights asked for without blocking: the synchronous query's answers, in order", "[world][terrain][height]")
+{
+    const TempDirectory folder;
+    const std::shared_ptr<TerrainSource> source = tile(folder, TerrainTileFormat::QuantizedMesh, "mesh");
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> longitude(7.8, 8.2);
+    std::uniform_real_distribution<double> latitude(45.8, 46.2);
+    std::vector<Geodetic2D> positions;
+    for (int i = 0; i < 500; ++i) {
+        positions.push_back(Geodetic2D::fromDegrees(longitude(random), latitude(random)));
+    }
+    positions.push_back(Geodetic2D::fromDegrees(-120.0, 10.0)); // outside the DEM: no tile there
+    std::future<std::vector<std::optional<TerrainHeight>>> pending = mostDetailedHeights(source, positions);
+    TerrainHeightQuery query(*source);
+    const std::vector<std::optional<TerrainHeight>> heights = pending.get();
+    REQUIRE(heights.size() == positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const std::optional<TerrainHeight> expected = query.at(positions[i]);
+        REQUIRE(heights[i].has_value() == expected.has_value());
+        if (expected) {
+            CHECK(heights[i]->height == expected->height);
+            CHECK(heights[i]->tile == expected->tile);
+        }
+    }
+    CHECK(heights[0]);
+}
+
 TEST_CASE("A height query names the tile that fails to load", "[world][terrain][height]")
 {
     const TempDirectory folder;
-    const auto source = tile(folder, TerrainTileFormat::QuantizedMesh, "mesh");
+    const std::shared_ptr<TerrainSource> source = tile(folder, TerrainTileFormat::QuantizedMesh, "mesh");
     const TileKey key = *TilingScheme::geographic().tileAt(Geodetic2D::fromDegrees(7.9, 46.1), 9);
     const auto path = folder.path() / "mesh" / "9" / std::to_string(key.x) / (std::to_string(key.y) + ".terrain");
     orbis::test::writeBytes(path, {0x1f, 0x8b, 8, 0, 0, 0});
     TerrainHeightQuery query(*source);
     CHECK_THAT(errorMessage([&] { query.at(Geodetic2D::fromDegrees(7.9, 46.1)); }), Contains(path.filename().string()));
+    // Asked for without blocking, the error comes with the answers.
+    auto pending = mostDetailedHeights(source, {Geodetic2D::fromDegrees(7.9, 46.1)});
+    CHECK_THAT(errorMessage([&] { pending.get(); }), Contains(path.filename().string()));
 }

@@ -234,4 +234,18 @@ std::optional<TerrainHeight> TerrainHeightQuery::at(const Geodetic2D& position)
     return best;
 }
 
+std::future<std::vector<std::optional<TerrainHeight>>> mostDetailedHeights(std::shared_ptr<TerrainSource> source,
+                                                                           std::vector<Geodetic2D> positions)
+{
+    return std::async(std::launch::async, [source = std::move(source), positions = std::move(positions)] {
+        TerrainHeightQuery query(*source);
+        std::vector<std::optional<TerrainHeight>> heights;
+        heights.reserve(positions.size());
+        for (const Geodetic2D& position : positions) {
+            heights.push_back(query.at(position));
+        }
+        return heights;
+    });
+}
+
 } // namespace orbis::world

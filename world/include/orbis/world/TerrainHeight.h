@@ -6,6 +6,7 @@
 #include <orbis/core/TileKey.h>
 
 #include <cstddef>
+#include <future>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -57,5 +58,13 @@ private:
     struct Impl;
     std::unique_ptr<Impl> _impl;
 };
+
+/// The most-detailed heights at many positions (radians), answered on a thread of its own by a
+/// TerrainHeightQuery, which loads the tiles it needs: the way to ask without blocking a frame.
+/// The future holds one answer per position in their order (empty where the source has no tile),
+/// or the orbis::Error of a tile that failed to load, which names it. The source is kept alive
+/// until the answers are in; other threads may load from it meanwhile.
+std::future<std::vector<std::optional<TerrainHeight>>> mostDetailedHeights(std::shared_ptr<TerrainSource> source,
+                                                                           std::vector<orbis::Geodetic2D> positions);
 
 } // namespace orbis::world
