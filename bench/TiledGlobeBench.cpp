@@ -486,11 +486,11 @@ std::optional<double> castRayIntoTerrain(const Ray& ray, const std::function<dou
     }
     for (int step = 0; step < 200000; ++step) {
         const double rise = glm::dot(ray.direction, kEarth.geodeticSurfaceNormal(ray.origin + before * ray.direction));
-        const double after = before + std::max(0.05, gap / std::max(slopeBound - rise, 1e-6));
-        if (after > end) {
+        const double after = std::min(end, before + std::max(0.05, gap / std::max(slopeBound - rise, 1e-6)));
+        const double gapAfter = gapAt(after);
+        if (gapAfter > 0.0 && after == end) {
             return std::nullopt;
         }
-        const double gapAfter = gapAt(after);
         if (gapAfter <= 0.0) {
             double above = before;
             double below = after;

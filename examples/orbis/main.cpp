@@ -583,6 +583,7 @@ int runInfo(Arguments arguments)
     std::printf("colour targets:   %d\n", info.maxColorAttachments);
     std::printf("vertex attributes: %d\n", info.maxVertexAttributes);
     std::printf("max anisotropy:   %g\n", static_cast<double>(info.maxAnisotropy));
+    std::printf("max samples:      %d (the most a scene's \"samples\" (MSAA) gets)\n", info.maxSamples);
     std::printf("KHR_debug:        %s\n", yes(info.khrDebug));
     std::printf("capabilities the strategies depend on:\n");
     std::printf("  clip control:   %s (complementary depth in a float buffer: depth \"auto\" can pick it)\n",
