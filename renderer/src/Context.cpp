@@ -297,7 +297,7 @@ Framebuffer* Context::bindTarget(Framebuffer* requested, const detail::ErrorSour
             }
         }
         const auto& depth = framebuffer->_depth;
-        const bool depthStencil = depth && depth->format() == TextureFormat::Depth24Stencil8;
+        const bool depthStencil = depth && hasStencil(depth->format());
         gl.glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, 0u, 0);
         if (depth) {
             gl.glFramebufferTexture2D(GL_FRAMEBUFFER, depthStencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,

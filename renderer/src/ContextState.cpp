@@ -43,6 +43,7 @@ RenderState glInitialState()
     s.stencilTest.enabled = false;
     s.depthTest = {false, CompareFunction::Less};
     s.depthRange = {0.0, 1.0};
+    s.depthClamp = false;
     s.blending = Blending{};
     s.colorMask = {};
     s.depthMask = true;
@@ -192,6 +193,7 @@ void ContextState::ensureKnown()
     enable(s.depthTest.enabled, GL_DEPTH_TEST);
     gl.glDepthFunc(toGl(s.depthTest.function));
     gl.glDepthRange(s.depthRange.nearValue, s.depthRange.farValue);
+    enable(s.depthClamp, GL_DEPTH_CLAMP);
     const Blending& b = s.blending;
     enable(b.enabled, GL_BLEND);
     gl.glBlendFuncSeparate(toGl(b.sourceRgbFactor), toGl(b.destinationRgbFactor), toGl(b.sourceAlphaFactor),
@@ -357,6 +359,11 @@ void ContextState::applyRenderState(const RenderState& wanted)
     }
     diff.update(s.depthRange, wanted.depthRange,
                 [&] { gl.glDepthRange(wanted.depthRange.nearValue, wanted.depthRange.farValue); });
+    // Counted only once a draw has asked for it, so that frames without shadow volumes count
+    // their state changes as they always have.
+    if (wanted.depthClamp || s.depthClamp) {
+        diff.enable(s.depthClamp, wanted.depthClamp, GL_DEPTH_CLAMP);
+    }
     applyBlending(diff, s.blending, wanted.blending);
     diff.update(s.colorMask, wanted.colorMask, [&] {
         const ColorMask& m = wanted.colorMask;

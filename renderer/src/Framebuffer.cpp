@@ -73,7 +73,7 @@ void Framebuffer::setDepthAttachment(std::shared_ptr<Texture2D> texture)
 {
     if (texture && !isDepthFormat(texture->format())) {
         throw Error(std::string("Framebuffer::setDepthAttachment: a ") + textureFormatName(texture->format()) +
-                    " texture cannot be a depth attachment (Depth24, Depth32F or Depth24Stencil8 can)");
+                    " texture cannot be a depth attachment (Depth24, Depth32F, Depth24Stencil8 or Depth32FStencil8 can)");
     }
     if (texture && !texture->valid()) {
         throw Error("Framebuffer::setDepthAttachment: empty texture");

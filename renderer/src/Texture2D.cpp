@@ -31,6 +31,8 @@ GlFormat glFormat(TextureFormat format) noexcept
     case TextureFormat::Depth32F: return {GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT};
     case TextureFormat::Depth24Stencil8: return {GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8};
     case TextureFormat::SRGB8Alpha8: return {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case TextureFormat::Depth32FStencil8:
+        return {GL_DEPTH32F_STENCIL8, GL_DEPTH_STENCIL, GL_FLOAT_32_UNSIGNED_INT_24_8_REV};
     }
     return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 }
@@ -66,14 +68,19 @@ std::size_t bytesPerTexel(TextureFormat format) noexcept
     case TextureFormat::Depth32F: return 4;
     case TextureFormat::Depth24Stencil8: return 4;
     case TextureFormat::SRGB8Alpha8: return 4;
+    case TextureFormat::Depth32FStencil8: return 8;
     }
     return 4;
 }
 
 bool isDepthFormat(TextureFormat format) noexcept
 {
-    return format == TextureFormat::Depth24 || format == TextureFormat::Depth32F ||
-           format == TextureFormat::Depth24Stencil8;
+    return format == TextureFormat::Depth24 || format == TextureFormat::Depth32F || hasStencil(format);
+}
+
+bool hasStencil(TextureFormat format) noexcept
+{
+    return format == TextureFormat::Depth24Stencil8 || format == TextureFormat::Depth32FStencil8;
 }
 
 const char* textureFormatName(TextureFormat format) noexcept
@@ -88,6 +95,7 @@ const char* textureFormatName(TextureFormat format) noexcept
     case TextureFormat::Depth32F: return "Depth32F";
     case TextureFormat::Depth24Stencil8: return "Depth24Stencil8";
     case TextureFormat::SRGB8Alpha8: return "SRGB8Alpha8";
+    case TextureFormat::Depth32FStencil8: return "Depth32FStencil8";
     }
     return "?";
 }

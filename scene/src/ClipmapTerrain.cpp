@@ -1086,6 +1086,7 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
             command.draw.debugName = "clipmap terrain level " + std::to_string(l);
             // The globe's surface, as the tiles' is.
             command.tags = Effect::Globe | Effect::Terrain | Effect::ClipmapTerrain;
+            command.ground = true;
             if (_options.lighting) {
                 command.tags = command.tags | Effect::Lighting;
             }

@@ -5,6 +5,7 @@
 #include <orbis/core/Error.h>
 #include <orbis/world/Diagnostics.h>
 
+#include <algorithm>
 #include <cmath>
 #include <variant>
 
@@ -80,6 +81,7 @@ private:
             PolygonCollectionOptions options;
             options.granularityRadians = _style.granularityRadians;
             options.encoding = _style.encoding;
+            options.groundHeights = _style.fillGroundHeights;
             _out.fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
         }
         // A feature's name is data: cut, so that a hostile one cannot make a message megabytes long.
@@ -147,7 +149,19 @@ private:
             options.granularityRadians = _style.granularityRadians;
             options.curve = _style.curve;
             options.encoding = _style.encoding;
+            if (_style.groundHeight) {
+                options.groundHeight = _style.groundHeight;
+                options.granularityRadians = std::min(options.granularityRadians, _style.groundSpacingRadians);
+            }
             _out.borders = std::make_shared<PolylineCollection>(_ellipsoid, options);
+        }
+        if (_style.clampLinesToGround) {
+            std::vector<Geodetic3D> onGround = positions;
+            for (Geodetic3D& position : onGround) {
+                position.height = 0.0;
+            }
+            _out.borders->add(std::span<const Geodetic3D>(onGround), _style.border, loop);
+            return;
         }
         _out.borders->add(std::span<const Geodetic3D>(positions), _style.border, loop);
     }

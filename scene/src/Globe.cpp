@@ -136,6 +136,7 @@ void Globe::update(FrameState& frameState, CommandList& commands)
     SceneCommand command;
     command.draw.debugName = "globe";
     command.tags = static_cast<std::uint32_t>(Effect::Globe);
+    command.ground = true;
     if (_options.lighting) {
         command.tags = command.tags | Effect::Lighting;
     }

@@ -2,12 +2,15 @@
 
 #include "VectorSupport.h"
 
+#include "orbis/scene/Effect.h"
+
 #include <orbis/core/EllipsoidPolygon.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
 #include <algorithm>
 #include <cassert>
+#include <unordered_set>
 
 namespace orbis::scene {
 
@@ -20,11 +23,89 @@ constexpr double kFillDepthFraction = 1e-5;
 
 bool isOpaque(const glm::vec4& color) noexcept { return color.a >= 1.0f; }
 
+/// The closed volume over a polygon's triangles on the surface, from `bottom` to `top` metres
+/// above it along the geodetic normals: the triangles at the top, reversed at the bottom, and a
+/// wall under each edge of the outline (an edge of one triangle only: the subdivision shares its
+/// inner edges), every face counter-clockwise seen from outside, as the stencil count needs.
+Mesh shadowVolume(const Ellipsoid& ellipsoid, const Mesh& surface, double bottom, double top)
+{
+    const std::size_t n = surface.positions.size();
+    Mesh volume;
+    volume.positions.reserve(2 * n);
+    for (const double height : {bottom, top}) {
+        for (const glm::dvec3& position : surface.positions) {
+            volume.positions.push_back(position + height * ellipsoid.geodeticSurfaceNormal(position));
+        }
+    }
+    const auto up = [n](std::uint32_t i) { return static_cast<std::uint32_t>(i + n); };
+    const auto edgeKey = [](std::uint32_t from, std::uint32_t to) { return (std::uint64_t{from} << 32) | to; };
+    const std::vector<std::uint32_t>& t = surface.indices;
+    std::unordered_set<std::uint64_t> edges;
+    for (std::size_t i = 0; i < t.size(); i += 3) {
+        for (int k = 0; k < 3; ++k) {
+            edges.insert(edgeKey(t[i + k], t[i + (k + 1) % 3]));
+        }
+    }
+    std::vector<std::uint32_t>& out = volume.indices;
+    for (std::size_t i = 0; i < t.size(); i += 3) {
+        out.insert(out.end(), {up(t[i]), up(t[i + 1]), up(t[i + 2]), t[i], t[i + 2], t[i + 1]});
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[i + k];
+            const std::uint32_t b = t[i + (k + 1) % 3];
+            if (!edges.contains(edgeKey(b, a))) {
+                // The inside lies left of a -> b seen from above, so this quad faces out.
+                out.insert(out.end(), {a, b, up(b), a, up(b), up(a)});
+            }
+        }
+    }
+    return volume;
+}
+
+/// A draped polygon's volume drawn twice for the z-fail stencil count (docs/terrain.md): the first
+/// draw adds one in the stencil for each back face behind the depth drawn so far and takes one
+/// for each front face, which leaves non-zero exactly the pixels whose ground lies inside the
+/// volume; the second colours those pixels and zeroes their stencil for the next volume. Depth
+/// clamping keeps the faces beyond the frustum's near and far planes, so that the count is right
+/// in every frustum of a multi-frustum frame: one before the near plane lies in front of all this
+/// frustum drew; one beyond the far plane, clamped to the depth the frustum's clear left, behind
+/// what it drew but not behind the clear (LessOrEqual), where a farther frustum drew the ground.
+void appendDrapedDraws(SceneCommand volume, CommandList& commands)
+{
+    volume.pass = Pass::Draped;
+    volume.tags = Effect::Polygons | Effect::DrapedPolygons;
+    renderer::RenderState& state = volume.draw.renderState;
+    state = renderer::RenderState{};
+    state.facetCulling.enabled = false;
+    state.depthClamp = true;
+    state.depthMask = false;
+    state.stencilTest.enabled = true;
+
+    SceneCommand count = volume;
+    count.draw.debugName = "draped polygon count";
+    renderer::RenderState& counting = count.draw.renderState;
+    counting.colorMask = {false, false, false, false};
+    counting.depthTest.function = renderer::CompareFunction::LessOrEqual;
+    counting.stencilTest.frontFace.depthFailStencilPassOperation = renderer::StencilOperation::DecrementWrap;
+    counting.stencilTest.backFace.depthFailStencilPassOperation = renderer::StencilOperation::IncrementWrap;
+    commands.push_back(std::move(count));
+
+    volume.draw.debugName = "draped polygon";
+    state.depthTest.enabled = false;
+    for (renderer::StencilTestFace* face : {&state.stencilTest.frontFace, &state.stencilTest.backFace}) {
+        face->function = renderer::CompareFunction::NotEqual;
+        face->referenceValue = 0;
+        face->depthPassStencilPassOperation = renderer::StencilOperation::Zero;
+    }
+    state.blending = detail::vectorRenderState(Pass::Translucent, false, true).blending;
+    commands.push_back(std::move(volume));
+}
+
 } // namespace
 
 struct PolygonCollection::Item {
-    Mesh mesh; ///< drawn: lifted positions, no normals
+    Mesh mesh; ///< drawn: lifted positions (or a draped polygon's volume), no normals
     double lift = 0.0;
+    double maxHeight = 0.0; ///< of the drawn positions above the ellipsoid
     glm::vec4 color{1.0f};
     BoundingSphere sphere;
 };
@@ -75,9 +156,17 @@ std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> ring
                                detail::centralAngle(p[t[i + 1]], p[t[i + 2]]),
                                detail::centralAngle(p[t[i + 2]], p[t[i]])});
         }
-        item.lift = detail::triangleSagBound(_ellipsoid, widest);
-        for (glm::dvec3& position : item.mesh.positions) {
-            position += item.lift * _ellipsoid.geodeticSurfaceNormal(position);
+        const double sag = detail::triangleSagBound(_ellipsoid, widest);
+        if (draped()) {
+            const HeightInterval ground = _options.groundHeights(item.mesh);
+            item.maxHeight = ground.highest + sag;
+            item.mesh = shadowVolume(_ellipsoid, item.mesh, ground.lowest, item.maxHeight);
+        } else {
+            item.lift = sag;
+            item.maxHeight = sag;
+            for (glm::dvec3& position : item.mesh.positions) {
+                position += item.lift * _ellipsoid.geodeticSurfaceNormal(position);
+            }
         }
         item.sphere = BoundingSphere::fromPoints(item.mesh.positions);
         _boundingSphere = _boundingSphere ? BoundingSphere::merge(*_boundingSphere, item.sphere) : item.sphere;
@@ -101,7 +190,7 @@ void PolygonCollection::setColor(std::size_t index, const glm::vec4& color)
 {
     assert(index < _polygons.size());
     Item& item = _polygons[index];
-    if (isOpaque(item.color) != isOpaque(color)) {
+    if (!draped() && isOpaque(item.color) != isOpaque(color)) {
         _indicesDirty = true;
     }
     item.color = color;
@@ -126,7 +215,7 @@ void PolygonCollection::build(FrameState& frameState)
     std::vector<detail::VectorItem> items;
     items.reserve(_polygons.size());
     for (const Item& item : _polygons) {
-        items.push_back({item.mesh.positions, item.sphere, item.lift}); // polygons lie on the ellipsoid
+        items.push_back({item.mesh.positions, item.sphere, item.maxHeight});
     }
     batch.build(frameState, items, 4, [&](std::size_t index, std::vector<std::byte>& out) { writeColor(index, out); });
     batch.vertexArray().setAttribute(renderer::VertexAttributeLocation::Color, batch.attributes(),
@@ -148,13 +237,15 @@ void PolygonCollection::writeColor(std::size_t index, std::vector<std::byte>& ou
 
 void PolygonCollection::buildIndices(renderer::Device& device)
 {
+    // Draped volumes are one range each, all blended in their own pass (appendDrapedDraws).
     _batch->buildIndices(
-        device, [&](std::size_t index) { return isOpaque(_polygons[index].color); },
+        device, [&](std::size_t index) { return draped() || isOpaque(_polygons[index].color); },
         [&](std::size_t index, std::uint32_t firstVertex, std::vector<std::uint32_t>& indices) {
             for (const std::uint32_t i : _polygons[index].mesh.indices) {
                 indices.push_back(firstVertex + i);
             }
-        });
+        },
+        draped());
     _indicesDirty = false;
 }
 
@@ -177,9 +268,17 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
         }
     }
 
-    const glm::vec4 depthOffset =
-        detail::depthOffsetUniform(_ellipsoid, _options.depthOffset, kFillDepthSteps, kFillDepthFraction, 0.0);
-    _batch->appendCommands(frameState, depthOffset, commands);
+    const glm::vec4 depthOffset = detail::depthOffsetUniform(_ellipsoid, _options.depthOffset && !draped(),
+                                                             kFillDepthSteps, kFillDepthFraction, 0.0);
+    if (!draped()) {
+        _batch->appendCommands(frameState, depthOffset, commands);
+        return;
+    }
+    CommandList volumes;
+    _batch->appendCommands(frameState, depthOffset, volumes);
+    for (SceneCommand& volume : volumes) {
+        appendDrapedDraws(std::move(volume), commands);
+    }
 }
 
 } // namespace orbis::scene

@@ -152,13 +152,19 @@ DepthStrategy Scene::chooseDepthStrategy(renderer::Context& context, renderer::F
     return requested;
 }
 
-renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target)
+renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target, bool stencil)
 {
-    if (target.depthAttachment() && target.depthAttachment()->format() == renderer::TextureFormat::Depth32F) {
+    // Stencil only when the frame drapes: a plain float depth costs half the memory.
+    const renderer::TextureFormat format =
+        stencil ? renderer::TextureFormat::Depth32FStencil8 : renderer::TextureFormat::Depth32F;
+    const renderer::TextureFormat targetDepth =
+        target.depthAttachment() ? target.depthAttachment()->format() : renderer::TextureFormat::RGBA8;
+    if (targetDepth == format || targetDepth == renderer::TextureFormat::Depth32FStencil8) {
         return &target;
     }
     bool current = _floatDepthTarget && _floatDepthContext == &context && _floatDepth &&
-                   _floatDepth->width() == target.width() && _floatDepth->height() == target.height();
+                   _floatDepth->format() == format && _floatDepth->width() == target.width() &&
+                   _floatDepth->height() == target.height();
     for (int i = 0; current && i < renderer::Framebuffer::kMaxColorAttachments; ++i) {
         current = _floatDepthTarget->colorAttachment(i) == target.colorAttachment(i);
     }
@@ -168,7 +174,7 @@ renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, rende
             _floatDepthTarget->setColorAttachment(i, target.colorAttachment(i));
         }
         _floatDepth = std::make_shared<renderer::Texture2D>(
-            context.device().createTexture2D({target.width(), target.height(), renderer::TextureFormat::Depth32F}));
+            context.device().createTexture2D({target.width(), target.height(), format}));
         _floatDepthTarget->setDepthAttachment(_floatDepth);
         _floatDepthContext = &context;
     }
@@ -176,12 +182,13 @@ renderer::Framebuffer* Scene::floatDepthTarget(renderer::Context& context, rende
 }
 
 renderer::Framebuffer* Scene::multisampleTarget(renderer::Context& context, const renderer::Framebuffer& target,
-                                                int samples, bool floatDepth)
+                                                int samples, bool floatDepth, bool stencil)
 {
     const renderer::TextureFormat colorFormat =
         target.colorAttachment(0) ? target.colorAttachment(0)->format() : renderer::TextureFormat::RGBA8;
     const renderer::TextureFormat depthFormat =
-        floatDepth ? renderer::TextureFormat::Depth32F : renderer::TextureFormat::Depth24Stencil8;
+        !floatDepth ? renderer::TextureFormat::Depth24Stencil8
+                    : (stencil ? renderer::TextureFormat::Depth32FStencil8 : renderer::TextureFormat::Depth32F);
     const renderer::Framebuffer* current = _multisampleTarget.get();
     if (!current || _multisampleContext != &context || current->width() != target.width() ||
         current->height() != target.height() || current->colorAttachment(0)->samples() != samples ||
@@ -435,13 +442,27 @@ void Scene::drawFrustums(renderer::Context& context, const FrameView& frame, con
                 copySceneDepth(context);
             }
             std::size_t drawn = 0;
-            for (const std::uint32_t binned : bins[f]) {
-                const SceneCommand& command = _commands[visible[binned]];
-                if (command.pass == pass) {
-                    context.draw(command.draw, sceneState);
-                    statistics.effects |= command.tags;
-                    ++drawn;
+            const auto drawWhere = [&](const auto& wanted) {
+                for (const std::uint32_t binned : bins[f]) {
+                    const SceneCommand& command = _commands[visible[binned]];
+                    if (wanted(command)) {
+                        context.draw(command.draw, sceneState);
+                        statistics.effects |= command.tags;
+                        ++drawn;
+                    }
                 }
+            };
+            const bool drapes = pass == Pass::Opaque && std::any_of(bins[f].begin(), bins[f].end(), [&](std::uint32_t binned) {
+                                    return _commands[visible[binned]].pass == Pass::Draped;
+                                });
+            if (drapes) {
+                // Draped commands colour whatever the depth holds inside their volumes: they come
+                // after the ground and before the other opaque commands, which they would colour too.
+                drawWhere([](const SceneCommand& command) { return command.pass == Pass::Opaque && command.ground; });
+                drawWhere([](const SceneCommand& command) { return command.pass == Pass::Draped; });
+                drawWhere([](const SceneCommand& command) { return command.pass == Pass::Opaque && !command.ground; });
+            } else {
+                drawWhere([pass](const SceneCommand& command) { return command.pass == pass; });
             }
             (pass == Pass::Opaque ? statistics.opaquePasses : statistics.translucentPasses) += drawn > 0 ? 1 : 0;
             statistics.drawCallsPerFrustum[f] += drawn;
@@ -480,12 +501,21 @@ void Scene::drawFrame(renderer::Context& context, const FrameView& frame, const 
 {
     const FramebufferRestorer restorer{context, frame.target};
     const int samples = frame.target ? std::clamp(_options.samples, 1, context.device().info().maxSamples) : 1;
+    const bool drapes = std::any_of(_binner.visible().begin(), _binner.visible().end(),
+                                    [&](std::uint32_t index) { return _commands[index].pass == Pass::Draped; });
     renderer::Framebuffer* multisampled =
-        samples > 1 ? multisampleTarget(context, *frame.target, samples, plan.needsFloatDepth) : nullptr;
+        samples > 1 ? multisampleTarget(context, *frame.target, samples, plan.needsFloatDepth, drapes) : nullptr;
     if (multisampled) {
         context.setFramebuffer(multisampled);
     } else if (plan.needsFloatDepth) {
-        context.setFramebuffer(floatDepthTarget(context, *frame.target));
+        context.setFramebuffer(floatDepthTarget(context, *frame.target, drapes));
+    }
+    const renderer::Framebuffer* drawn = context.framebuffer();
+    if (drapes && drawn && (!drawn->depthAttachment() || !renderer::hasStencil(drawn->depthAttachment()->format()))) {
+        throw Error(std::string("Scene: draped polygons need a stencil buffer, and the target's depth is ") +
+                    (drawn->depthAttachment() ? renderer::textureFormatName(drawn->depthAttachment()->format())
+                                              : "missing") +
+                    "; give it Depth24Stencil8 or Depth32FStencil8");
     }
     statistics.samples = samples;
     renderer::ClearState clear;

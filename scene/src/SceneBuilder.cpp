@@ -10,6 +10,8 @@
 #include "orbis/scene/TiledGlobe.h"
 #include "orbis/scene/VirtualTextureGlobe.h"
 
+#include "VectorSupport.h"
+
 #include <orbis/core/Error.h>
 #include <orbis/world/Diagnostics.h>
 #include <orbis/world/GeoJson.h>
@@ -39,8 +41,6 @@ PolylineStyle polylineStyle(const world::StrokeStyle& stroke)
     return style;
 }
 
-/// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
-/// default stroke.
 /// The ground a layer's heightReference measures from: the globe's terrain under a point, at its
 /// most detailed (world::TerrainHeightQuery, tiles loaded as needed) and times the exaggeration,
 /// as the surface is drawn once it has converged; 0 m without terrain.
@@ -75,6 +75,45 @@ public:
         return kPi / std::ldexp(1.0, static_cast<int>(info.maximumLevel)) / (samples - 1);
     }
 
+    bool hasTerrain() const noexcept { return _terrain != nullptr; }
+
+    /// Heights that bracket the ground drawn under a polygon's triangles on the ellipsoid, for a
+    /// draped fill's volume: the most detailed heights sampled about as finely as the terrain's
+    /// posts (at most kSamples in all), widened each way by a quarter of their spread and 50 m,
+    /// for peaks between the samples and for coarser levels drawn while tiles load (their
+    /// triangles across the outline take heights from outside it).
+    HeightInterval heightsUnder(const Mesh& surface, const Ellipsoid& ellipsoid)
+    {
+        constexpr double kSamples = 65536.0;
+        const std::vector<glm::dvec3>& p = surface.positions;
+        const std::vector<std::uint32_t>& t = surface.indices;
+        const double triangles = static_cast<double>(t.size() / 3);
+        const double most = std::max(1.0, std::floor(std::sqrt(2.0 * kSamples / std::max(triangles, 1.0))));
+        double lowest = std::numeric_limits<double>::infinity();
+        double highest = -lowest;
+        for (std::size_t i = 0; i + 2 < t.size(); i += 3) {
+            const glm::dvec3& a = p[t[i]];
+            const glm::dvec3& b = p[t[i + 1]];
+            const glm::dvec3& c = p[t[i + 2]];
+            const double widest = std::max({detail::centralAngle(a, b), detail::centralAngle(b, c),
+                                            detail::centralAngle(c, a)});
+            const int steps = static_cast<int>(std::clamp(std::ceil(widest / sampleSpacingRadians()), 1.0, most));
+            for (int u = 0; u <= steps; ++u) {
+                for (int v = 0; u + v <= steps; ++v) {
+                    const glm::dvec3 point = a + (b - a) * (double(u) / steps) + (c - a) * (double(v) / steps);
+                    const double height = heightAt(ellipsoid.toGeodetic2D(point));
+                    lowest = std::min(lowest, height);
+                    highest = std::max(highest, height);
+                }
+            }
+        }
+        if (lowest > highest) {
+            return {};
+        }
+        const double margin = 50.0 + 0.25 * (highest - lowest);
+        return {lowest - margin, highest + margin};
+    }
+
     /// A position with its height made absolute.
     Geodetic3D place(Geodetic3D position, world::HeightReference reference)
     {
@@ -92,7 +131,10 @@ private:
     std::unique_ptr<world::TerrainHeightQuery> _query; ///< made at the first question
 };
 
-void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
+/// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
+/// default stroke. With a ground reference the lines follow the ground as a polyline layer's do,
+/// and over terrain the fills are draped on it (either reference: a fill can only lie on it).
+void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Ground>& ground, Scene& scene)
 {
     FeatureStyle style;
     style.borders = layer.stroke.has_value() || !layer.fill.has_value();
@@ -103,6 +145,16 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, Scene& scene)
     }
     style.granularityRadians = layer.path.granularityRadians;
     style.curve = layer.path.curve;
+    if (layer.heightReference != world::HeightReference::Absolute) {
+        style.clampLinesToGround = layer.heightReference == world::HeightReference::ClampToGround;
+        if (ground->hasTerrain()) {
+            style.groundHeight = [ground](const Geodetic2D& position) { return ground->heightAt(position); };
+            style.groundSpacingRadians = ground->sampleSpacingRadians();
+            style.fillGroundHeights = [ground, ellipsoid = scene.ellipsoid()](const Mesh& surface) {
+                return ground->heightsUnder(surface, ellipsoid);
+            };
+        }
+    }
     const world::FeatureCollection features = world::loadGeoJson(layer.source);
     try {
         buildFeaturePrimitives(scene.ellipsoid(), features, style).addTo(scene);
@@ -377,7 +429,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
                 [&](const auto& layer) {
                     using Layer = std::decay_t<decltype(layer)>;
                     if constexpr (std::is_same_v<Layer, world::GeoJsonLayer>) {
-                        addGeoJsonLayer(layer, scene);
+                        addGeoJsonLayer(layer, ground, scene);
                     } else if constexpr (std::is_same_v<Layer, world::PolylineLayer>) {
                         addPolylineLayer(layer, ground, scene);
                     } else if constexpr (std::is_same_v<Layer, world::PointsLayer>) {

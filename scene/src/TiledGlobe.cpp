@@ -1352,6 +1352,7 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.boundingSphere = tile.region.boundingSphere();
         command.nearestDistance = std::max(tile.region.distanceTo(eye), eyeHeight - tile.region.maximumHeight());
         command.tags = Effect::Globe | Effect::TiledImagery;
+        command.ground = true;
         if (impl.terrain) {
             command.tags = command.tags | Effect::Terrain;
         }

@@ -279,16 +279,20 @@ void VectorBatch::rewriteAttributes(std::vector<std::size_t>& items, const Attri
 }
 
 void VectorBatch::buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
-                               const IndexWriter& writeIndices)
+                               const IndexWriter& writeIndices, bool rangePerItem)
 {
     std::vector<std::uint32_t> indices;
     _ranges.clear();
     for (std::size_t g = 0; g < _groups.size(); ++g) {
         for (const Pass pass : {Pass::Opaque, Pass::Translucent}) {
-            const std::size_t first = indices.size();
+            std::size_t first = indices.size();
             for (const std::size_t index : _groups[g].items) {
                 if ((pass == Pass::Opaque) == opaque(index)) {
                     writeIndices(index, static_cast<std::uint32_t>(_firstVertex[index]), indices);
+                    if (rangePerItem && indices.size() > first) {
+                        _ranges.push_back({g, pass, first, indices.size() - first});
+                        first = indices.size();
+                    }
                 }
             }
             if (indices.size() > first) {

@@ -131,9 +131,9 @@ public:
     /// skipped) where they lie in the buffer, then empties the list.
     void rewriteAttributes(std::vector<std::size_t>& items, const AttributeWriter& writeAttributes);
     /// Rebuilds the index buffer: in each group the opaque items (`opaque`), then the others, each
-    /// range drawn in its pass.
+    /// range drawn in its pass; with rangePerItem, each item a range of its own.
     void buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
-                      const IndexWriter& writeIndices);
+                      const IndexWriter& writeIndices, bool rangePerItem = false);
     /// Appends one command per range, tagged with the shape's effect, drawn with the program for
     /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform).
     void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands);

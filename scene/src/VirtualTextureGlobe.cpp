@@ -946,6 +946,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         command.boundingSphere = tile->region.boundingSphere();
         command.nearestDistance = std::max(tile->region.distanceTo(eye), eyeHeight - tile->region.maximumHeight());
         command.tags = Effect::Globe | Effect::VirtualTexture;
+        command.ground = true;
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;
         }

@@ -18,9 +18,13 @@ const glm::ivec4 kBlue{0, 0, 255, 255};
 
 /// A 16 x 16 framebuffer with a depth-stencil attachment and a solid-colour program.
 struct StateFixture {
+    explicit StateFixture(TextureFormat depthFormat = TextureFormat::Depth24Stencil8)
+        : framebuffer(context.createFramebuffer(kSize, kSize, {TextureFormat::RGBA8, depthFormat}))
+    {
+    }
     Device& device = test::sharedDevice();
     Context& context = device.context();
-    Framebuffer framebuffer = context.createFramebuffer(kSize, kSize);
+    Framebuffer framebuffer;
     ShaderProgram program = device.createShaderProgram(test::solidColorDescription());
 
     void clear(const glm::vec4& color = {0.0f, 0.0f, 0.0f, 1.0f}, double depth = 1.0, int stencil = 0)
@@ -193,7 +197,10 @@ TEST_CASE("The scissor test keeps fragments inside its rectangle", "[renderer][r
 
 TEST_CASE("The stencil test masks a draw with what an earlier draw wrote", "[renderer][renderstate]")
 {
-    StateFixture f;
+    // Both depth-stencil formats: the float one is what complementary depth draws draped polygons in.
+    const TextureFormat format = GENERATE(TextureFormat::Depth24Stencil8, TextureFormat::Depth32FStencil8);
+    INFO(textureFormatName(format));
+    StateFixture f(format);
     const VertexArray left = f.array(test::quad(-1.0, -1.0, 0.0, 1.0));
     const VertexArray all = f.array(test::fullScreenQuad());
 
@@ -265,6 +272,27 @@ TEST_CASE("The depth range maps depth into the range it gives", "[renderer][rend
     state.depthRange = {0.0, 1.0};
     f.draw(front, state, {1, 0, 0, 1});
     CHECK(at(f.read(), 0.0, 0.0, kRed));
+}
+
+TEST_CASE("Depth clamping draws what lies beyond the far plane, at the far depth", "[renderer][renderstate]")
+{
+    StateFixture f;
+    const VertexArray beyond = f.array(test::fullScreenQuad(1.5)); // clipped by the far plane
+    RenderState state;
+    state.depthTest.function = CompareFunction::LessOrEqual;
+    f.clear();
+    f.draw(beyond, state, {1, 0, 0, 1});
+    CHECK(at(f.read(), 0.0, 0.0, kBlack));
+    state.depthClamp = true; // depth 1: on the cleared depth, not in front of it
+    f.draw(beyond, state, {1, 0, 0, 1});
+    CHECK(at(f.read(), 0.0, 0.0, kRed));
+    f.clear({0, 0, 0, 1}, 0.9);
+    f.draw(beyond, state, {1, 0, 0, 1});
+    CHECK(at(f.read(), 0.0, 0.0, kBlack));
+    f.clear();
+    state.depthClamp = false;
+    f.draw(beyond, state, {1, 0, 0, 1});
+    CHECK(at(f.read(), 0.0, 0.0, kBlack));
 }
 
 TEST_CASE("Blending mixes the fragment with the framebuffer", "[renderer][renderstate]")

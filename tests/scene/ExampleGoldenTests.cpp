@@ -120,4 +120,11 @@ TEST_CASE("orbis render draws the default Earth as its golden image", "[scene][g
     ORBIS_REQUIRE_GOLDEN(runExample("orbis render", "render-default"), "scene/orbis_render_default", kTolerance);
 }
 
+TEST_CASE("orbis render draws a GeoJSON layer draped over the Cumberland DEM as its golden image",
+          "[scene][golden][examples][terrain]")
+{
+    // data/scenes/draped.json: a translucent fill on the hillshaded ridges, its outline and a line clamped to them.
+    ORBIS_REQUIRE_GOLDEN(runExample("orbis render draped", "render-draped"), "scene/orbis_render_draped", kTolerance);
+}
+
 #endif

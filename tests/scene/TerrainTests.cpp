@@ -8,6 +8,7 @@
 #include <orbis/scene/Effect.h>
 #include <orbis/scene/LabelCollection.h>
 #include <orbis/scene/ModelPrimitive.h>
+#include <orbis/scene/PolygonCollection.h>
 #include <orbis/scene/PolylineCollection.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/scene/TiledGlobe.h>
@@ -551,11 +552,16 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
     CHECK_FALSE(hasEffect(plain.converge(32, 32).statistics.effects, Effect::TerrainShading));
 }
 
-TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for points, polylines and models",
+TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for points, polylines, GeoJSON and models",
           "[scene][terrain][scenefile]")
 {
     const TempDirectory directory;
     directory.write("peaks.csv", "name,lon,lat,height\nA,-84.30,36.55,5000\nB,-84.20,36.62,5000\n");
+    directory.write("area.geojson", R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "area"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[-84.30, 36.53], [-84.20, 36.55], [-84.22, 36.63], [-84.31, 36.60], [-84.30, 36.53]]]}},
+        {"type": "Feature", "properties": {}, "geometry": {"type": "LineString",
+         "coordinates": [[-84.34, 36.52, 900], [-84.16, 36.64, 900]]}}]})");
     const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
     const std::string model = dataPath("models/aircraft.glb");
     const std::filesystem::path file = directory.write("scene.json", R"({"version": 1,
@@ -566,7 +572,9 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
            "heightReference": "clampToGround"},
           {"type": "polyline", "positions": [[-84.35, 36.5, 300], [-84.15, 36.65, 300]], "granularity": 0.1},
           {"type": "model", "source": ")" + model + R"(", "position": {"lon": -84.25, "lat": 36.6, "height": 100},
-           "heightReference": "relativeToGround"}]})");
+           "heightReference": "relativeToGround"},
+          {"type": "geojson", "source": "area.geojson", "fill": {"color": "#ff000080"}, "stroke": {"color": "#ffff00"},
+           "granularity": 0.1, "heightReference": "clampToGround"}]})");
     Scene scene(kEarth);
     populateScene(world::parseSceneFile(file), scene);
 
@@ -578,7 +586,7 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     };
     const auto heightOf = [](const glm::dvec3& position) { return kEarth.toGeodetic3D(position).height; };
     const auto& primitives = scene.primitives();
-    REQUIRE(primitives.size() == 6); // globe, billboards, labels, two polylines, model
+    REQUIRE(primitives.size() == 8); // globe, billboards, labels, two polylines, model, GeoJSON fills and borders
 
     const auto* billboards = dynamic_cast<const BillboardCollection*>(primitives[1].get());
     const auto* labels = dynamic_cast<const LabelCollection*>(primitives[2].get());
@@ -612,6 +620,208 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     REQUIRE(aircraft);
     const Geodetic3D placed = aircraft->placement().position;
     CHECK(std::abs(placed.height - (100.0 + ground(kEarth.toCartesian(Geodetic3D(placed.longitude, placed.latitude, 0.0))))) < 1e-3);
+
+    // The GeoJSON layer's lines on the ground as the polyline layer's are (the LineString's 900 m
+    // dropped), every drawn vertex; its fill draped: a volume from below to above the ground under it.
+    const auto* fills = dynamic_cast<const PolygonCollection*>(primitives[6].get());
+    const auto* borders = dynamic_cast<const PolylineCollection*>(primitives[7].get());
+    REQUIRE((fills && borders));
+    REQUIRE(borders->size() == 2); // the ring and the LineString
+    for (std::size_t line = 0; line < borders->size(); ++line) {
+        REQUIRE(borders->positions(line).size() > 20);
+        for (const glm::dvec3& position : borders->positions(line)) {
+            CHECK(std::abs(heightOf(position) - borders->liftMeters(line) - ground(position)) < 1e-3);
+        }
+    }
+    REQUIRE(fills->draped());
+    REQUIRE(fills->size() == 1);
+    const std::vector<glm::dvec3>& volume = fills->mesh(0).positions;
+    double bottomHeight = -1e9; // the highest of the bottom's vertices (the first half)
+    double topHeight = 1e9;     // the lowest of the top's
+    for (std::size_t i = 0; i < volume.size(); ++i) {
+        if (i < volume.size() / 2) {
+            bottomHeight = std::max(bottomHeight, heightOf(volume[i]));
+        } else {
+            topHeight = std::min(topHeight, heightOf(volume[i]));
+        }
+    }
+    double lowest = 1e9;
+    double highest = -1e9;
+    for (double lon = -84.31; lon <= -84.20; lon += 0.0025) {
+        for (double lat = 36.53; lat <= 36.63; lat += 0.0025) {
+            const glm::dvec3 point = kEarth.toCartesian(Geodetic2D::fromDegrees(lon, lat));
+            lowest = std::min(lowest, ground(point));
+            highest = std::max(highest, ground(point));
+        }
+    }
+    CHECK(highest - lowest > 200.0);
+    CHECK(bottomHeight < lowest); // an extent around the polygon: every ground height under it
+    CHECK(topHeight > highest);
+
+    // Without terrain the same layer lies on the ellipsoid, as it always has: nothing draped.
+    const std::filesystem::path flat = directory.write("flat.json", R"({"version": 1, "layers": [
+          {"type": "geojson", "source": "area.geojson", "fill": {"color": "#ff000080"}, "heightReference": "clampToGround"}]})");
+    Scene plain(kEarth);
+    populateScene(world::parseSceneFile(flat), plain);
+    REQUIRE(plain.primitives().size() == 1);
+    const auto* ellipsoidFills = dynamic_cast<const PolygonCollection*>(plain.primitives()[0].get());
+    REQUIRE(ellipsoidFills);
+    CHECK_FALSE(ellipsoidFills->draped());
+    CHECK(ellipsoidFills->liftMeters(0) >= 0.0);
+}
+
+namespace {
+
+/// The corners of a convex quadrilateral over the ridges, counter-clockwise seen from above.
+const std::array<Geodetic2D, 4> kDrapedCorners = {Geodetic2D::fromDegrees(9.90, 45.93), Geodetic2D::fromDegrees(10.17, 45.97),
+                                                  Geodetic2D::fromDegrees(10.12, 46.16), Geodetic2D::fromDegrees(9.94, 46.10)};
+
+world::Polygon drapedQuadrilateral()
+{
+    world::LinearRing ring;
+    for (const Geodetic2D& corner : kDrapedCorners) {
+        ring.push_back(Geodetic3D(corner.longitude, corner.latitude, 0.0));
+    }
+    ring.push_back(ring.front());
+    return world::Polygon{{ring}};
+}
+
+/// Whether a point's foot on the ellipsoid lies inside the quadrilateral, whose edges are the
+/// curves cut by planes through the centre (as PolygonCollection triangulates them).
+bool insideDrapedQuadrilateral(const glm::dvec3& point)
+{
+    const Geodetic3D g = kEarth.toGeodetic3D(point);
+    const glm::dvec3 foot = kEarth.toCartesian(Geodetic2D(g.longitude, g.latitude));
+    for (std::size_t i = 0; i < kDrapedCorners.size(); ++i) {
+        const glm::dvec3 a = kEarth.toCartesian(kDrapedCorners[i]);
+        const glm::dvec3 b = kEarth.toCartesian(kDrapedCorners[(i + 1) % kDrapedCorners.size()]);
+        if (glm::dot(glm::cross(a, b), foot) <= 0.0) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// Renders the terrain scene until it converges and compares every pixel with the ground picked
+/// under it: red exactly where that ground is inside the quadrilateral, except within a pixel of
+/// its outline; blue nowhere. Returns the frame.
+RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
+{
+    const RenderedFrame frame = terrain.converge(width, height);
+    REQUIRE(frame.statistics.tiles->converged);
+    const auto isRed = [](const std::uint8_t* p) { return p[0] > 200 && p[1] < 80 && p[2] < 80; };
+    const auto isBlue = [](const std::uint8_t* p) { return p[2] > 200 && p[0] < 80 && p[1] < 80; };
+    // Whether the ground under each pixel's centre is inside; -1 where the pixel sees no ground.
+    std::vector<int> expected(static_cast<std::size_t>(width * height), -1);
+    double lowest = std::numeric_limits<double>::infinity();
+    double highest = -lowest;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const std::optional<glm::dvec3> ground = terrain.scene.pickGround({x + 0.5, y + 0.5}, width, height);
+            if (!ground) {
+                continue;
+            }
+            const bool inside = insideDrapedQuadrilateral(*ground);
+            expected[static_cast<std::size_t>(y * width + x)] = inside ? 1 : 0;
+            if (inside) {
+                const double groundHeight = kEarth.toGeodetic3D(*ground).height;
+                lowest = std::min(lowest, groundHeight);
+                highest = std::max(highest, groundHeight);
+            }
+        }
+    }
+    const auto onOutline = [&](int x, int y) {
+        const int own = expected[static_cast<std::size_t>(y * width + x)];
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int nx = std::clamp(x + dx, 0, width - 1);
+                const int ny = std::clamp(y + dy, 0, height - 1);
+                if (expected[static_cast<std::size_t>(ny * width + nx)] != own) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    };
+    int insidePixels = 0;
+    int outsidePixels = 0;
+    int wrong = 0;
+    int blue = 0;
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            const int want = expected[static_cast<std::size_t>(y * width + x)];
+            const bool red = isRed(frame.image.pixel(x, y));
+            blue += isBlue(frame.image.pixel(x, y));
+            (want == 1 ? insidePixels : outsidePixels) += 1;
+            if (red != (want == 1) && !onOutline(x, y)) {
+                UNSCOPED_INFO("pixel " << x << ", " << y << (red ? " red outside" : " not red inside"));
+                ++wrong;
+            }
+        }
+    }
+    CHECK(wrong == 0);
+    CHECK(blue == 0); // the absolute polygon at 0 m is under the ground everywhere
+    CHECK(insidePixels > width * height / 10);
+    CHECK(outsidePixels > width * height / 10);
+    CHECK(highest - lowest > 300.0); // the ground it covers is far from flat
+    CHECK(lowest > 0.0);             // and above the absolute polygon everywhere
+    CHECK(hasEffect(frame.statistics.effects, Effect::DrapedPolygons));
+    return frame;
+}
+
+/// The quadrilateral draped in red over terrain, and the same one in blue at 0 m (absolute).
+void addDrapedAndAbsolute(Scene& scene)
+{
+    PolygonCollectionOptions drape;
+    // The ridges lie between -100 m and 3,100 m.
+    drape.groundHeights = [](const Mesh&) { return HeightInterval{-200.0, 3200.0}; };
+    auto draped = std::make_shared<PolygonCollection>(kEarth, drape);
+    draped->add(drapedQuadrilateral(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f), "draped");
+    auto absolute = std::make_shared<PolygonCollection>(kEarth);
+    absolute->add(drapedQuadrilateral(), glm::vec4(0.0f, 0.0f, 1.0f, 1.0f), "absolute");
+    scene.add(absolute);
+    scene.add(draped);
+}
+
+} // namespace
+
+TEST_CASE("A draped polygon covers exactly the terrain's pixels inside it, seen from above and obliquely, in any depth strategy",
+          "[scene][terrain][polygons][gl]")
+{
+    TerrainScene terrain(syntheticTerrain(ridges, 0.0));
+    const int width = 128;
+    const int height = 96;
+    // Without draped polygons nothing of them is drawn, or paid for.
+    terrain.look(Geodetic3D::fromDegrees(10.03, 45.78, 20000.0), 0.0, -45.0);
+    const RenderedFrame plain = terrain.converge(width, height);
+    CHECK_FALSE(hasEffect(plain.statistics.effects, Effect::DrapedPolygons));
+    addDrapedAndAbsolute(terrain.scene);
+
+    SECTION("from above, Automatic depth (complementary here, with a float depth and stencil buffer of the scene's)")
+    {
+        terrain.look(Geodetic3D::fromDegrees(10.03, 46.04, 45000.0), 0.0, -90.0);
+        checkDrapedCoverage(terrain, width, height);
+    }
+    SECTION("obliquely, the polygon's volume across several frustums")
+    {
+        terrain.scene.options().depthStrategy = DepthStrategy::MultiFrustum;
+        // Frustum boundaries across the polygon: without depth clamping the faces beyond each
+        // frustum's far plane would go uncounted there.
+        terrain.scene.options().multiFrustum.farToNearRatio = 1.5;
+        terrain.look(Geodetic3D::fromDegrees(10.03, 45.78, 20000.0), 0.0, -45.0);
+        const RenderedFrame frame = checkDrapedCoverage(terrain, width, height);
+        CHECK(frame.statistics.frustums.size() >= 5);
+        CHECK(frame.statistics.commandsExecutedMoreThanOnce > 0);
+        // The same view without the polygons: only the two polygons' commands are added (the
+        // absolute one's and the draped one's two draws, in each frustum they span).
+        CHECK(frame.statistics.commandsSubmitted == plain.statistics.commandsSubmitted + 3);
+    }
+    SECTION("logarithmic depth")
+    {
+        terrain.scene.options().depthStrategy = DepthStrategy::Logarithmic;
+        terrain.look(Geodetic3D::fromDegrees(10.03, 45.78, 20000.0), 0.0, -45.0);
+        checkDrapedCoverage(terrain, width, height);
+    }
 }
 
 TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",

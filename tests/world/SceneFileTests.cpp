@@ -105,7 +105,8 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
         parsed.insert(entry.path().stem().string());
     }
     // The examples docs and tests name, every one of them (a new one is added here).
-    REQUIRE(parsed == std::set<std::string>{"capitals", "clipmap", "countries", "default", "model", "routes", "virtual-texture"});
+    REQUIRE(parsed == std::set<std::string>{"capitals", "clipmap", "countries", "default", "draped", "model", "routes",
+                                            "virtual-texture"});
 }
 
 TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][scenefile]")
@@ -362,7 +363,7 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[world][s
             R"(test.json:1:44: /sun/elevation: unknown key "elevation"; expected one of "lon", "lat")");
     // A key that belongs to another layer type.
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "positions": []})")) ==
-            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve")");
+            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve", "heightReference")");
     // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
     CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
             R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "samples", "globe", "layers")");
@@ -742,17 +743,24 @@ TEST_CASE("Layers take a height reference: absolute by default, clampToGround or
         {"type": "polyline", "positions": [[0, 0], [1, 1]]},
         {"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "clampToGround"},
         {"type": "model", "source": "m.glb", "position": {"lon": 0, "lat": 0}, "heightReference": "relativeToGround"},
-        {"type": "points", "source": "p.csv", "heightReference": "absolute"}]})");
-    REQUIRE(scene.layers.size() == 4);
+        {"type": "points", "source": "p.csv", "heightReference": "absolute"},
+        {"type": "geojson", "source": "a.geojson", "heightReference": "clampToGround"},
+        {"type": "geojson", "source": "a.json", "fill": {"color": "#ff0000"}, "heightReference": "relativeToGround"}]})");
+    REQUIRE(scene.layers.size() == 6);
     CHECK(std::get<PolylineLayer>(scene.layers[0]).heightReference == HeightReference::Absolute);
     CHECK(std::get<PolylineLayer>(scene.layers[1]).heightReference == HeightReference::ClampToGround);
     CHECK(std::get<ModelLayer>(scene.layers[2]).heightReference == HeightReference::RelativeToGround);
     CHECK(std::get<PointsLayer>(scene.layers[3]).heightReference == HeightReference::Absolute);
+    CHECK(std::get<GeoJsonLayer>(scene.layers[4]).heightReference == HeightReference::ClampToGround);
+    CHECK(std::get<GeoJsonLayer>(scene.layers[5]).heightReference == HeightReference::RelativeToGround);
     CHECK(errorOf(R"({"version": 1, "layers": [{"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "ground"}]})")
               .find("/layers/0/heightReference: unknown value \"ground\"; expected one of \"absolute\", \"clampToGround\", \"relativeToGround\"") != std::string::npos);
-    // GeoJSON lines and polygons are not placed on the ground (yet): the key is refused, not ignored.
-    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.geojson", "heightReference": "clampToGround"}]})")
-              .find("unknown key \"heightReference\"") != std::string::npos);
+    // GeoJSON (and TopoJSON) layers are refused a bad value as the others are, the file and the key named.
+    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.geojson", "heightReference": "draped"}]})")
+              .find("test.json:1:89: /layers/0/heightReference: unknown value \"draped\"; expected one of \"absolute\", "
+                    "\"clampToGround\", \"relativeToGround\"") != std::string::npos);
+    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.json", "heightReference": true}]})")
+              .find("/layers/0/heightReference") != std::string::npos);
 }
 
 TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their documented defaults, each checked",

@@ -110,7 +110,8 @@ constexpr std::array<std::string_view, 11> kVirtualTextureKeys = {
     "trilinear", "maximumAnisotropy", "lodBias",       "dynamicLodBias",  "uploadMegabytesPerFrame"};
 constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
-constexpr std::array<std::string_view, 6> kGeoJsonKeys = {"type", "source", "stroke", "fill", "granularity", "curve"};
+constexpr std::array<std::string_view, 7> kGeoJsonKeys = {"type", "source",      "stroke", "fill",
+                                                          "granularity", "curve", "heightReference"};
 constexpr std::array<std::string_view, 5> kPointsKeys = {"type", "source", "billboard", "label", "heightReference"};
 constexpr std::array<std::string_view, 7> kPolylineKeys = {"type", "positions", "width", "color",
                                                             "granularity", "curve", "heightReference"};
@@ -1049,6 +1050,7 @@ private:
             layer.stroke = StrokeStyle{};
         }
         attempt([&] { layer.path = readLinePath(value, pointer); });
+        readHeightReference(value, pointer, layer.heightReference);
         return layer;
     }
 

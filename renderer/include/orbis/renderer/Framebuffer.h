@@ -35,7 +35,7 @@ public:
     /// Attaches a colour texture at index 0..7 (null detaches). Throws orbis::Error for a depth
     /// format or an index out of range.
     void setColorAttachment(int index, std::shared_ptr<Texture2D> texture);
-    /// Attaches a Depth24, Depth32F or Depth24Stencil8 texture (null detaches). Throws for colour
+    /// Attaches a Depth24, Depth32F, Depth24Stencil8 or Depth32FStencil8 texture (null detaches). Throws for colour
     /// formats.
     void setDepthAttachment(std::shared_ptr<Texture2D> texture);
 

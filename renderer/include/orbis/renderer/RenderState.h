@@ -144,6 +144,9 @@ struct RenderState {
     StencilTest stencilTest;
     DepthTest depthTest;
     DepthRange depthRange;
+    /// GL_DEPTH_CLAMP: nothing is clipped by the near and far planes; depth beyond them is clamped
+    /// to the range (shadow volumes: a face beyond the far plane still counts, as lying behind).
+    bool depthClamp = false;
     Blending blending;
     ColorMask colorMask;
     bool depthMask = true;

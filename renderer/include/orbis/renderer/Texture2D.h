@@ -15,6 +15,7 @@ class Device;
 /// How a texture stores a texel, and the layout copyFromSystemMemory and copyToSystemMemory use:
 /// RGBA8 4 bytes, RGB8 3, R32F one float, RG32F two, RGBA32F four; Depth24 and Depth32F one float
 /// (0..1); Depth24Stencil8 one 32-bit word, depth in the high 24 bits, stencil in the low 8;
+/// Depth32FStencil8 a float depth, then a 32-bit word with the stencil in its low 8 bits;
 /// SRGB8Alpha8 4 bytes as RGBA8, the colour sRGB-encoded: sampling decodes it to linear values
 /// (before filtering, as it should be), alpha is linear.
 enum class TextureFormat : std::uint8_t {
@@ -26,13 +27,17 @@ enum class TextureFormat : std::uint8_t {
     Depth24,
     Depth32F,
     Depth24Stencil8,
-    SRGB8Alpha8
+    SRGB8Alpha8,
+    Depth32FStencil8
+
 };
 
 /// Bytes per texel in the system-memory layout above.
 std::size_t bytesPerTexel(TextureFormat format) noexcept;
-/// True for Depth24, Depth32F and Depth24Stencil8.
+/// True for Depth24, Depth32F, Depth24Stencil8 and Depth32FStencil8.
 bool isDepthFormat(TextureFormat format) noexcept;
+/// True for Depth24Stencil8 and Depth32FStencil8.
+bool hasStencil(TextureFormat format) noexcept;
 /// "RGBA8", ... for messages.
 const char* textureFormatName(TextureFormat format) noexcept;
 

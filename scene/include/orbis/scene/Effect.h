@@ -25,6 +25,7 @@ enum class Effect : std::uint32_t {
     VirtualTexture = 1u << 12, ///< the globe's surface reading one virtual texture (and its feedback pass)
     TerrainShading = 1u << 13, ///< colour by height or slope, contours or hillshade (TerrainShading)
     ClipmapTerrain = 1u << 14, ///< terrain drawn as geometry clipmaps (with Terrain)
+    DrapedPolygons = 1u << 15, ///< polygons draped over the terrain as shadow volumes (with Polygons)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

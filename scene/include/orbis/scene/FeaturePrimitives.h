@@ -6,6 +6,7 @@
 #include <orbis/world/Feature.h>
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,15 @@ struct FeatureStyle {
     /// false: a polygon that cannot be triangulated throws. true: it is left out and described in
     /// FeaturePrimitives::warnings (its borders are still drawn).
     bool skipInvalidPolygons = false;
+    /// Lines on the ground, as a polyline layer's (PolylineCollectionOptions::groundHeight; null:
+    /// on the ellipsoid), with a drawn vertex at least every groundSpacingRadians (the terrain's
+    /// sample spacing). clampLinesToGround drops the lines' own heights first (without
+    /// groundHeight the lines then lie on the ellipsoid).
+    std::function<double(const Geodetic2D&)> groundHeight;
+    double groundSpacingRadians = std::numeric_limits<double>::infinity();
+    bool clampLinesToGround = false;
+    /// Fills draped over the ground (PolygonCollectionOptions::groundHeights); null: on the ellipsoid.
+    std::function<HeightInterval(const Mesh& surface)> fillGroundHeights;
 };
 
 /// What buildFeaturePrimitives made: null for what there was nothing of.

@@ -5,10 +5,17 @@
 #include <orbis/core/Mesh.h>
 #include <orbis/world/Feature.h>
 
+#include <functional>
 #include <string>
 #include <string_view>
 
 namespace orbis::scene {
+
+/// Heights above the ellipsoid (metres), lowest <= highest.
+struct HeightInterval {
+    double lowest = 0.0;
+    double highest = 0.0;
+};
 
 struct PolygonCollectionOptions {
     /// Largest angle at the centre subtended by a triangle's edge (triangulatePolygon's
@@ -18,6 +25,14 @@ struct PolygonCollectionOptions {
     /// The z-fighting technique of shaders/scene/vector/vector.vert.glsl. Off only to show what it
     /// prevents.
     bool depthOffset = true;
+    /// When set, the fills are draped over the ground the globe draws (docs/terrain.md, "Draped
+    /// polygons"): each polygon is a closed shadow volume from below to above the ground under it,
+    /// between the heights this gives for the polygon's triangles on the ellipsoid (the volume's
+    /// top is raised further by what its flat triangles sag), and colours the pixels of the ground
+    /// inside it by a z-fail stencil count: two draws a polygon, in Pass::Draped, so the frame
+    /// needs a stencil buffer. The interval must hold every height of the ground drawn under the
+    /// polygon, coarser levels included; depthOffset does not apply.
+    std::function<HeightInterval(const Mesh& surface)> groundHeights;
 };
 
 /// Filled polygons on the ellipsoid, book chapter 8: each polygon (an outer ring and holes) is ear
@@ -30,7 +45,8 @@ struct PolygonCollectionOptions {
 /// the globe never shows through; drawn after the globe without fighting it (see
 /// shaders/scene/vector/vector.vert.glsl). Triangulation happens in add(), so bad polygons throw
 /// there; nothing is allocated on the GPU before the first update(); setColor() later rewrites only
-/// that polygon's vertices. Drawn in groups by region like PolylineCollection.
+/// that polygon's vertices. Drawn in groups by region like PolylineCollection; draped polygons
+/// (PolygonCollectionOptions::groundHeights) instead each by itself, lying on the terrain.
 ///
 /// ```
 /// auto fills = std::make_shared<PolygonCollection>(Ellipsoid::wgs84());
@@ -69,10 +85,12 @@ public:
     void setColor(std::size_t index, const glm::vec4& color);
 
     /// The triangles drawn for polygon `index`: world positions lifted above the surface, indices
-    /// counter-clockwise seen from outside.
+    /// counter-clockwise seen from outside. Draped: its closed volume, the positions at its bottom
+    /// (the surface triangles' vertices moved down to the lowest height), then the same at its top.
     const Mesh& mesh(std::size_t index) const;
-    /// How far polygon `index` is lifted along the surface normal (metres).
+    /// How far polygon `index` is lifted along the surface normal (metres); 0 when draped.
     double liftMeters(std::size_t index) const;
+    bool draped() const noexcept { return static_cast<bool>(_options.groundHeights); }
 
     std::size_t vertexCount() const noexcept { return _vertexCount; }
     std::size_t triangleCount() const noexcept { return _triangleCount; }
@@ -80,7 +98,8 @@ public:
     /// The sphere around every drawn position; none while no polygon has triangles.
     std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
-    /// Its fills write every DepthStrategy's depth, with their depth offset scaled to it.
+    /// Its fills write every DepthStrategy's depth, with their depth offset scaled to it (draped
+    /// ones test against it).
     bool supportsLogarithmicDepth() const override { return true; }
 
 private:

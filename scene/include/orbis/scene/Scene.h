@@ -52,7 +52,9 @@ struct SceneOptions {
 /// the scene draws into the target's colour textures with a float depth texture of its own (made
 /// once per size, no copy), and the target's own depth attachment is left as it was. A context
 /// without glClipControl, or a default (window) framebuffer, cannot have it: Automatic then passes
-/// over it, and asking for it throws orbis::Error saying why.
+/// over it, and asking for it throws orbis::Error saying why. A frame with draped commands
+/// (Pass::Draped) needs a stencil buffer: the scene's own depth textures then have one, and a
+/// target whose depth has none (Depth24, Depth32F under other strategies) throws.
 ///
 /// ```
 /// Scene scene;
@@ -106,13 +108,14 @@ private:
     /// The frame's strategy: the one asked for, checked, or Automatic's choice.
     DepthStrategy chooseDepthStrategy(renderer::Context& context, renderer::Framebuffer* target, double nearDistance,
                                       double farDistance, bool logarithmicAvailable) const;
-    /// The target's colour textures with a Depth32F depth texture: the target itself when its depth
-    /// is already Depth32F.
-    renderer::Framebuffer* floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target);
+    /// The target's colour textures with a float depth texture, with stencil when the frame drapes
+    /// (Pass::Draped): the target itself when its depth is already such a texture.
+    renderer::Framebuffer* floatDepthTarget(renderer::Context& context, renderer::Framebuffer& target, bool stencil);
     /// A multisampled framebuffer of the target's size and colour format, `samples` per pixel,
-    /// with a Depth32F (floatDepth) or Depth24Stencil8 depth texture; made again when any changes.
+    /// with a Depth32F (floatDepth; Depth32FStencil8 with stencil) or Depth24Stencil8 depth texture;
+    /// made again when any changes.
     renderer::Framebuffer* multisampleTarget(renderer::Context& context, const renderer::Framebuffer& target,
-                                             int samples, bool floatDepth);
+                                             int samples, bool floatDepth, bool stencil);
 
     // The steps of render(), in order (Scene.cpp).
     struct FrameView;

@@ -12,8 +12,10 @@
 namespace orbis::scene {
 
 /// When a command is drawn within a frame: opaque first, then translucent (blended, in the order
-/// submitted), then overlay (screen-space, after every frustum).
-enum class Pass : std::uint8_t { Opaque, Translucent, Overlay };
+/// submitted), then overlay (screen-space, after every frustum). Draped commands (shadow volumes
+/// that colour the ground inside them) are drawn in each frustum's opaque pass, right after its
+/// ground commands (SceneCommand::ground) and before its other opaque commands.
+enum class Pass : std::uint8_t { Opaque, Translucent, Overlay, Draped };
 
 /// What a primitive hands the Scene for one draw: the renderer's DrawCommand, which the Context
 /// executes, and what the scene reads to cull it and bin it into frustums and passes, which the
@@ -43,6 +45,8 @@ struct SceneCommand {
     /// A translucent command that samples FrameState::sceneDepth: the scene copies the depth its
     /// frustum's opaque commands wrote into that texture before the translucent pass.
     bool readsSceneDepth = false;
+    /// An opaque command that draws the globe's surface: draped commands colour it and follow it.
+    bool ground = false;
 };
 
 } // namespace orbis::scene

@@ -228,6 +228,9 @@ struct GeoJsonLayer {
     std::optional<StrokeStyle> stroke;
     std::optional<FillStyle> fill;
     LinePath path;
+    /// Lines follow it as a polyline layer's do; fills on the ground (either ground reference)
+    /// are draped over the terrain, their heights ignored as they always are.
+    HeightReference heightReference = HeightReference::Absolute;
 
     friend bool operator==(const GeoJsonLayer&, const GeoJsonLayer&) = default;
 };
