@@ -6,14 +6,13 @@
 // Usage: ch13_clipmap [--out file.png] [--width W] [--height H]
 #include "../common/SceneExample.h"
 
+#include <orbis/core/HeadingPitchRoll.h>
+#include <orbis/core/Math.h>
 #include <orbis/core/SunPosition.h>
-#include <orbis/core/Transforms.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/scene/ClipmapTerrain.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
-
-#include <glm/geometric.hpp>
 
 #include <cstdio>
 
@@ -54,10 +53,8 @@ int main(int argc, char** argv)
             auto terrain = std::make_shared<ClipmapTerrain>(scene.ellipsoid(), options);
             scene.add(terrain);
             scene.setSunDirection(sunDirectionEarthFixed(*parseUtcTime("2026-06-21T09:00:00Z")));
-            const glm::dvec3 eye = scene.ellipsoid().toCartesian(panel.position);
-            const ViewOrientation view = headingPitchRollToView(scene.ellipsoid(), eye, toRadians(panel.headingDegrees),
-                                                                toRadians(panel.pitchDegrees), 0.0);
-            scene.camera().lookAt(eye, eye + view.direction * glm::length(eye), view.up);
+            scene.camera().setView(scene.ellipsoid(), panel.position,
+                                   HeadingPitchRoll{toRadians(panel.headingDegrees), toRadians(panel.pitchDegrees), 0.0});
             FrameStatistics statistics;
             int frames = 0;
             while (frames < 600 && !terrain->converged()) {
