@@ -445,21 +445,6 @@ std::shared_ptr<world::TerrainSource> syntheticTerrain(double levelOffset = 37.0
         [](const Geodetic2D& g) { return ridges(g.longitude, g.latitude); }, 14, levelOffset);
 }
 
-/// Where a point lands on a width x height image of the camera (pixels, y down); empty behind it.
-std::optional<glm::dvec2> toPixel(const Camera& camera, const glm::dvec3& point, int width, int height)
-{
-    const glm::dvec3 v = point - camera.eye();
-    const glm::dvec3 right = camera.right();
-    const glm::dvec3 up = glm::cross(right, camera.direction());
-    const double z = glm::dot(v, camera.direction());
-    if (z <= 0.0) {
-        return std::nullopt;
-    }
-    const double tanY = std::tan(0.5 * camera.fieldOfViewY());
-    const double tanX = tanY * width / height;
-    return glm::dvec2((glm::dot(v, right) / (z * tanX) + 1.0) * 0.5 * width, (1.0 - glm::dot(v, up) / (z * tanY)) * 0.5 * height);
-}
-
 /// The first point where a ray meets the surface `height` (metres above the ellipsoid, within
 /// lowest..highest): steps no longer than the height gap allows if no slope is steeper than
 /// slopeBound (the ground rises at most slopeBound per metre along the ray, the ray falls at most
@@ -579,9 +564,9 @@ void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& 
                 continue;
             }
             const Geodetic2D& g = sample.position;
-            const auto a = toPixel(camera, kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude, *drawn)), kWidth, kHeight);
-            const auto b = toPixel(camera, kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude, view.trueHeight(g))),
-                                   kWidth, kHeight);
+            const auto a = camera.worldToWindow(kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude, *drawn)), kWidth, kHeight);
+            const auto b = camera.worldToWindow(
+                kEarth.toCartesian(Geodetic3D(g.longitude, g.latitude, view.trueHeight(g))), kWidth, kHeight);
             if (a && b) {
                 errors.push_back(glm::distance(*a, *b));
             }

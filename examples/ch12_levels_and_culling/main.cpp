@@ -41,17 +41,16 @@ void addBoxes(PolylineCollection& lines, const std::vector<TiledGlobe::DrawnTile
     }
 }
 
-/// The camera's frustum as lines from the eye along its four corner rays, `length` metres long,
-/// and the far rectangle joining their ends.
-void addFrustum(PolylineCollection& lines, const Camera& camera, double aspect, double length)
+/// The camera's frustum, for a width x height view, as lines from the eye through the view's four
+/// corners, `length` metres long, and the far rectangle joining their ends.
+void addFrustum(PolylineCollection& lines, const Camera& camera, int width, int height, double length)
 {
-    const double tanY = std::tan(0.5 * camera.fieldOfViewY());
-    const double tanX = tanY * aspect;
-    const glm::dvec3 up = glm::cross(camera.right(), camera.direction());
     std::array<glm::dvec3, 4> far;
     int i = 0;
-    for (const auto& [x, y] : {std::pair{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}}) {
-        far[i++] = camera.eye() + length * glm::normalize(camera.direction() + x * tanX * camera.right() + y * tanY * up);
+    for (const glm::dvec2 corner : {glm::dvec2(0.0, 0.0), glm::dvec2(width, 0.0), glm::dvec2(width, height),
+                                    glm::dvec2(0.0, height)}) {
+        const Ray ray = camera.pickRay(corner, width, height);
+        far[i++] = ray.origin + length * ray.direction;
     }
     const PolylineStyle white{glm::vec4(1.0f), 2.0f};
     for (const glm::dvec3& corner : far) {
@@ -88,7 +87,6 @@ int main(int argc, char** argv)
     return examples::runTiledExample(
         argc, argv, defaults, 1 + std::size(kOutside),
         [&](renderer::Context& context, std::size_t index, const examples::ExampleSettings& settings) {
-            const double aspect = static_cast<double>(settings.width) / settings.height;
             Scene scene;
             char caption[256];
             if (index == 0) {
@@ -117,7 +115,7 @@ int main(int argc, char** argv)
             scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), backdrop));
             auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid());
             addBoxes(*lines, selected);
-            addFrustum(*lines, viewCamera, aspect, 1.3e6); // about the horizon's distance
+            addFrustum(*lines, viewCamera, settings.width, settings.height, 1.3e6); // about the horizon's distance
             scene.add(lines);
             scene.camera().setView(scene.ellipsoid(), outside.position,
                                    HeadingPitchRoll{toRadians(outside.heading), toRadians(outside.pitch), 0.0});
