@@ -33,6 +33,7 @@ GlFormat glFormat(TextureFormat format) noexcept
     case TextureFormat::SRGB8Alpha8: return {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE};
     case TextureFormat::Depth32FStencil8:
         return {GL_DEPTH32F_STENCIL8, GL_DEPTH_STENCIL, GL_FLOAT_32_UNSIGNED_INT_24_8_REV};
+    case TextureFormat::R8: return {GL_R8, GL_RED, GL_UNSIGNED_BYTE};
     }
     return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 }
@@ -69,6 +70,7 @@ std::size_t bytesPerTexel(TextureFormat format) noexcept
     case TextureFormat::Depth24Stencil8: return 4;
     case TextureFormat::SRGB8Alpha8: return 4;
     case TextureFormat::Depth32FStencil8: return 8;
+    case TextureFormat::R8: return 1;
     }
     return 4;
 }
@@ -96,6 +98,7 @@ const char* textureFormatName(TextureFormat format) noexcept
     case TextureFormat::Depth24Stencil8: return "Depth24Stencil8";
     case TextureFormat::SRGB8Alpha8: return "SRGB8Alpha8";
     case TextureFormat::Depth32FStencil8: return "Depth32FStencil8";
+    case TextureFormat::R8: return "R8";
     }
     return "?";
 }

@@ -326,6 +326,7 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
         options.shading.hillshade = shading.hillshade;
         options.shading.hillshadeAzimuth = shading.hillshadeAzimuth;
         options.shading.hillshadeAltitude = shading.hillshadeAltitude;
+        options.water = shading.water;
     }
     return options;
 }

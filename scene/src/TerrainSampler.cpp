@@ -175,4 +175,40 @@ std::vector<float> TerrainSampler::latticeNormals(const TileKey& key, int sample
     return out;
 }
 
+TerrainSampler::WaterMask TerrainSampler::waterMask(const TileKey& key) const
+{
+    const std::vector<std::uint8_t>& mask = _data->waterMask;
+    const int maskSize = _data->waterMaskSize;
+    if (maskSize <= 0 || mask.size() != static_cast<std::size_t>(maskSize) * static_cast<std::size_t>(maskSize)) {
+        return {};
+    }
+    if (maskSize == 1) {
+        return {1, mask};
+    }
+    // A tile d levels below the data covers maskSize / 2^d of its texels: as many, at least 16,
+    // keep the coastline as sharp as the data has it without a full mask per descendant.
+    const int levelsBelow = static_cast<int>(key.level) - static_cast<int>(_data->key.level);
+    const int size = std::max(maskSize >> std::min(levelsBelow, 4), 1);
+    const double scale = std::ldexp(1.0, -levelsBelow);
+    const double west = static_cast<double>(key.x) * scale - _data->key.x;
+    const double south = static_cast<double>(key.y) * scale - _data->key.y;
+    WaterMask out{size, std::vector<std::uint8_t>(static_cast<std::size_t>(size) * static_cast<std::size_t>(size))};
+    auto texel = [maskSize](double t) { return std::clamp(static_cast<int>(std::floor(t * maskSize)), 0, maskSize - 1); };
+    bool uniform = true;
+    for (int j = 0; j < size; ++j) {
+        const int row = maskSize - 1 - texel(south + (j + 0.5) / size * scale); // the data's rows run from the north
+        for (int i = 0; i < size; ++i) {
+            const int column = texel(west + (i + 0.5) / size * scale);
+            const std::uint8_t value = mask[static_cast<std::size_t>(row) * static_cast<std::size_t>(maskSize) +
+                                            static_cast<std::size_t>(column)];
+            out.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(size) + static_cast<std::size_t>(i)] = value;
+            uniform = uniform && value == out.values[0];
+        }
+    }
+    if (uniform) {
+        out = {1, {out.values[0]}};
+    }
+    return out;
+}
+
 } // namespace orbis::scene

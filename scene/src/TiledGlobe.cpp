@@ -57,14 +57,23 @@ enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed 
 
 /// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    MeshContent(TileMesh mesh_, std::vector<float> normals_, bool normalsFromData_, std::uint32_t generation_)
-        : mesh(std::move(mesh_)), normals(std::move(normals_)), normalsFromData(normalsFromData_), generation(generation_)
+    MeshContent(TileMesh mesh_, std::vector<float> normals_, bool normalsFromData_, TerrainSampler::WaterMask water_,
+                std::uint32_t generation_)
+        : mesh(std::move(mesh_))
+        , normals(std::move(normals_))
+        , normalsFromData(normalsFromData_)
+        , water(std::move(water_))
+        , generation(generation_)
     {
     }
-    std::size_t byteSize() const noexcept override { return mesh.byteSize() + normals.size() * sizeof(float); }
+    std::size_t byteSize() const noexcept override
+    {
+        return mesh.byteSize() + normals.size() * sizeof(float) + water.values.size();
+    }
     TileMesh mesh;
     std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
     bool normalsFromData;       ///< the terrain data's own (TerrainSampler::latticeNormals), not the mesh's
+    TerrainSampler::WaterMask water; ///< with TiledGlobeOptions::water, where the data has a mask
     std::uint32_t generation;   ///< of the exaggeration it was made with
 };
 
@@ -160,6 +169,9 @@ struct SurfaceTile final : TileData {
     std::optional<renderer::VertexBuffer> vertexBuffer;
     std::optional<renderer::VertexArray> vertexArray;
     std::optional<renderer::VertexBuffer> normalBuffer; ///< with terrain
+    /// Its water mask, when it varies over the tile; otherwise the globe's all-land or all-water one.
+    std::optional<renderer::Texture2D> waterMask;
+    bool allWater = false;
     bool normalsFromData = false; ///< the data's normals: a new exaggeration loads the tile again
     std::optional<EdgeCoarsening> coarsening; ///< of the index buffer bound to the vertex array
     std::size_t bytes = 0;    ///< on the GPU
@@ -321,7 +333,13 @@ struct TiledGlobe::Impl {
         }
         return found->second;
     }
+    /// Whether tiles draw their water masks (TiledGlobeOptions::water needs terrain and lighting).
+    bool waterMasks() const noexcept { return options->water && options->lighting && terrain; }
     std::optional<renderer::Sampler> sampler;
+    /// With TiledGlobeOptions::water: one texel masks for the tiles all land or all water, and the
+    /// masks' sampler (no mipmaps: a coastline stays as sharp as the data has it).
+    std::optional<renderer::Texture2D> landMask, waterMask;
+    std::optional<renderer::Sampler> maskSampler;
     std::optional<MercatorReprojection> reprojection;
 };
 
@@ -630,13 +648,18 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
         const double skirtDepth = options->skirts ? quadtree.geometricErrorOf(key.level) : 0.0;
         const std::shared_ptr<TerrainCache> heightsFrom = terrain;
         const double exaggeration = options->terrainExaggeration;
+        const bool water = waterMasks();
         const std::uint32_t generation = meshGeneration;
-        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration,
+        return [shape, key, samplesLog2, skirtDepth, heightsFrom, exaggeration, water,
                 generation]() -> std::unique_ptr<world::TileContent> {
             std::vector<float> heights;
             std::vector<float> dataNormals;
+            TerrainSampler::WaterMask mask;
             if (heightsFrom) {
                 if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
+                    if (water) {
+                        mask = data->waterMask(key);
+                    }
                     heights = data->latticeHeights(key, samplesLog2);
                     for (float& height : heights) {
                         height = static_cast<float>(static_cast<double>(height) * exaggeration);
@@ -655,7 +678,8 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
             } else if (heightsFrom) {
                 normals = mesh.normals();
             }
-            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), fromData, generation);
+            return std::make_unique<MeshContent>(std::move(mesh), std::move(normals), fromData, std::move(mask),
+                                                 generation);
         };
     }
     const Layer& layer = layers[static_cast<std::size_t>(target.layer)];
@@ -745,6 +769,7 @@ void TiledGlobe::Impl::evictSurface(QuadtreeTile& tile)
     surface.vertexArray.reset();
     surface.vertexBuffer.reset();
     surface.normalBuffer.reset();
+    surface.waterMask.reset();
     surface.coarsening.reset();
     surface.drawnMesh = TileMesh{};
     surface.heights = {};
@@ -870,7 +895,8 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         const std::span<const std::byte> normalBytes = std::as_bytes(std::span(content.normals));
         // The GPU's copy, and the one kept here for stitching and heights.
         const std::size_t kept = bytes.size() + static_cast<std::size_t>(mesh.size() * mesh.size()) * sizeof(float);
-        if (!makeRoom(bytes.size() + normalBytes.size() + kept, frameState.frameNumber, statistics)) {
+        const std::size_t maskBytes = content.water.size > 1 ? content.water.values.size() : 0;
+        if (!makeRoom(bytes.size() + normalBytes.size() + maskBytes + kept, frameState.frameNumber, statistics)) {
             surface.mesh = LoadState::Unloaded; // asked for again once there is room
             statistics.memoryLimited = true;
             return;
@@ -878,6 +904,12 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
         surface.vertexBuffer = device.createVertexBuffer(bytes);
         surface.vertexArray = frameState.context.createVertexArray();
         surface.normalsFromData = content.normalsFromData;
+        surface.allWater = content.water.size == 1 && content.water.values[0] >= 128;
+        if (maskBytes > 0) {
+            const int size = content.water.size;
+            surface.waterMask = device.createTexture2D({size, size, renderer::TextureFormat::R8});
+            surface.waterMask->copyFromSystemMemory(std::as_bytes(std::span(content.water.values)));
+        }
         if (!content.normals.empty()) {
             surface.normalBuffer = device.createVertexBuffer(normalBytes);
             surface.vertexArray->setAttribute(renderer::VertexAttributeLocation::Normal, *surface.normalBuffer,
@@ -893,7 +925,7 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
                                           {ComponentType::Float, 3, false, false, stride, 6 * sizeof(float)});
         surface.coarsening.reset();
         surface.mesh = LoadState::Ready;
-        surface.bytes = bytes.size() + normalBytes.size();
+        surface.bytes = bytes.size() + normalBytes.size() + maskBytes;
         gpuBytes += surface.bytes;
         statistics.uploadedBytes += surface.bytes;
         surface.heights.resize(static_cast<std::size_t>(mesh.size()) * mesh.size());
@@ -989,6 +1021,11 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
         blends += "color = blendImagery(color, og_texture" + n + ", u_textureTransform" + n + ", u_textureRectangle" +
                   n + ", u_textureAdjustment" + n + ");\n    ";
     }
+    const bool water = waterMasks();
+    if (water) { // the mask reads the unit after the imagery's
+        const std::string unit = "og_texture" + std::to_string(textureCount);
+        uniforms += "uniform sampler2D " + unit + ";\n#define WATER_MASK_TEXTURE " + unit + "\n";
+    }
     auto replace = [&](std::string_view marker, const std::string& text) {
         const std::size_t at = fragment.text.find(marker);
         if (at == std::string::npos) {
@@ -1011,6 +1048,9 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     }
     if (terrain) {
         description.defines.push_back({"TERRAIN"});
+    }
+    if (water) {
+        description.defines.push_back({"WATER_MASK"});
     }
     for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
@@ -1297,6 +1337,13 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         sampler.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
         impl.sampler = frameState.device.createSampler(sampler);
     }
+    if (impl.waterMasks() && !impl.maskSampler) {
+        impl.maskSampler = frameState.device.createSampler(SamplerDescription{});
+        for (const auto& [mask, value] : {std::pair{&impl.landMask, std::byte{0}}, std::pair{&impl.waterMask, std::byte{255}}}) {
+            *mask = frameState.device.createTexture2D({1, 1, renderer::TextureFormat::R8});
+            (*mask)->copyFromSystemMemory(std::span(&value, 1));
+        }
+    }
     const glm::dvec3& eye = frameState.camera.eye();
     // Nothing of a tile is nearer than the eye's height above its highest point: far tighter than
     // the box of a large tile, which a low eye is inside of.
@@ -1349,6 +1396,12 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
                                                 static_cast<float>(style.contrast), static_cast<float>(1.0 / style.gamma)));
             command.draw.textures.push_back({static_cast<int>(t), use.imagery->texture.get(), &*impl.sampler});
         }
+        if (impl.waterMasks()) {
+            const renderer::Texture2D& mask = surface.waterMask ? *surface.waterMask
+                                              : surface.allWater ? *impl.waterMask
+                                                                 : *impl.landMask;
+            command.draw.textures.push_back({static_cast<int>(uses.size()), &mask, &*impl.maskSampler});
+        }
         command.boundingSphere = tile.region.boundingSphere();
         command.nearestDistance = std::max(tile.region.distanceTo(eye), eyeHeight - tile.region.maximumHeight());
         command.tags = Effect::Globe | Effect::TiledImagery;
@@ -1361,6 +1414,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         }
         if (_options.shading.any()) {
             command.tags = command.tags | Effect::TerrainShading;
+        }
+        if (impl.waterMasks()) {
+            command.tags = command.tags | Effect::Water;
         }
         commands.push_back(std::move(command));
     }

@@ -506,6 +506,112 @@ TEST_CASE("The hillshade darkens slopes facing away from its light and brightens
     CHECK(std::abs(flat.g - 0.5) < 0.01);
 }
 
+namespace {
+
+/// Another source's tiles with a water mask (quantized-mesh's extension) that is water west of a
+/// meridian: one value for a tile wholly on one side, else 256 x 256 rows from the north.
+class WestIsWaterSource final : public world::TerrainSource {
+public:
+    WestIsWaterSource(std::shared_ptr<world::TerrainSource> tiles, double coastDegrees)
+        : _tiles(std::move(tiles)), _coast(toRadians(coastDegrees))
+    {
+    }
+    const world::TerrainSourceInfo& info() const noexcept override { return _tiles->info(); }
+    bool hasTile(const TileKey& key) const override { return _tiles->hasTile(key); }
+    world::TerrainFetch load(const TileKey& key) override
+    {
+        world::TerrainFetch fetched = _tiles->load(key);
+        const GeodeticExtent extent = TilingScheme::geographic().tileExtent(key);
+        if (extent.east <= _coast || extent.west >= _coast) {
+            fetched.tile.waterMask = {static_cast<std::uint8_t>(extent.east <= _coast ? 255 : 0)};
+            fetched.tile.waterMaskSize = 1;
+            return fetched;
+        }
+        constexpr int size = 256;
+        fetched.tile.waterMaskSize = size;
+        fetched.tile.waterMask.resize(size * size);
+        for (int row = 0; row < size; ++row) {
+            for (int column = 0; column < size; ++column) {
+                const double longitude = extent.west + (column + 0.5) / size * (extent.east - extent.west);
+                fetched.tile.waterMask[static_cast<std::size_t>(row * size + column)] = longitude < _coast ? 255 : 0;
+            }
+        }
+        return fetched;
+    }
+
+private:
+    std::shared_ptr<world::TerrainSource> _tiles;
+    double _coast;
+};
+
+} // namespace
+
+TEST_CASE("The water mask makes water level and mirror the Sun, and leaves the land as it was",
+          "[scene][tiles][terrain][gl]")
+{
+    // A sea floor of ridges, water west of 10 degrees east. The Sun is placed where the eye sees
+    // its reflection at a point of the sea; a point of land as near the glint stays as it was.
+    const auto terrain = [] { return std::make_shared<WestIsWaterSource>(syntheticTerrain(ridges, 0.0), 10.0); };
+    const Geodetic3D eye = Geodetic3D::fromDegrees(10.0, 45.8, 60000.0);
+    const glm::dvec3 sea = kEarth.toCartesian(Geodetic3D::fromDegrees(9.8, 46.3, 0.0));
+    const glm::dvec3 land = kEarth.toCartesian(Geodetic3D::fromDegrees(10.2, 46.3, 0.0));
+    const glm::dvec3 toEye = glm::normalize(kEarth.toCartesian(eye) - sea);
+    const glm::dvec3 up = kEarth.geodeticSurfaceNormal(sea);
+    const glm::dvec3 sun = 2.0 * glm::dot(toEye, up) * up - toEye; // toEye mirrored about the level sea
+
+    auto render = [&](bool water) {
+        TerrainScene scene(terrain(), 1.0, [&](TiledGlobeOptions& options) { options.water = water; });
+        scene.look(eye, 0.0, -45.0);
+        scene.scene.setSunDirection(glm::vec3(sun));
+        return scene.converge(160, 120);
+    };
+    const RenderedFrame dry = render(false);
+    const RenderedFrame wet = render(true);
+    CHECK_FALSE(hasEffect(dry.statistics.effects, Effect::Water));
+    CHECK(hasEffect(wet.statistics.effects, Effect::Water));
+
+    Scene camera(kEarth); // only for its camera: the pixels of the two points
+    placeCamera(camera, eye, 0.0, -45.0);
+    const glm::ivec2 seaPixel = projectToPixel(camera, sea, 160, 120);
+    const glm::ivec2 landPixel = projectToPixel(camera, land, 160, 120);
+    auto at = [](const RenderedFrame& frame, glm::ivec2 pixel) {
+        const std::uint8_t* p = frame.image.pixel(pixel.x, pixel.y);
+        return glm::ivec3(p[0], p[1], p[2]);
+    };
+    INFO("sea " << seaPixel.x << "," << seaPixel.y << ": dry " << at(dry, seaPixel).g << ", wet " << at(wet, seaPixel).g
+                << "; land " << landPixel.x << "," << landPixel.y << ": dry " << at(dry, landPixel).g << ", wet "
+                << at(wet, landPixel).g);
+    // The glint: the Sun's reflection adds 0.8 of white in linear light.
+    CHECK(glm::all(glm::greaterThan(at(wet, seaPixel), at(dry, seaPixel) + 60)));
+    CHECK(at(wet, landPixel) == at(dry, landPixel));
+
+    // Under a low Sun in the east, far from any glint, the ridges under the sea cast light and
+    // shade without the mask and none with it: the sea is lit as level ground. The lower left of
+    // the view is all sea (the coast is the meridian the eye looks north along).
+    auto spreadWestOfCoast = [&](bool water) {
+        TerrainScene scene(terrain(), 3.0, [&](TiledGlobeOptions& options) { options.water = water; });
+        scene.look(eye, 0.0, -45.0);
+        scene.scene.setSunDirection(
+            glm::vec3(glm::normalize(up * std::sin(toRadians(15.0)) +
+                                     glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), up)) * std::cos(toRadians(15.0)))));
+        const Image image = scene.converge(160, 120).image;
+        int lowest = 255;
+        int highest = 0;
+        for (int y = 60; y < 120; ++y) {
+            for (int x = 0; x < 70; ++x) {
+                lowest = std::min<int>(lowest, image.pixel(x, y)[1]);
+                highest = std::max<int>(highest, image.pixel(x, y)[1]);
+            }
+        }
+        return highest - lowest;
+    };
+    const int drySpread = spreadWestOfCoast(false);
+    const int wetSpread = spreadWestOfCoast(true);
+    INFO("green spread west of the coast: without the mask " << drySpread << ", with it " << wetSpread);
+    CHECK(drySpread > 15);
+    CHECK(wetSpread < 8);
+}
+
 TEST_CASE("Contour lines lie on the heights that are multiples of their interval, and nowhere else",
           "[scene][tiles][terrain][gl]")
 {

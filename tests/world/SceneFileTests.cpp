@@ -771,10 +771,11 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
     CHECK(none.color == TerrainShadingDescription::Color::Base);
     CHECK(none.contourInterval == 0.0);
     CHECK_FALSE(none.hillshade);
+    CHECK_FALSE(none.water);
 
     const TerrainShadingDescription all = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
         "color": "height", "heightRange": [-8000, 6000], "contours": {"interval": 250, "color": "#ff0000", "width": 2},
-        "hillshade": {"azimuth": 270, "altitude": 30}}}}})", false).globe->terrain->shading;
+        "hillshade": {"azimuth": 270, "altitude": 30}, "water": true}}}})", false).globe->terrain->shading;
     CHECK(all.color == TerrainShadingDescription::Color::Height);
     CHECK(all.minimumHeight == -8000.0);
     CHECK(all.maximumHeight == 6000.0);
@@ -784,6 +785,7 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
     CHECK(all.hillshade);
     CHECK(all.hillshadeAzimuth == 270.0);
     CHECK(all.hillshadeAltitude == 30.0);
+    CHECK(all.water);
 
     // Documented defaults: white contours 1 px wide; the hillshade's light from the north-west, 45 degrees up.
     const TerrainShadingDescription defaults = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
@@ -804,6 +806,7 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
     CHECK(shadingError(R"({"contours": {"interval": 0}})").find("/globe/terrain/shading/contours/interval: 0 is out of range") != std::string::npos);
     CHECK(shadingError(R"({"hillshade": {"altitude": 0}})").find("/globe/terrain/shading/hillshade/altitude: 0 is out of range") != std::string::npos);
     CHECK(shadingError(R"({"hillshade": "yes"})").find("expected true, false or") != std::string::npos);
+    CHECK(shadingError(R"({"water": 1})").find("/globe/terrain/shading/water") != std::string::npos);
     CHECK(shadingError(R"({"hilshade": true})").find("unknown key \"hilshade\"") != std::string::npos);
 }
 

@@ -97,7 +97,7 @@ constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "n
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
 constexpr std::array<std::string_view, 7> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading",
                                                           "method", "posts"};
-constexpr std::array<std::string_view, 4> kShadingKeys = {"color", "heightRange", "contours", "hillshade"};
+constexpr std::array<std::string_view, 5> kShadingKeys = {"color", "heightRange", "contours", "hillshade", "water"};
 constexpr std::array<std::string_view, 3> kContourKeys = {"interval", "color", "width"};
 constexpr std::array<std::string_view, 2> kHillshadeKeys = {"azimuth", "altitude"};
 constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh", "heightmap", "png16", "terrain-rgb",
@@ -872,6 +872,9 @@ private:
                     shading.hillshadeAltitude = readNumber(*altitude, hillshadePointer + "/altitude", kAltitudeRange);
                 }
             }
+        }
+        if (const Json* water = member(value, "water")) {
+            shading.water = readBoolean(*water, pointer + "/water");
         }
         return shading;
     }

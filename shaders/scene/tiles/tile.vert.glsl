@@ -13,8 +13,13 @@ out vec2 v_tileCoordinates;
 out vec3 v_normal; // the surface's normal (the terrain's or the ellipsoid's), Earth-fixed
 #ifdef TERRAIN_SHADING
 out float v_height; // metres, exaggeration taken out
-out vec3 v_up;      // the ellipsoid's normal
 uniform float u_heightScale; // 1 / exaggeration (0 when it is 0)
+#endif
+#if defined(TERRAIN_SHADING) || defined(WATER_MASK)
+out vec3 v_up;      // the ellipsoid's normal
+#endif
+#ifdef WATER_MASK
+out vec3 v_toEye;   // from the vertex, Earth-fixed axes
 #endif
 
 uniform vec3 og_cameraEye;
@@ -36,7 +41,12 @@ void main()
 #endif
 #ifdef TERRAIN_SHADING
     v_height = textureCoordinate.z * u_heightScale;
+#endif
+#if defined(TERRAIN_SHADING) || defined(WATER_MASK)
     v_up = up;
+#endif
+#ifdef WATER_MASK
+    v_toEye = -position;
 #endif
     gl_Position = og_depthVertex(og_modelViewProjectionMatrixRelativeToEye * vec4(position, 1.0));
 }

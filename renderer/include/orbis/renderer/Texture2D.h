@@ -28,7 +28,8 @@ enum class TextureFormat : std::uint8_t {
     Depth32F,
     Depth24Stencil8,
     SRGB8Alpha8,
-    Depth32FStencil8
+    Depth32FStencil8,
+    R8 ///< one unsigned normalised byte (masks)
 
 };
 

@@ -26,6 +26,7 @@ enum class Effect : std::uint32_t {
     TerrainShading = 1u << 13, ///< colour by height or slope, contours or hillshade (TerrainShading)
     ClipmapTerrain = 1u << 14, ///< terrain drawn as geometry clipmaps (with Terrain)
     DrapedPolygons = 1u << 15, ///< polygons draped over the terrain as shadow volumes (with Polygons)
+    Water = 1u << 16,          ///< the terrain's water mask, level and mirroring the Sun (TiledGlobeOptions::water)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

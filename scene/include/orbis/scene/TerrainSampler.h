@@ -36,6 +36,16 @@ public:
     /// its edge).
     std::vector<float> latticeNormals(const TileKey& key, int samplesLog2) const;
 
+    /// The data's water mask (quantized-mesh's extension) over `key`, a descendant of (or the same
+    /// as) the data's tile: size x size values, 0 land to 255 water, rows from the south (as a
+    /// texture's rows go), nearest texel of the data's mask at each value's centre. Size 0 when the
+    /// data has no mask; 1 when the mask is the same over the whole of `key`.
+    struct WaterMask {
+        int size = 0;
+        std::vector<std::uint8_t> values;
+    };
+    WaterMask waterMask(const TileKey& key) const;
+
 private:
     /// The data samples or vertices around a point and their weights (summing to 1).
     struct Weights {

@@ -74,6 +74,10 @@ struct TiledGlobeOptions {
     /// Colour by height or slope, contours, hillshade (with or without terrain: the ellipsoid's
     /// tiles are at 0 m).
     TerrainShading shading;
+    /// Water where the terrain's water mask says so (quantized-mesh's watermask extension), with
+    /// lighting on: level (lit by the ellipsoid's normal, not the sea floor's) and mirroring the
+    /// Sun. Tiles whose data has no mask are land.
+    bool water = false;
     /// Receives each warning once (a tile that failed, naming its path or URL); empty: they go to
     /// the standard error stream.
     std::function<void(const std::string&)> onWarning;

@@ -122,6 +122,7 @@ struct TerrainShadingDescription {
     double contourWidth = 1.0;                               ///< pixels
     bool hillshade = false;
     double hillshadeAzimuth = 315.0, hillshadeAltitude = 45.0; ///< degrees
+    bool water = false; ///< the terrain's water mask drawn as water (tile-streamed globes, lit)
 
     friend bool operator==(const TerrainShadingDescription&, const TerrainShadingDescription&) = default;
 };
