@@ -101,6 +101,21 @@ int magentaBelowSky(const Image& image, int skyRows)
     return count;
 }
 
+/// The highest green less the lowest over columns [x0, x1) and rows [y0, y1): how much light and
+/// shade a block of the view shows.
+int greenSpread(const Image& image, int x0, int y0, int x1, int y1)
+{
+    int lowest = 255;
+    int highest = 0;
+    for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+            lowest = std::min<int>(lowest, image.pixel(x, y)[1]);
+            highest = std::max<int>(highest, image.pixel(x, y)[1]);
+        }
+    }
+    return highest - lowest;
+}
+
 } // namespace
 
 TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer edge takes the coarser one's",
@@ -287,17 +302,7 @@ TEST_CASE("Terrain shades the tiles by their own normals and a globe without ter
     const Image hillImage = hills.converge(128, 128).image;
     // Flat terrain is lit like the ellipsoid: smooth; the ridges make light and shadow under a
     // Sun low in the east.
-    auto spread = [](const Image& image) {
-        int lowest = 255;
-        int highest = 0;
-        for (int y = 64; y < image.height; ++y) {
-            for (int x = 0; x < image.width; ++x) {
-                lowest = std::min<int>(lowest, image.pixel(x, y)[1]);
-                highest = std::max<int>(highest, image.pixel(x, y)[1]);
-            }
-        }
-        return highest - lowest;
-    };
+    auto spread = [](const Image& image) { return greenSpread(image, 0, 64, image.width, image.height); };
     INFO("green spread over the lower half: flat " << spread(flatImage) << ", ridges " << spread(hillImage));
     CHECK(spread(flatImage) < 12);
     CHECK(spread(hillImage) > 15); // 20 on llvmpipe, lit in linear space (the flat terrain: 1)
@@ -594,16 +599,7 @@ TEST_CASE("The water mask makes water level and mirror the Sun, and leaves the l
         scene.scene.setSunDirection(
             glm::vec3(glm::normalize(up * std::sin(toRadians(15.0)) +
                                      glm::normalize(glm::cross(glm::dvec3(0.0, 0.0, 1.0), up)) * std::cos(toRadians(15.0)))));
-        const Image image = scene.converge(160, 120).image;
-        int lowest = 255;
-        int highest = 0;
-        for (int y = 60; y < 120; ++y) {
-            for (int x = 0; x < 70; ++x) {
-                lowest = std::min<int>(lowest, image.pixel(x, y)[1]);
-                highest = std::max<int>(highest, image.pixel(x, y)[1]);
-            }
-        }
-        return highest - lowest;
+        return greenSpread(scene.converge(160, 120).image, 0, 60, 70, 120);
     };
     const int drySpread = spreadWestOfCoast(false);
     const int wetSpread = spreadWestOfCoast(true);
