@@ -860,6 +860,97 @@ std::vector<Table> run(const Options& options)
 
 const SectionRegistration registration("streamed globe", 72, run);
 
+// ---- Morphing between levels (book 14.4) ---------------------------------------------------
+
+Table morphTable(const Options& options, Context& context)
+{
+    const int frames = options.quick ? 40 : 240;
+    Table table;
+    table.title = "Terrain: popping against morphing over frames";
+    table.description =
+        "Synthetic terrain (five octaves of ridges up to 1.2 km, each level 37 m above the one before, 65 x 65 grids) "
+        "under synthetic imagery, 256x256, deterministic loader (2 frames of latency, 8 loads a frame): the eye descends "
+        "from 60 km to 2 km over " + std::to_string(frames) +
+        " frames looking 30 degrees down, then stays until the view converges. A step: the change of the drawn "
+        "surface's height (TiledGlobe::heightAt, the triangle drawn) from one frame to the next at one of 400 fixed "
+        "probes on the ground the view crosses; the camera's motion does not move it, only the levels do. Update: "
+        "the globe's update() a frame (selection, loads, morphs, stitching), mean over the descent; frame: render "
+        "with glFinish. Frames after: from the end of the descent until converged.";
+    table.columns = {"morph frames", "largest step m", "probe-frames stepping > 50 m", "mean tiles morphing",
+                     "update ms", "frame ms", "frames after", "frames with a hole"};
+    std::vector<int> settings{0, 4, 8, 16, 32};
+    if (options.quick) {
+        settings = {0, 8};
+    }
+    for (const int morphFrames : settings) {
+        TiledGlobeOptions tiled;
+        tiled.terrain = syntheticTerrain();
+        tiled.morphFrames = morphFrames;
+        tiled.loader.latencyFrames = 2;
+        tiled.loader.maximumStartsPerFrame = 8;
+        StreamedScene streamed(std::make_shared<SyntheticImagery>(18), tiled);
+        std::vector<Geodetic2D> probes;
+        for (int row = 0; row < 20; ++row) {
+            for (int column = 0; column < 20; ++column) {
+                probes.push_back(Geodetic2D::fromDegrees(9.8 + 0.02 * column, 45.85 + 0.025 * row));
+            }
+        }
+        std::vector<std::optional<double>> before(probes.size());
+        double largestStep = 0.0;
+        std::size_t bigSteps = 0;
+        std::size_t morphing = 0;
+        double updateMs = 0.0;
+        double frameMs = 0.0;
+        int framesAfter = 0;
+        int holes = 0;
+        for (int frame = 0;; ++frame) {
+            const double t = std::min(1.0, static_cast<double>(frame) / (frames - 1));
+            const double height = std::exp(std::log(60000.0) + (std::log(2000.0) - std::log(60000.0)) * t);
+            // Over the ridges' highest point (4.4 km) as high as the path says.
+            streamed.look({Geodetic3D::fromDegrees(10.0, 45.7 + 0.2 * t, height + 4500.0), 0.0, -30.0});
+            const auto start = std::chrono::steady_clock::now();
+            const FrameStatistics statistics = streamed.scene.render(context);
+            context.finish();
+            const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            for (std::size_t p = 0; p < probes.size(); ++p) {
+                const std::optional<double> now = streamed.globe->heightAt(probes[p]);
+                if (now && before[p]) {
+                    const double step = std::abs(*now - *before[p]);
+                    largestStep = std::max(largestStep, step);
+                    bigSteps += step > 50.0;
+                }
+                before[p] = now;
+            }
+            holes += hasHole(context.readPixels(), streamed.scene.camera()) ? 1 : 0;
+            if (frame < frames) {
+                morphing += statistics.tiles->morphing;
+                updateMs += statistics.updateMilliseconds;
+                frameMs += ms;
+            } else if (statistics.tiles->converged || ++framesAfter > 600) {
+                break;
+            }
+        }
+        table.rows.push_back({std::to_string(morphFrames), formatNumber(largestStep, 3), std::to_string(bigSteps),
+                              formatNumber(static_cast<double>(morphing) / frames, 3), formatNumber(updateMs / frames, 3),
+                              formatNumber(frameMs / frames, 3), std::to_string(framesAfter), std::to_string(holes)});
+    }
+    table.notes = "A hole: a frame with a background pixel whose ray passes more than two pixels inside the globe's limb (every second pixel checked).";
+    return table;
+}
+
+std::vector<Table> runMorph(const Options& options)
+{
+    Device device;
+    Context& context = device.context();
+    Framebuffer small = context.createFramebuffer(256, 256);
+    context.setFramebuffer(&small);
+    std::vector<Table> tables{morphTable(options, context)};
+    context.setFramebuffer(nullptr);
+    return tables;
+}
+
+const SectionRegistration morphRegistration("terrain morphing", 74, runMorph);
+
 std::vector<Table> runPixelError(const Options& options)
 {
     Device device;

@@ -28,6 +28,7 @@ void TileStatistics::add(const TileStatistics& other) noexcept
     drawn += other.drawn;
     standIns += other.standIns;
     fallbackImagery += other.fallbackImagery;
+    morphing += other.morphing;
     imageryDrawn += other.imageryDrawn;
     requested += other.requested;
     loadedThisFrame += other.loadedThisFrame;
@@ -130,7 +131,8 @@ std::string FrameStatistics::toText() const
         const TileStatistics& t = *tiles;
         out << "tiles: " << t.visited << " visited, " << t.culledByFrustum << " culled by the frustum, "
             << t.culledByHorizon << " by the horizon, " << t.selected << " selected, " << t.drawn << " drawn ("
-            << t.standIns << " standing in for finer ones, " << t.fallbackImagery << " with an ancestor's imagery; "
+            << t.standIns << " standing in for finer ones, " << t.fallbackImagery << " with an ancestor's imagery, "
+            << t.morphing << " morphing; "
             << t.imageryDrawn << " imagery tiles read)\n"
             << "  loads: " << t.requested << " started, " << t.loadedThisFrame << " arrived, " << t.pending
             << " pending, " << t.failed << " failed, " << t.missing << " missing, " << t.evicted << " evicted\n"
@@ -212,7 +214,7 @@ std::string FrameStatistics::toJson() const
         out << ",\n  \"tiles\": {\"visited\": " << t.visited << ", \"culledByFrustum\": " << t.culledByFrustum
             << ", \"culledByHorizon\": " << t.culledByHorizon << ", \"selected\": " << t.selected
             << ", \"drawn\": " << t.drawn << ", \"standIns\": " << t.standIns
-            << ", \"fallbackImagery\": " << t.fallbackImagery << ", \"imageryDrawn\": " << t.imageryDrawn
+            << ", \"fallbackImagery\": " << t.fallbackImagery << ", \"morphing\": " << t.morphing << ", \"imageryDrawn\": " << t.imageryDrawn
             << ", \"requested\": " << t.requested
             << ", \"loadedThisFrame\": " << t.loadedThisFrame << ", \"pending\": " << t.pending
             << ", \"failed\": " << t.failed << ", \"missing\": " << t.missing << ", \"evicted\": " << t.evicted

@@ -313,6 +313,7 @@ TiledGlobeOptions tiledGlobeOptions(const world::GlobeDescription& globe, const 
             throw Error("/globe/terrain: " + std::string(error.what()));
         }
         options.terrainExaggeration = globe.terrain->exaggeration;
+        options.morphFrames = globe.terrain->morphFrames;
         const world::TerrainShadingDescription& shading = globe.terrain->shading;
         using ShadingColor = world::TerrainShadingDescription::Color;
         options.shading.color = shading.color == ShadingColor::Height  ? TerrainShading::Color::Height

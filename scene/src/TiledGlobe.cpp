@@ -7,6 +7,8 @@
 
 #include "orbis/scene/TerrainSampler.h"
 
+#include "TileMorph.h"
+
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/IntersectionTests.h>
@@ -37,6 +39,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -179,10 +182,21 @@ struct SurfaceTile final : TileData {
     /// The mesh as drawn: its edges facing coarser neighbours moved onto theirs.
     TileMesh drawnMesh;
     std::vector<float> heights; ///< the grid's own heights (exaggerated), to undo those moves
-    /// The neighbours (coarser, drawn) whose edges this tile's took, north, east, south, west,
-    /// with the version of each one's mesh they were taken from.
-    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 4> edgesFrom{};
-    std::uint32_t meshVersion = 0; ///< counts the changes of `mesh` since it was loaded
+    /// The drawn tiles whose vertices this tile's edges took (north, east, south, west) and its
+    /// corners (north-west, north-east, south-east, south-west), with the version of each one's
+    /// mesh they were taken from, and the version of its own heights they were put on.
+    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 8> edgesFrom{};
+    std::uint32_t edgesOnHeights = ~0u;
+    std::uint32_t meshVersion = 0;    ///< counts the changes of `drawnMesh` since it was loaded
+    std::uint32_t heightsVersion = 0; ///< counts the changes of its own heights (a load, a morph's step)
+    /// On its way from the surface its ancestor drew to its own (TiledGlobeOptions::morphFrames).
+    std::optional<detail::TileMorph> morph;
+    double morphFactor = 1.0; ///< how far the morph is: 1 when none
+    /// Grid vertex v's height as it is to be drawn before its edges are stitched: its own, morphed.
+    double drawnHeight(std::size_t v) const noexcept
+    {
+        return morph ? morph->height(v, heights, morphFactor) : static_cast<double>(heights[v]);
+    }
     bool heightsKnown = false;     ///< region bounds from its own heights
     std::uint32_t boundsFromLevel = ~0u; ///< the level of the ancestor whose heights bound it meanwhile
     std::vector<std::vector<TileKey>> imagery; ///< per layer, at the level the tile's error asks for
@@ -273,6 +287,19 @@ struct TiledGlobe::Impl {
     /// across levels, with terrain whose levels disagree too), and uploads it when that changed.
     void conformEdges(QuadtreeTile& tile, const EdgeCoarsening& coarsening,
                       const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn);
+    /// The drawn tile whose point a corner of a tile takes: the coarsest around it or, among tiles
+    /// of its level, the least morphed (givesVerticesTo); none when the tile keeps its own.
+    const QuadtreeTile* cornerGiver(const QuadtreeTile& tile, int corner,
+                                    const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn) const;
+    /// Starts the morphs of tiles drawn in place of an ancestor drawn last frame, moves the others
+    /// a step, and ends those done or no longer drawn.
+    void advanceMorphs(std::uint64_t frame, TileStatistics& statistics);
+    void beginMorph(QuadtreeTile& tile, const QuadtreeTile& ancestor, std::uint64_t frame);
+    /// Puts the tile's grid where its morph is at `factor` (its own surface when none is left).
+    void applyMorph(QuadtreeTile& tile, double factor);
+    void endMorph(QuadtreeTile& tile);
+    /// Forgets a morph without moving the tile (its mesh is rebuilt or dropped).
+    void cancelMorph(SurfaceTile& surface);
     std::size_t residentBytes() const noexcept { return gpuBytes + cpuBytes; }
     /// The level whose meshes sample the terrain's deepest tiles as finely as they are.
     std::uint32_t terrainDeepestLevel() const noexcept
@@ -433,6 +460,97 @@ std::pair<int, int> edgeVertexAt(int edge, int size, int k)
 
 } // namespace
 
+namespace {
+
+/// Whether tile a's edge and corner vertices are drawn by b too where the two (of one level) meet:
+/// the less morphed gives (its vertices are where they were drawn last frame), ties by key.
+bool givesVerticesTo(const QuadtreeTile& a, const QuadtreeTile& b)
+{
+    return std::tie(surfaceOf(a).morphFactor, a.key) < std::tie(surfaceOf(b).morphFactor, b.key);
+}
+
+/// Each corner's edges (north-west, north-east, south-east, south-west) and its grid vertex.
+constexpr std::array<std::array<int, 2>, 4> kCornerEdges{{{NorthEdge, WestEdge}, {NorthEdge, EastEdge},
+                                                          {SouthEdge, EastEdge}, {SouthEdge, WestEdge}}};
+
+std::pair<int, int> cornerVertex(int corner, int size)
+{
+    return {corner == 1 || corner == 2 ? size - 1 : 0, corner >= 2 ? size - 1 : 0};
+}
+
+/// Moves grid vertex (i, j) of `mesh` onto `giver`'s drawn surface, where the point lies on one of
+/// its vertices (their floats, so both tiles draw the same point) or on one of its grid lines (on
+/// the straight edge they draw between two vertices, not on the surface above it).
+void takePoint(TileMesh& mesh, int i, int j, const QuadtreeTile& giver, std::uint32_t columns)
+{
+    const TileMesh& theirs = surfaceOf(giver).drawnMesh;
+    const int size = mesh.size();
+    const glm::dvec2 at = detail::gridCoordinatesIn(mesh.key, i, j, giver.key, mesh.samplesLog2, columns);
+    const int a = std::clamp(static_cast<int>(std::floor(at.x)), 0, size - 1);
+    const int b = std::clamp(static_cast<int>(std::floor(at.y)), 0, size - 1);
+    const double t = at.x - a;
+    const double u = at.y - b;
+    auto vertex = [&](int column, int row) { return static_cast<std::size_t>(std::min(row, size - 1) * size + std::min(column, size - 1)); };
+    const std::size_t ours = static_cast<std::size_t>(j * size + i) * TileMesh::kFloatsPerVertex;
+    if (t == 0.0 && u == 0.0) {
+        const std::size_t source = vertex(a, b) * TileMesh::kFloatsPerVertex;
+        std::copy_n(&theirs.vertices[source], 6, &mesh.vertices[ours]);
+        mesh.vertices[ours + 8] = theirs.vertices[source + 8];
+        return;
+    }
+    if (t != 0.0 && u != 0.0) {
+        return; // inside one of its cells: not a point the two tiles share
+    }
+    const std::size_t from = vertex(a, b);
+    const std::size_t to = t != 0.0 ? vertex(a + 1, b) : vertex(a, b + 1);
+    const double along = t != 0.0 ? t : u;
+    const glm::dvec3 position = glm::mix(theirs.position(from), theirs.position(to), along);
+    const double height = (1.0 - along) * static_cast<double>(theirs.vertices[from * TileMesh::kFloatsPerVertex + 8]) +
+                          along * static_cast<double>(theirs.vertices[to * TileMesh::kFloatsPerVertex + 8]);
+    mesh.setVertexPosition(i, j, position, height);
+}
+
+} // namespace
+
+const QuadtreeTile* TiledGlobe::Impl::cornerGiver(const QuadtreeTile& tile, int corner,
+                                                  const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn) const
+{
+    const TilingScheme& scheme = quadtree.scheme();
+    const auto [northOrSouth, eastOrWest] = kCornerEdges[static_cast<std::size_t>(corner)];
+    const std::optional<TileKey> across = neighbourAcross(scheme, tile.key, northOrSouth);
+    const std::array<std::optional<TileKey>, 3> mates{
+        across, neighbourAcross(scheme, tile.key, eastOrWest),
+        across ? neighbourAcross(scheme, *across, eastOrWest) : std::nullopt};
+    const QuadtreeTile* coarsest = nullptr;
+    const QuadtreeTile* leastMorphed = &tile;
+    for (const std::optional<TileKey>& mate : mates) {
+        if (!mate) {
+            continue;
+        }
+        // The drawn tile over the mate, at its level or coarser (none where finer ones cover it).
+        for (std::uint32_t level = mate->level + 1; level-- > 0;) {
+            const auto found = drawn.find(mate->ancestor(level));
+            if (found == drawn.end()) {
+                continue;
+            }
+            const QuadtreeTile* over = found->second;
+            if (surfaceOf(*over).drawnMesh.samplesLog2 != surfaceOf(tile).drawnMesh.samplesLog2) {
+                break;
+            }
+            if (level < tile.key.level && (!coarsest || level < coarsest->key.level)) {
+                coarsest = over;
+            } else if (level == tile.key.level && givesVerticesTo(*over, *leastMorphed)) {
+                leastMorphed = over;
+            }
+            break;
+        }
+    }
+    if (coarsest) {
+        return coarsest;
+    }
+    return leastMorphed != &tile ? leastMorphed : nullptr;
+}
+
 void TiledGlobe::Impl::conformEdges(QuadtreeTile& tile, const EdgeCoarsening& coarsening,
                                     const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn)
 {
@@ -440,77 +558,63 @@ void TiledGlobe::Impl::conformEdges(QuadtreeTile& tile, const EdgeCoarsening& co
     TileMesh& mesh = surface.drawnMesh;
     const TilingScheme& scheme = quadtree.scheme();
     const TileKey& key = tile.key;
-    const int samplesLog2 = mesh.samplesLog2;
     const int size = mesh.size();
     const std::array<int, 4> levels{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
-    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 4> from{};
+    // Who gives what: per edge a coarser tile (its points for the vertices in use) or a less
+    // morphed one of this level (the inner vertices); per corner, cornerGiver.
+    std::array<std::pair<const QuadtreeTile*, std::uint32_t>, 8> from{};
     for (int edge = 0; edge < 4; ++edge) {
         const std::optional<TileKey> across = neighbourAcross(scheme, key, edge);
-        if (levels[edge] <= 0 || !across) {
+        if (!across) {
             continue;
         }
-        const auto found = drawn.find(across->ancestor(key.level - static_cast<std::uint32_t>(levels[edge])));
-        if (found != drawn.end() && surfaceOf(*found->second).drawnMesh.samplesLog2 == samplesLog2) {
-            from[edge] = {found->second, surfaceOf(*found->second).meshVersion};
+        const auto found = drawn.find(levels[edge] > 0 ? across->ancestor(key.level - static_cast<std::uint32_t>(levels[edge]))
+                                                       : *across);
+        if (found != drawn.end() && surfaceOf(*found->second).drawnMesh.samplesLog2 == mesh.samplesLog2 &&
+            (levels[edge] > 0 || givesVerticesTo(*found->second, tile))) {
+            from[static_cast<std::size_t>(edge)] = {found->second, surfaceOf(*found->second).meshVersion};
         }
     }
-    if (from == surface.edgesFrom) {
+    for (int corner = 0; corner < 4; ++corner) {
+        if (const QuadtreeTile* giver = cornerGiver(tile, corner, drawn)) {
+            from[static_cast<std::size_t>(4 + corner)] = {giver, surfaceOf(*giver).meshVersion};
+        }
+    }
+    if (from == surface.edgesFrom && surface.edgesOnHeights == surface.heightsVersion) {
         return;
     }
-    // Back to its own edges, then onto the neighbours', the coarsest last: it wins the corners.
+    // Back to its own edges (as morphed), then onto the neighbours': those of its level, the
+    // coarser ones (the coarsest last), and the corners, which every tile there takes alike.
     for (int edge = 0; edge < 4; ++edge) {
         for (int k = 0; k < size; ++k) {
             const auto [i, j] = edgeVertexAt(edge, size, k);
-            mesh.setVertexHeight(ellipsoid, scheme, i, j, static_cast<double>(surface.heights[static_cast<std::size_t>(j * size + i)]));
+            mesh.setVertexHeight(ellipsoid, scheme, i, j, surface.drawnHeight(static_cast<std::size_t>(j * size + i)));
         }
     }
     std::array<int, 4> order{NorthEdge, EastEdge, SouthEdge, WestEdge};
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return levels[a] < levels[b]; });
     for (const int edge : order) {
-        if (!from[edge].first) {
+        const QuadtreeTile* giver = from[static_cast<std::size_t>(edge)].first;
+        if (!giver) {
             continue;
         }
-        const QuadtreeTile& neighbour = *from[edge].first;
-        const TileMesh& theirs = surfaceOf(neighbour).drawnMesh;
-        const int coarser = levels[edge];
-        const bool alongColumns = edge == NorthEdge || edge == SouthEdge;
-        // Their edge facing this tile: the south row for this tile's north edge, and so on.
-        const int facing = edge == NorthEdge ? size - 1 : edge == SouthEdge ? 0 : edge == EastEdge ? 0 : size - 1;
-        auto theirVertex = [&](int a) {
-            return static_cast<std::size_t>(alongColumns ? facing * size + a : a * size + facing);
-        };
-        // Vertices the zipped edge uses: every 2^coarser-th, or the corners alone.
-        const int step = std::min(1 << std::min(coarser, 30), size - 1);
-        for (int k = 0; k < size; k += step) {
+        const std::uint32_t columns = scheme.tilesX(giver->key.level);
+        // Vertices the zipped edge uses: every 2^coarser-th (the corners alone at most), or the
+        // inner ones of a tile of this level.
+        const int step = std::min(1 << std::min(levels[edge], 30), size - 1);
+        for (int k = levels[edge] > 0 ? 0 : 1; k < (levels[edge] > 0 ? size : size - 1); k += step) {
             const auto [i, j] = edgeVertexAt(edge, size, k);
-            // The vertex on their lattice, 2^coarser times coarser: powers of two, so exact.
-            const double along =
-                alongColumns
-                    ? std::ldexp(static_cast<double>((key.x << samplesLog2) + static_cast<std::uint32_t>(i)), -coarser) -
-                          static_cast<double>(neighbour.key.x << samplesLog2)
-                    : static_cast<double>((neighbour.key.y + 1) << samplesLog2) -
-                          std::ldexp(static_cast<double>(((key.y + 1) << samplesLog2) - static_cast<std::uint32_t>(j)), -coarser);
-            const int a = std::clamp(static_cast<int>(std::floor(along)), 0, size - 1);
-            const double t = along - a;
-            const std::size_t ours = static_cast<std::size_t>(j * size + i) * TileMesh::kFloatsPerVertex;
-            if (t == 0.0) {
-                // One of their vertices: its floats, so both tiles draw the same point.
-                const std::size_t source = theirVertex(a) * TileMesh::kFloatsPerVertex;
-                std::copy_n(&theirs.vertices[source], 6, &mesh.vertices[ours]);
-                mesh.vertices[ours + 8] = theirs.vertices[source + 8];
-            } else {
-                // Between two of theirs (more levels apart than the mesh has samples): on the
-                // straight edge they draw, not on the surface above it.
-                const std::size_t b = theirVertex(std::min(a + 1, size - 1));
-                const glm::dvec3 position = glm::mix(theirs.position(theirVertex(a)), theirs.position(b), t);
-                const double height =
-                    (1.0 - t) * static_cast<double>(theirs.vertices[theirVertex(a) * TileMesh::kFloatsPerVertex + 8]) +
-                    t * static_cast<double>(theirs.vertices[b * TileMesh::kFloatsPerVertex + 8]);
-                mesh.setVertexPosition(i, j, position, height);
-            }
+            takePoint(mesh, i, j, *giver, columns);
+        }
+    }
+    for (int corner = 0; corner < 4; ++corner) {
+        if (const QuadtreeTile* giver = from[static_cast<std::size_t>(4 + corner)].first) {
+            const auto [i, j] = cornerVertex(corner, size);
+            takePoint(mesh, i, j, *giver, scheme.tilesX(giver->key.level));
         }
     }
     surface.edgesFrom = from;
+    surface.edgesOnHeights = surface.heightsVersion;
     ++surface.meshVersion;
     surface.vertexBuffer->copyFromSystemMemory(std::as_bytes(std::span(mesh.vertices)));
 }
@@ -761,9 +865,126 @@ std::size_t TiledGlobe::Impl::workingSetBytes(std::uint64_t frame) const noexcep
     return bytes;
 }
 
+void TiledGlobe::Impl::advanceMorphs(std::uint64_t frame, TileStatistics& statistics)
+{
+    if (!terrain || options->morphFrames == 0) {
+        return;
+    }
+    // New tiles start from what their ancestor drew last frame, before that one's morph moves on.
+    for (QuadtreeTile* tile : selection.drawn) {
+        if (surfaceOf(*tile).morph || drawnTiles.contains(tile->key)) {
+            continue;
+        }
+        for (std::uint32_t level = tile->key.level; level-- > 0;) {
+            const auto found = drawnTiles.find(tile->key.ancestor(level));
+            if (found != drawnTiles.end()) {
+                const SurfaceTile& ancestor = surfaceOf(*found->second);
+                if (ancestor.mesh == LoadState::Ready && ancestor.drawnMesh.samplesLog2 == surfaceOf(*tile).drawnMesh.samplesLog2) {
+                    beginMorph(*tile, *found->second, frame);
+                }
+                break;
+            }
+        }
+    }
+    const std::unordered_set<const QuadtreeTile*> drawnNow(selection.drawn.begin(), selection.drawn.end());
+    for (QuadtreeTile* tile : residentTiles) {
+        SurfaceTile& surface = surfaceOf(*tile);
+        if (!surface.morph) {
+            continue;
+        }
+        const double factor = surface.morph->factor(frame, options->morphFrames);
+        if (factor >= 1.0 || !drawnNow.contains(tile)) {
+            endMorph(*tile);
+        } else {
+            applyMorph(*tile, factor);
+            ++statistics.morphing;
+        }
+    }
+}
+
+namespace {
+
+/// The grid's normals (three floats per grid vertex) of a tile's normal buffer; none without one.
+std::vector<float> gridNormals(const SurfaceTile& surface)
+{
+    if (!surface.normalBuffer) {
+        return {};
+    }
+    const std::size_t count = static_cast<std::size_t>(surface.drawnMesh.size() * surface.drawnMesh.size()) * 3;
+    const std::vector<std::byte> bytes = surface.normalBuffer->copyToSystemMemory(0, count * sizeof(float));
+    std::vector<float> normals(count);
+    std::memcpy(normals.data(), bytes.data(), bytes.size());
+    return normals;
+}
+
+} // namespace
+
+void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, const QuadtreeTile& ancestor, std::uint64_t frame)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    const SurfaceTile& from = surfaceOf(ancestor);
+    surface.morph = detail::TileMorph::start(quadtree.scheme(), surface.drawnMesh, gridNormals(surface), from.drawnMesh,
+                                             surfaceTriangles(from.coarsening.value_or(EdgeCoarsening{})),
+                                             gridNormals(from), frame);
+    surface.cpuBytes += surface.morph->byteSize();
+    cpuBytes += surface.morph->byteSize();
+    // Bounds that hold all the way: the ancestor's surface may stand above or below its own.
+    const TileMesh& mesh = surface.drawnMesh;
+    tile.region = quadtree.regionOf(tile.key, std::min(mesh.minimumHeight, surface.morph->fromMinimumHeight),
+                                    std::max(mesh.maximumHeight, surface.morph->fromMaximumHeight));
+}
+
+void TiledGlobe::Impl::applyMorph(QuadtreeTile& tile, double factor)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    TileMesh& mesh = surface.drawnMesh;
+    const TilingScheme& scheme = quadtree.scheme();
+    surface.morphFactor = surface.morph ? factor : 1.0;
+    if (surface.morph) {
+        surface.morph->moveInnerVertices(mesh, surface.heights, factor);
+    } else {
+        // Its own surface exactly as it was built.
+        const int size = mesh.size();
+        for (int j = 0; j < size; ++j) {
+            for (int i = 0; i < size; ++i) {
+                mesh.setVertexHeight(ellipsoid, scheme, i, j, static_cast<double>(surface.heights[static_cast<std::size_t>(j * size + i)]));
+            }
+        }
+    }
+    if (surface.normalBuffer && surface.morph && !surface.morph->ownNormals.empty()) {
+        const std::vector<float> normals = mesh.normals(surface.morph->normals(surface.morphFactor));
+        surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
+    }
+    ++surface.heightsVersion; // conformEdges stitches and uploads it
+}
+
+void TiledGlobe::Impl::endMorph(QuadtreeTile& tile)
+{
+    SurfaceTile& surface = surfaceOf(tile);
+    // Its own normals and heights, exactly as loaded.
+    if (surface.normalBuffer && !surface.morph->ownNormals.empty()) {
+        const std::vector<float> normals = surface.drawnMesh.normals(surface.morph->ownNormals);
+        surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
+    }
+    cancelMorph(surface);
+    applyMorph(tile, 1.0);
+    tile.region = quadtree.regionOf(tile.key, surface.drawnMesh.minimumHeight, surface.drawnMesh.maximumHeight);
+}
+
+void TiledGlobe::Impl::cancelMorph(SurfaceTile& surface)
+{
+    if (surface.morph) {
+        surface.cpuBytes -= surface.morph->byteSize();
+        cpuBytes -= surface.morph->byteSize();
+        surface.morph.reset();
+    }
+    surface.morphFactor = 1.0;
+}
+
 void TiledGlobe::Impl::evictSurface(QuadtreeTile& tile)
 {
     SurfaceTile& surface = surfaceOf(tile);
+    cancelMorph(surface);
     gpuBytes -= surface.bytes;
     cpuBytes -= surface.cpuBytes;
     surface.vertexArray.reset();
@@ -939,7 +1160,7 @@ void TiledGlobe::Impl::upload(FrameState& frameState, PendingUpload pending, Til
             surface.heightsKnown = true;
         }
         surface.drawnMesh = std::move(content.mesh);
-        surface.edgesFrom = {};
+        ++surface.heightsVersion;
         ++surface.meshVersion;
         residentTiles.push_back(target.tile);
         return;
@@ -1092,6 +1313,9 @@ TiledGlobe::TiledGlobe(const Ellipsoid& ellipsoid, TiledGlobeOptions options)
     }
     if (!(std::isfinite(_options.terrainExaggeration) && _options.terrainExaggeration >= 0.0)) {
         throw Error("TiledGlobe: the terrain exaggeration must be a number of 0 or more");
+    }
+    if (_options.morphFrames < 0) {
+        throw Error("TiledGlobe: morphFrames must be 0 or more, not " + std::to_string(_options.morphFrames));
     }
     validateTerrainShading(_options.shading, "TiledGlobe");
     _impl = std::make_unique<Impl>(ellipsoid, _options);
@@ -1299,8 +1523,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         statistics.maximumScreenSpaceError = impl.effectiveScreenSpaceError;
         const bool refusedForRoom = statistics.memoryLimited; // set by an upload the cap refused
         statistics.memoryLimited = refusedForRoom || impl.effectiveScreenSpaceError > _options.maximumScreenSpaceError;
+        impl.advanceMorphs(frame, statistics);
         statistics.converged = selection.standIns == 0 && selection.loads.empty() && statistics.pending == 0 &&
-                               statistics.fallbackImagery == 0;
+                               statistics.fallbackImagery == 0 && statistics.morphing == 0;
         // The cap binds when an upload finds no room after everything evictable went (a full
         // cache of tiles the view no longer uses is no reason: those are evicted as needed).
         // Coarser while uploads are refused; back towards the error asked for once the view's own
@@ -1317,8 +1542,8 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         _statistics = statistics;
     }
 
-    // The commands: one per drawn tile, stitched to its coarser neighbours (coarse tiles first, so
-    // that finer ones take their edges as they are drawn).
+    // The commands: one per drawn tile, stitched to its coarser and less morphed neighbours (those
+    // first, so that the others take their edges as they are drawn).
     DrawnTileSet drawn;
     std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawnTiles = impl.drawnTiles;
     drawnTiles.clear();
@@ -1327,8 +1552,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         drawnTiles.emplace(tile->key, tile);
     }
     std::vector<QuadtreeTile*> coarseFirst = impl.selection.drawn;
-    std::stable_sort(coarseFirst.begin(), coarseFirst.end(),
-                     [](const QuadtreeTile* a, const QuadtreeTile* b) { return a->key.level < b->key.level; });
+    std::sort(coarseFirst.begin(), coarseFirst.end(), [](const QuadtreeTile* a, const QuadtreeTile* b) {
+        return a->key.level != b->key.level ? a->key.level < b->key.level : givesVerticesTo(*a, *b);
+    });
     for (QuadtreeTile* tile : coarseFirst) {
         impl.conformEdges(*tile, edgeCoarsening(impl.quadtree.scheme(), tile->key, drawn), drawnTiles);
     }
@@ -1445,6 +1671,7 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
             impl.evictSurface(*tile);
             continue;
         }
+        impl.cancelMorph(surface); // the tile shows its own surface at the new exaggeration
         for (float& height : surface.heights) {
             height = static_cast<float>(static_cast<double>(height) * (exaggeration / before));
         }
@@ -1455,7 +1682,7 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
         surface.vertexBuffer->copyFromSystemMemory(std::as_bytes(std::span(surface.drawnMesh.vertices)));
         surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
         tile->region = impl.quadtree.regionOf(tile->key, surface.drawnMesh.minimumHeight, surface.drawnMesh.maximumHeight);
-        surface.edgesFrom = {};
+        ++surface.heightsVersion;
         ++surface.meshVersion;
     }
     // Tiles bounded by an ancestor's heights take the new ones at their next visit.
@@ -1504,49 +1731,19 @@ const QuadtreeTile* drawnTileAt(const TileQuadtree& quadtree,
 
 std::optional<double> TiledGlobe::Impl::meshHeightAt(const QuadtreeTile& tile, const Geodetic2D& position) const
 {
-    const TilingScheme& scheme = quadtree.scheme();
-    const Impl& impl = *this;
     const SurfaceTile& surface = surfaceOf(tile);
     const TileMesh& mesh = surface.drawnMesh;
     const int size = mesh.size();
-    const glm::dvec2 uv = glm::clamp(scheme.positionInTile(tile.key, position), 0.0, 1.0);
-    const double column = uv.x * (size - 1);
-    const double row = (1.0 - uv.y) * (size - 1);
-    const std::vector<std::uint32_t>& indices = impl.surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{}));
-    auto heightOn = [&](std::size_t first) -> std::optional<double> {
-        std::array<glm::dvec2, 3> corner;
-        std::array<double, 3> height{};
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t vertex = indices[first + static_cast<std::size_t>(k)];
-            corner[static_cast<std::size_t>(k)] = {static_cast<double>(vertex % static_cast<std::uint32_t>(size)),
-                                                   static_cast<double>(vertex / static_cast<std::uint32_t>(size))};
-            height[static_cast<std::size_t>(k)] = static_cast<double>(mesh.vertices[vertex * TileMesh::kFloatsPerVertex + 8]);
-        }
-        const glm::dvec2 e1 = corner[1] - corner[0];
-        const glm::dvec2 e2 = corner[2] - corner[0];
-        const glm::dvec2 p = glm::dvec2(column, row) - corner[0];
-        const double area = e1.x * e2.y - e2.x * e1.y;
-        const double w1 = (p.x * e2.y - e2.x * p.y) / area;
-        const double w2 = (e1.x * p.y - p.x * e1.y) / area;
-        const double w0 = 1.0 - w1 - w2;
-        if (std::min({w0, w1, w2}) < -1e-12) {
-            return std::nullopt;
-        }
-        return w0 * height[0] + w1 * height[1] + w2 * height[2];
-    };
-    // The inner grid's quads come first, two triangles each; the ring around them after.
-    const int inner = size - 3;
-    const std::size_t ringStart = static_cast<std::size_t>(6 * inner * inner);
-    std::optional<double> height;
-    if (column >= 1.0 && column <= size - 2.0 && row >= 1.0 && row <= size - 2.0) {
-        const int i = std::min(static_cast<int>(column), size - 3) - 1;
-        const int j = std::min(static_cast<int>(row), size - 3) - 1;
-        const std::size_t quad = static_cast<std::size_t>(6 * (j * inner + i));
-        height = heightOn(quad);
-        height = height ? height : heightOn(quad + 3);
+    const glm::dvec2 uv = glm::clamp(quadtree.scheme().positionInTile(tile.key, position), 0.0, 1.0);
+    const std::optional<detail::TrianglePoint> point =
+        detail::drawnTriangleAt(size, surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{})),
+                                uv.x * (size - 1), (1.0 - uv.y) * (size - 1));
+    if (!point) {
+        return std::nullopt;
     }
-    for (std::size_t first = ringStart; !height && first + 2 < indices.size(); first += 3) {
-        height = heightOn(first);
+    double height = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+        height += point->weights[k] * static_cast<double>(mesh.vertices[point->vertices[k] * TileMesh::kFloatsPerVertex + 8]);
     }
     return height;
 }

@@ -116,6 +116,59 @@ int greenSpread(const Image& image, int x0, int y0, int x1, int y1)
     return highest - lowest;
 }
 
+/// Triangle edges the drawn surface does not share between exactly two triangles.
+struct OpenEdges {
+    int cracks = 0;       ///< drawn surface on both sides: a gap between tiles
+    int border = 0;       ///< the border of what was drawn
+    int sharedByMore = 0; ///< more than two triangles on one edge
+};
+
+/// Each triangle edge by its two end points, as the GPU gets them (doubles of the floats); an edge
+/// of one triangle must be on the border of what was drawn, with no tile across it.
+OpenEdges openEdges(const TiledGlobe& globe)
+{
+    const std::vector<glm::dvec3> points = globe.drawnTriangles();
+    auto less = [](const glm::dvec3& a, const glm::dvec3& b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); };
+    using Edge = std::pair<glm::dvec3, glm::dvec3>;
+    std::map<Edge, int, std::function<bool(const Edge&, const Edge&)>> edges([&](const Edge& a, const Edge& b) {
+        if (less(a.first, b.first) != less(b.first, a.first)) {
+            return less(a.first, b.first);
+        }
+        return less(a.second, b.second);
+    });
+    for (std::size_t t = 0; t + 2 < points.size(); t += 3) {
+        for (std::size_t e = 0; e < 3; ++e) {
+            glm::dvec3 a = points[t + e];
+            glm::dvec3 b = points[t + (e + 1) % 3];
+            if (a == b) {
+                continue; // a pole's collapsed row
+            }
+            if (less(b, a)) {
+                std::swap(a, b);
+            }
+            ++edges[{a, b}];
+        }
+    }
+    OpenEdges open;
+    for (const auto& [edge, count] : edges) {
+        if (count != 1) {
+            open.sharedByMore += count > 2;
+            continue;
+        }
+        const Geodetic2D a = kEarth.toGeodetic2D(edge.first);
+        const Geodetic2D b = kEarth.toGeodetic2D(edge.second);
+        const Geodetic2D middle{0.5 * (a.longitude + b.longitude), 0.5 * (a.latitude + b.latitude)};
+        // Just off the edge on both sides (a hundredth of its length), square to it in longitude
+        // and latitude.
+        const glm::dvec2 along(b.longitude - a.longitude, b.latitude - a.latitude);
+        const glm::dvec2 across = glm::dvec2(-along.y, along.x) * 0.01;
+        const bool left = globe.heightAt({middle.longitude + across.x, middle.latitude + across.y}).has_value();
+        const bool right = globe.heightAt({middle.longitude - across.x, middle.latitude - across.y}).has_value();
+        (left && right ? open.cracks : open.border) += 1;
+    }
+    return open;
+}
+
 } // namespace
 
 TEST_CASE("Terrain tiles of levels that disagree meet without a crack: the finer edge takes the coarser one's",
@@ -196,57 +249,135 @@ TEST_CASE("The surface drawn over terrain shares every inner edge between two tr
     terrain.look(Geodetic3D::fromDegrees(10.0, 46.0, 20000.0), 0.0, -35.0);
     REQUIRE(terrain.converge(256, 256).statistics.tiles->converged);
 
-    // Each triangle edge by its two end points, as the GPU gets them (doubles of the floats).
-    const std::vector<glm::dvec3> points = terrain.globe->drawnTriangles();
-    REQUIRE(points.size() > 3000);
-    auto less = [](const glm::dvec3& a, const glm::dvec3& b) {
-        return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+    const OpenEdges open = openEdges(*terrain.globe);
+    CHECK(open.sharedByMore == 0);
+    CHECK(open.border > 0);
+    CHECK(open.cracks == 0);
+}
+
+TEST_CASE("Morphing over frames: a refined tile starts on the surface its parent drew and reaches its own, with no crack",
+          "[scene][tiles][terrain][gl]")
+{
+    // The eye drops from 60 km to 9 km and stays: every change of the drawn surface after that is
+    // the levels refining. Levels that disagree by 37 m each make a pop plain.
+    struct Run {
+        double largestHeightStep = 0.0; ///< metres, at any probe, from one frame to the next
+        double largestImageStep = 0.0;  ///< mean absolute difference of the colour, 0..1
+        int framesMorphing = 0;
+        int cracks = 0;
+        int holes = 0;
+        std::vector<std::optional<double>> heights; ///< at the probes, converged
+        Image image;                                ///< converged
     };
-    std::map<std::pair<glm::dvec3, glm::dvec3>, int, std::function<bool(const std::pair<glm::dvec3, glm::dvec3>&,
-                                                                            const std::pair<glm::dvec3, glm::dvec3>&)>>
-        edges([&](const auto& a, const auto& b) {
-            if (less(a.first, b.first) != less(b.first, a.first)) {
-                return less(a.first, b.first);
-            }
-            return less(a.second, b.second);
+    const auto run = [](int morphFrames) {
+        // Coloured by height: a pop shows as a step of colour.
+        TerrainScene terrain(syntheticTerrain(ridges, 37.0), 1.0, [&](TiledGlobeOptions& options) {
+            options.morphFrames = morphFrames;
+            options.shading.color = TerrainShading::Color::Height;
+            options.shading.minimumHeight = 0.0;
+            options.shading.maximumHeight = 3000.0;
         });
-    for (std::size_t t = 0; t + 2 < points.size(); t += 3) {
-        for (int e = 0; e < 3; ++e) {
-            glm::dvec3 a = points[t + static_cast<std::size_t>(e)];
-            glm::dvec3 b = points[t + static_cast<std::size_t>((e + 1) % 3)];
-            if (a == b) {
-                continue; // a pole's collapsed row
+        terrain.look(Geodetic3D::fromDegrees(10.0, 45.75, 60000.0), 0.0, -35.0);
+        REQUIRE(terrain.converge(160, 120).statistics.tiles->converged);
+        terrain.look(Geodetic3D::fromDegrees(10.0, 45.95, 9000.0), 0.0, -35.0);
+        std::vector<Geodetic2D> probes;
+        for (int row = 0; row < 15; ++row) {
+            for (int column = 0; column < 15; ++column) {
+                probes.push_back(Geodetic2D::fromDegrees(9.93 + 0.01 * column, 46.0 + 0.008 * row));
             }
-            if (less(b, a)) {
-                std::swap(a, b);
+        }
+        Run result;
+        std::vector<std::optional<double>> before;
+        Image previous;
+        for (int frame = 0; frame < 200; ++frame) {
+            const RenderedFrame rendered = renderFrame(terrain.scene, 160, 120);
+            const TileStatistics& tiles = *rendered.statistics.tiles;
+            std::vector<std::optional<double>> heights;
+            for (const Geodetic2D& probe : probes) {
+                heights.push_back(terrain.globe->heightAt(probe));
             }
-            ++edges[{a, b}];
+            if (frame > 0) {
+                for (std::size_t p = 0; p < probes.size(); ++p) {
+                    if (heights[p] && before[p]) {
+                        result.largestHeightStep = std::max(result.largestHeightStep, std::abs(*heights[p] - *before[p]));
+                    }
+                }
+                double difference = 0.0;
+                for (int y = 0; y < 120; ++y) {
+                    for (int x = 0; x < 160; ++x) {
+                        for (int c = 0; c < 3; ++c) {
+                            difference += std::abs(int(rendered.image.pixel(x, y)[c]) - int(previous.pixel(x, y)[c]));
+                        }
+                    }
+                }
+                result.largestImageStep = std::max(result.largestImageStep, difference / (3.0 * 160.0 * 120.0 * 255.0));
+            }
+            result.framesMorphing += tiles.morphing > 0;
+            result.cracks += openEdges(*terrain.globe).cracks;
+            result.holes += magentaBelowSky(rendered.image, 40);
+            before = heights;
+            previous = rendered.image;
+            if (tiles.converged) {
+                result.heights = heights;
+                result.image = rendered.image;
+                break;
+            }
         }
-    }
-    // An edge with one triangle must be on the border of what was drawn: no tile across it.
-    int cracks = 0;
-    int border = 0;
-    for (const auto& [edge, count] : edges) {
-        REQUIRE(count <= 2);
-        if (count == 2) {
-            continue;
+        REQUIRE_FALSE(result.heights.empty());
+        return result;
+    };
+    const Run popping = run(0);
+    const Run morphing = run(8);
+    UNSCOPED_INFO("popping: " << popping.largestHeightStep << " m, image " << popping.largestImageStep);
+    UNSCOPED_INFO("morphing: " << morphing.largestHeightStep << " m, image " << morphing.largestImageStep << ", "
+                               << morphing.framesMorphing << " frames morphing");
+    CHECK(popping.framesMorphing == 0);
+    CHECK(morphing.framesMorphing >= 8);
+    // A pop moves the surface by the levels' difference at once; a morph by an eighth of it a frame.
+    CHECK(popping.largestHeightStep > 100.0);
+    CHECK(morphing.largestHeightStep < popping.largestHeightStep / 4.0);
+    CHECK(morphing.largestImageStep < popping.largestImageStep / 3.0);
+    // Watertight on every frame of both, and the same surface at the end.
+    CHECK(popping.cracks == 0);
+    CHECK(morphing.cracks == 0);
+    CHECK(popping.holes == 0);
+    CHECK(morphing.holes == 0);
+    CHECK(morphing.heights == popping.heights);
+    CHECK(morphing.image.pixels == popping.image.pixels);
+}
+
+TEST_CASE("A scene file's morphFrames makes its terrain morph: counted in the statistics, the converged view unchanged",
+          "[scene][tiles][terrain][scenefile][gl]")
+{
+    const auto render = [](const std::string& morphKey) {
+        const std::string text = R"({"version": 1, "camera": {"position": {"lon": 86.9, "lat": 27.0, "height": 300000},
+            "heading": 0, "pitch": -30}, "globe": {"terrain": {"source": "../terrain/etopo5", "exaggeration": 10)" +
+                                 morphKey + "}}}";
+        Scene scene(kEarth);
+        populateScene(world::parseSceneText(text, "morph.json", ORBIS_SOURCE_DIR "/data/scenes"), scene);
+        std::shared_ptr<TiledGlobe> globe;
+        for (const auto& primitive : scene.primitives()) {
+            globe = globe ? globe : std::dynamic_pointer_cast<TiledGlobe>(primitive);
         }
-        const Geodetic2D a = kEarth.toGeodetic2D(edge.first);
-        const Geodetic2D b = kEarth.toGeodetic2D(edge.second);
-        const Geodetic2D middle{0.5 * (a.longitude + b.longitude), 0.5 * (a.latitude + b.latitude)};
-        // Just off the edge on both sides, square to it in longitude and latitude.
-        const glm::dvec2 direction = glm::normalize(glm::dvec2(b.longitude - a.longitude, b.latitude - a.latitude));
-        const glm::dvec2 across = glm::dvec2(-direction.y, direction.x) * 1e-9;
-        const bool left = terrain.globe->heightAt({middle.longitude + across.x, middle.latitude + across.y}).has_value();
-        const bool right = terrain.globe->heightAt({middle.longitude - across.x, middle.latitude - across.y}).has_value();
-        if (left && right) {
-            ++cracks;
-        } else {
-            ++border;
+        REQUIRE(globe);
+        int framesMorphing = 0;
+        for (int frame = 0; frame < 400; ++frame) {
+            RenderedFrame rendered = renderFrame(scene, 160, 90);
+            framesMorphing += rendered.statistics.tiles->morphing > 0;
+            if (rendered.statistics.tiles->converged) {
+                return std::tuple{globe->options().morphFrames, framesMorphing, std::move(rendered.image)};
+            }
         }
-    }
-    CHECK(border > 0);
-    CHECK(cracks == 0);
+        FAIL("not converged");
+        return std::tuple{0, 0, Image{}};
+    };
+    const auto [noFrames, noneMorphing, popped] = render("");
+    const auto [frames, framesMorphing, morphed] = render(R"(, "morphFrames": 6)");
+    CHECK(noFrames == 0);
+    CHECK(noneMorphing == 0);
+    CHECK(frames == 6);
+    CHECK(framesMorphing >= 6);
+    CHECK(morphed.pixels == popped.pixels);
 }
 
 TEST_CASE("heightAt gives the terrain's height on the drawn triangles, at edges and corners too", "[scene][tiles][terrain][gl]")

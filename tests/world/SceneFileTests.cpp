@@ -840,6 +840,18 @@ TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cac
               .find("/globe/terrain/source") != std::string::npos);
 }
 
+TEST_CASE("Terrain morphing: the frames a refined tile takes from its parent's surface to its own, checked; none by default",
+          "[world][scenefile][terrain]")
+{
+    CHECK(parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5"}}})").globe->terrain->morphFrames == 0);
+    CHECK(parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5", "morphFrames": 12}}})")
+              .globe->terrain->morphFrames == 12);
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "morphFrames": -1}}})") ==
+          "test.json:1:68: /globe/terrain/morphFrames: -1 is out of range [0, 600]");
+    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "morphFrames": 2.5}}})") ==
+          "test.json:1:68: /globe/terrain/morphFrames: expected a number of frames, got 2.5");
+}
+
 TEST_CASE("Terrain drawn as clipmaps: the method and the posts, each checked; the quadtree stays the default",
           "[world][scenefile][terrain][clipmap]")
 {

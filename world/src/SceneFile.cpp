@@ -95,8 +95,8 @@ constexpr std::array<std::string_view, 2> kSunKeys = {"lon", "lat"};
 constexpr std::array<std::string_view, 8> kGlobeKeys = {"method",  "texture", "nightTexture",
                                                         "grid",    "imagery", "terrain",
                                                         "maximumScreenSpaceError", "cacheMegabytes"};
-constexpr std::array<std::string_view, 7> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading",
-                                                          "method", "posts"};
+constexpr std::array<std::string_view, 8> kTerrainKeys = {"source", "format", "exaggeration", "cacheFolder", "shading",
+                                                          "method", "posts",  "morphFrames"};
 constexpr std::array<std::string_view, 5> kShadingKeys = {"color", "heightRange", "contours", "hillshade", "water"};
 constexpr std::array<std::string_view, 3> kContourKeys = {"interval", "color", "width"};
 constexpr std::array<std::string_view, 2> kHillshadeKeys = {"azimuth", "altitude"};
@@ -818,6 +818,9 @@ private:
             if (((terrain.posts + 1) & terrain.posts) != 0) {
                 fail(pointer + "/posts", std::to_string(terrain.posts) + " is not 2^k - 1 (15, 31, 63, 127, 255, 511, 1023)");
             }
+        }
+        if (const Json* frames = member(value, "morphFrames")) {
+            terrain.morphFrames = readInteger(*frames, pointer + "/morphFrames", 0, 600, "a number of frames");
         }
         return terrain;
     }

@@ -15,6 +15,7 @@ struct TileStatistics {
     std::size_t drawn = 0;            ///< tiles drawn, stand-ins for unloaded children included
     std::size_t standIns = 0;         ///< drawn in place of finer tiles not loaded yet
     std::size_t fallbackImagery = 0;  ///< drawn tiles showing an ancestor's imagery, scaled
+    std::size_t morphing = 0;         ///< drawn tiles still moving from their ancestor's surface to their own
     std::size_t imageryDrawn = 0;     ///< imagery tiles the drawn tiles read (each counted once)
     std::size_t requested = 0;        ///< loads started this frame
     std::size_t loadedThisFrame = 0;  ///< loads that arrived this frame with data

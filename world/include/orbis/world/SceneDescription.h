@@ -139,6 +139,9 @@ struct TerrainDescription {
     std::optional<std::filesystem::path> cacheFolder;
     TerrainMethod method = TerrainMethod::Quadtree;
     int posts = 255; ///< Clipmap: posts a side of each level, 2^k - 1 from 15 to 1023
+    /// Quadtree: the frames a refined tile takes to move from its parent's surface to its own
+    /// (scene::TiledGlobeOptions::morphFrames); 0: at once.
+    int morphFrames = 0;
 
     friend bool operator==(const TerrainDescription&, const TerrainDescription&) = default;
 };
