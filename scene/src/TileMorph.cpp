@@ -76,15 +76,37 @@ std::optional<TrianglePoint> drawnTriangleAt(int size, std::span<const std::uint
     return std::nullopt;
 }
 
+std::optional<SurfaceSample> sampleDrawnSurface(const TileMesh& mesh, std::span<const std::uint32_t> triangles,
+                                                std::span<const float> normals, double column, double row)
+{
+    const std::optional<TrianglePoint> point = drawnTriangleAt(mesh.size(), triangles, column, row);
+    if (!point) {
+        return std::nullopt;
+    }
+    SurfaceSample sample;
+    glm::dvec3 normal(0.0);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t v = point->vertices[k];
+        sample.height += point->weights[k] * static_cast<double>(mesh.vertices[v * TileMesh::kFloatsPerVertex + 8]);
+        if (!normals.empty()) {
+            normal += point->weights[k] * glm::dvec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
+        }
+    }
+    if (glm::length(normal) > 0.0) {
+        sample.normal = glm::normalize(normal);
+    }
+    return sample;
+}
+
 TileMorph TileMorph::start(const TilingScheme& scheme, const TileMesh& tile, std::span<const float> ownNormals,
-                           const TileMesh& ancestor, std::span<const std::uint32_t> ancestorTriangles,
-                           std::span<const float> ancestorNormals, std::uint64_t frame)
+                           const std::function<std::optional<SurfaceSample>(int, int)>& drawnBefore,
+                           std::uint64_t frame)
 {
     TileMorph morph;
     morph.firstFrame = frame;
     const int size = tile.size();
     const std::size_t gridVertices = static_cast<std::size_t>(size * size);
-    const bool withNormals = !ownNormals.empty() && !ancestorNormals.empty();
+    const bool withNormals = !ownNormals.empty();
     morph.fromHeights.reserve(gridVertices);
     if (withNormals) {
         const std::span<const float> grid = ownNormals.first(3 * gridVertices);
@@ -96,33 +118,20 @@ TileMorph TileMorph::start(const TilingScheme& scheme, const TileMesh& tile, std
     morph.up.reserve(3 * gridVertices);
     for (int j = 0; j < size; ++j) {
         for (int i = 0; i < size; ++i) {
+            const std::size_t v = static_cast<std::size_t>(j * size + i);
             const glm::dvec3 up = Ellipsoid::geodeticSurfaceNormal(
                 Geodetic2D{TileMesh::latticeLongitude(scheme, tile.key, tile.samplesLog2, i),
                            TileMesh::latticeLatitude(scheme, tile.key, tile.samplesLog2, j)});
             morph.up.insert(morph.up.end(), {static_cast<float>(up.x), static_cast<float>(up.y), static_cast<float>(up.z)});
-            // Inside the ancestor: no wrap, so any column count does.
-            const glm::dvec2 at = gridCoordinatesIn(tile.key, i, j, ancestor.key, tile.samplesLog2, 1);
-            const std::optional<TrianglePoint> point = drawnTriangleAt(ancestor.size(), ancestorTriangles, at.x, at.y);
-            double height = 0.0;
-            glm::dvec3 normal(0.0);
-            for (std::size_t k = 0; point && k < 3; ++k) {
-                const std::size_t v = point->vertices[k];
-                height += point->weights[k] * static_cast<double>(ancestor.vertices[v * TileMesh::kFloatsPerVertex + 8]);
-                if (withNormals) {
-                    normal += point->weights[k] * glm::dvec3(ancestorNormals[3 * v], ancestorNormals[3 * v + 1],
-                                                             ancestorNormals[3 * v + 2]);
-                }
-            }
-            if (!point) { // not on a drawn triangle (cannot happen with TileMesh::indices): its own
-                height = static_cast<double>(tile.vertices[static_cast<std::size_t>(j * size + i) * TileMesh::kFloatsPerVertex + 8]);
-            }
+            const std::optional<SurfaceSample> before = drawnBefore(i, j);
+            const double height =
+                before ? before->height : static_cast<double>(tile.vertices[v * TileMesh::kFloatsPerVertex + 8]);
             morph.fromHeights.push_back(static_cast<float>(height));
             morph.fromMinimumHeight = std::min(morph.fromMinimumHeight, height);
             morph.fromMaximumHeight = std::max(morph.fromMaximumHeight, height);
             if (withNormals) {
-                const std::size_t v = static_cast<std::size_t>(j * size + i);
                 const glm::dvec3 own(ownNormals[3 * v], ownNormals[3 * v + 1], ownNormals[3 * v + 2]);
-                normal = point && glm::length(normal) > 0.0 ? glm::normalize(normal) : own;
+                const glm::dvec3 normal = before && before->normal ? *before->normal : own;
                 morph.fromNormals.insert(morph.fromNormals.end(), {static_cast<float>(normal.x), static_cast<float>(normal.y),
                                                                   static_cast<float>(normal.z)});
             }

@@ -1,7 +1,7 @@
 #pragma once
 
 // Where a point of one tile's grid lies on another tile's drawn surface, and the morph that moves a
-// refined tile from the surface its ancestor drew to its own over frames (book 14.4).
+// tile from the surface drawn before it (an ancestor's or finer tiles') to its own over frames (book 14.4).
 
 #include <orbis/core/TileKey.h>
 #include <orbis/core/TileMesh.h>
@@ -9,9 +9,12 @@
 
 #include <glm/vec2.hpp>
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -37,7 +40,19 @@ struct TrianglePoint {
 std::optional<TrianglePoint> drawnTriangleAt(int size, std::span<const std::uint32_t> triangles, double column,
                                              double row);
 
-/// A tile on its way from its ancestor's drawn surface (factor 0) to its own (factor 1).
+/// The surface a tile drew at a point: its height and, where the tile has them, its normal.
+struct SurfaceSample {
+    double height = 0.0;
+    std::optional<glm::dvec3> normal;
+};
+
+/// The sample of `mesh`'s drawn triangles (`triangles`, as for drawnTriangleAt; `normals`: three
+/// floats per grid vertex, or none) at grid coordinates (column, row).
+std::optional<SurfaceSample> sampleDrawnSurface(const TileMesh& mesh, std::span<const std::uint32_t> triangles,
+                                                std::span<const float> normals, double column, double row);
+
+/// A tile on its way from the surface drawn before it over its ground (factor 0: an ancestor's,
+/// or finer tiles') to its own (factor 1).
 struct TileMorph {
     std::uint64_t firstFrame = 0;
     std::vector<float> fromHeights; ///< per grid vertex, row by row from the north
@@ -49,18 +64,18 @@ struct TileMorph {
     double fromMinimumHeight = 0.0;
     double fromMaximumHeight = 0.0;
 
-    /// Starts at `frame` from `ancestor`'s mesh as drawn (its triangles `ancestorTriangles`, its
-    /// grid's normals, or none) sampled at each of `tile`'s grid points.
+    /// Starts at `frame` from the surface `drawnBefore` gives at each of `tile`'s grid vertices
+    /// (column, row); where it gives none, the vertex starts where it is to end.
     static TileMorph start(const TilingScheme& scheme, const TileMesh& tile, std::span<const float> ownNormals,
-                           const TileMesh& ancestor, std::span<const std::uint32_t> ancestorTriangles,
-                           std::span<const float> ancestorNormals, std::uint64_t frame);
+                           const std::function<std::optional<SurfaceSample>(int, int)>& drawnBefore,
+                           std::uint64_t frame);
     /// Moves the tile's inner grid vertices (not its edges, which the stitching puts back) to
     /// their heights at a factor, along `up` from where they are: no trigonometry a frame.
     void moveInnerVertices(TileMesh& mesh, std::span<const float> own, double factor) const;
 
     /// 0 on its first frame, rising linearly to 1 `frames` frames later.
     double factor(std::uint64_t frame, int frames) const noexcept;
-    /// Grid vertex v's height at a factor, between the ancestor's and `own`.
+    /// Grid vertex v's height at a factor, between the surface before and `own`.
     double height(std::size_t vertex, std::span<const float> own, double factor) const noexcept;
     /// The grid's unit normals at a factor (empty without normals).
     std::vector<float> normals(double factor) const;

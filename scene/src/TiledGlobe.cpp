@@ -189,7 +189,7 @@ struct SurfaceTile final : TileData {
     std::uint32_t edgesOnHeights = ~0u;
     std::uint32_t meshVersion = 0;    ///< counts the changes of `drawnMesh` since it was loaded
     std::uint32_t heightsVersion = 0; ///< counts the changes of its own heights (a load, a morph's step)
-    /// On its way from the surface its ancestor drew to its own (TiledGlobeOptions::morphFrames).
+    /// On its way from the surface drawn before it to its own (TiledGlobeOptions::morphFrames).
     std::optional<detail::TileMorph> morph;
     double morphFactor = 1.0; ///< how far the morph is: 1 when none
     /// Grid vertex v's height as it is to be drawn before its edges are stitched: its own, morphed.
@@ -291,10 +291,11 @@ struct TiledGlobe::Impl {
     /// of its level, the least morphed (givesVerticesTo); none when the tile keeps its own.
     const QuadtreeTile* cornerGiver(const QuadtreeTile& tile, int corner,
                                     const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn) const;
-    /// Starts the morphs of tiles drawn in place of an ancestor drawn last frame, moves the others
-    /// a step, and ends those done or no longer drawn.
+    /// Starts the morphs of tiles drawn in place of others drawn last frame, moves the others a
+    /// step, and ends those done or no longer drawn.
     void advanceMorphs(std::uint64_t frame, TileStatistics& statistics);
-    void beginMorph(QuadtreeTile& tile, const QuadtreeTile& ancestor, std::uint64_t frame);
+    /// Starts a morph from the surface drawn last frame over the tile's ground, if any was.
+    void beginMorph(QuadtreeTile& tile, std::uint64_t frame);
     /// Puts the tile's grid where its morph is at `factor` (its own surface when none is left).
     void applyMorph(QuadtreeTile& tile, double factor);
     void endMorph(QuadtreeTile& tile);
@@ -870,20 +871,11 @@ void TiledGlobe::Impl::advanceMorphs(std::uint64_t frame, TileStatistics& statis
     if (!terrain || options->morphFrames == 0) {
         return;
     }
-    // New tiles start from what their ancestor drew last frame, before that one's morph moves on.
+    // New tiles start from what was drawn over their ground last frame (an ancestor, or finer
+    // tiles), before any of those moves on.
     for (QuadtreeTile* tile : selection.drawn) {
-        if (surfaceOf(*tile).morph || drawnTiles.contains(tile->key)) {
-            continue;
-        }
-        for (std::uint32_t level = tile->key.level; level-- > 0;) {
-            const auto found = drawnTiles.find(tile->key.ancestor(level));
-            if (found != drawnTiles.end()) {
-                const SurfaceTile& ancestor = surfaceOf(*found->second);
-                if (ancestor.mesh == LoadState::Ready && ancestor.drawnMesh.samplesLog2 == surfaceOf(*tile).drawnMesh.samplesLog2) {
-                    beginMorph(*tile, *found->second, frame);
-                }
-                break;
-            }
+        if (!surfaceOf(*tile).morph && !drawnTiles.contains(tile->key)) {
+            beginMorph(*tile, frame);
         }
     }
     const std::unordered_set<const QuadtreeTile*> drawnNow(selection.drawn.begin(), selection.drawn.end());
@@ -917,18 +909,71 @@ std::vector<float> gridNormals(const SurfaceTile& surface)
     return normals;
 }
 
+/// The drawn tile holding a point (the first level's where it is on an edge), if any.
+const QuadtreeTile* drawnTileAt(const TileQuadtree& quadtree,
+                                const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn,
+                                const Geodetic2D& position)
+{
+    for (std::uint32_t level = 0; level <= kMaximumTileLevel; ++level) {
+        const std::optional<TileKey> key = quadtree.scheme().tileAt(position, level);
+        if (!key) {
+            return nullptr;
+        }
+        const auto found = drawn.find(*key);
+        if (found != drawn.end()) {
+            return found->second;
+        }
+    }
+    return nullptr;
+}
+
 } // namespace
 
-void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, const QuadtreeTile& ancestor, std::uint64_t frame)
+void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame)
 {
     SurfaceTile& surface = surfaceOf(tile);
-    const SurfaceTile& from = surfaceOf(ancestor);
-    surface.morph = detail::TileMorph::start(quadtree.scheme(), surface.drawnMesh, gridNormals(surface), from.drawnMesh,
-                                             surfaceTriangles(from.coarsening.value_or(EdgeCoarsening{})),
-                                             gridNormals(from), frame);
+    const TilingScheme& scheme = quadtree.scheme();
+    const int samplesLog2 = surface.drawnMesh.samplesLog2;
+    // The tile drawn last frame at each grid vertex: one ancestor for all, or the finer tiles in
+    // turn (the last one found holds the next vertex, mostly), with their normals read back once.
+    const QuadtreeTile* giver = nullptr;
+    std::unordered_map<const QuadtreeTile*, std::vector<float>> normals;
+    bool covered = false;
+    auto drawnBefore = [&](int i, int j) -> std::optional<detail::SurfaceSample> {
+        auto inside = [&](const QuadtreeTile& candidate) {
+            const int size = surfaceOf(candidate).drawnMesh.size();
+            const glm::dvec2 at = detail::gridCoordinatesIn(tile.key, i, j, candidate.key, samplesLog2,
+                                                            scheme.tilesX(candidate.key.level));
+            return at.x >= 0.0 && at.x <= size - 1.0 && at.y >= 0.0 && at.y <= size - 1.0;
+        };
+        if (!giver || !inside(*giver)) {
+            const Geodetic2D position{TileMesh::latticeLongitude(scheme, tile.key, samplesLog2, i),
+                                      TileMesh::latticeLatitude(scheme, tile.key, samplesLog2, j)};
+            const QuadtreeTile* found = drawnTileAt(quadtree, drawnTiles, position);
+            if (!found || found == &tile || surfaceOf(*found).mesh != LoadState::Ready ||
+                surfaceOf(*found).drawnMesh.samplesLog2 != samplesLog2 || !inside(*found)) {
+                return std::nullopt;
+            }
+            giver = found;
+            if (!normals.contains(giver)) {
+                normals.emplace(giver, gridNormals(surfaceOf(*giver)));
+            }
+        }
+        const SurfaceTile& from = surfaceOf(*giver);
+        const glm::dvec2 at = detail::gridCoordinatesIn(tile.key, i, j, giver->key, samplesLog2,
+                                                        scheme.tilesX(giver->key.level));
+        covered = true;
+        return detail::sampleDrawnSurface(from.drawnMesh, surfaceTriangles(from.coarsening.value_or(EdgeCoarsening{})),
+                                          normals.at(giver), at.x, at.y);
+    };
+    detail::TileMorph morph = detail::TileMorph::start(scheme, surface.drawnMesh, gridNormals(surface), drawnBefore, frame);
+    if (!covered) {
+        return; // new ground: nothing was drawn there to move from
+    }
+    surface.morph = std::move(morph);
     surface.cpuBytes += surface.morph->byteSize();
     cpuBytes += surface.morph->byteSize();
-    // Bounds that hold all the way: the ancestor's surface may stand above or below its own.
+    // Bounds that hold all the way: the surface before may stand above or below its own.
     const TileMesh& mesh = surface.drawnMesh;
     tile.region = quadtree.regionOf(tile.key, std::min(mesh.minimumHeight, surface.morph->fromMinimumHeight),
                                     std::max(mesh.maximumHeight, surface.morph->fromMaximumHeight));
@@ -1709,23 +1754,6 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
 
 namespace {
 
-/// The drawn tile holding a point (the first level's where it is on an edge), if any.
-const QuadtreeTile* drawnTileAt(const TileQuadtree& quadtree,
-                                const std::unordered_map<TileKey, QuadtreeTile*, TileKeyHash>& drawn,
-                                const Geodetic2D& position)
-{
-    for (std::uint32_t level = 0; level <= kMaximumTileLevel; ++level) {
-        const std::optional<TileKey> key = quadtree.scheme().tileAt(position, level);
-        if (!key) {
-            return nullptr;
-        }
-        const auto found = drawn.find(*key);
-        if (found != drawn.end()) {
-            return found->second;
-        }
-    }
-    return nullptr;
-}
 
 } // namespace
 

@@ -66,8 +66,9 @@ struct TiledGlobeOptions {
     int samplesLog2 = 0;
     /// Skirts under the tiles' edges; off by default: tiles stitch to their coarser neighbours.
     bool skirts = false;
-    /// With terrain: the frames over which a tile that replaces its ancestor moves from the
-    /// surface the ancestor drew to its own (book 14.4, morphing over time); 0: it pops at once.
+    /// With terrain: the frames over which a tile drawn where others were drawn the frame before
+    /// (its ancestor, or finer tiles) moves from the surface they drew to its own (book 14.4,
+    /// morphing over time); 0: it pops at once.
     int morphFrames = 0;
     bool lighting = true;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
