@@ -79,6 +79,10 @@ std::shared_ptr<const DemDescription> describeDem(const std::filesystem::path& p
     const double offset = GDALGetRasterOffset(band, &hasOffset);
     description->scale = hasScale && std::isfinite(scale) && scale != 0.0 ? scale : 1.0;
     description->offset = hasOffset && std::isfinite(offset) ? offset : 0.0;
+    if (static_cast<std::size_t>(description->width) * static_cast<std::size_t>(description->height) <=
+        DemDescription::kInMemoryPixels) {
+        description->pixels = std::make_shared<DemPixels>();
+    }
     return description;
 }
 
@@ -158,15 +162,32 @@ void DemReader::read(int x0, int y0, int w, int h, std::vector<float>& values)
     const DemDescription& d = *_description;
     values.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     const QuietGdal quiet;
+    auto readBand = [&](int x, int y, int width, int height, float* out, std::size_t rowStride) {
+        if (GDALRasterIOEx(_band, GF_Read, x, y, width, height, out, width, height, GDT_Float32, sizeof(float),
+                           static_cast<GSpacing>(sizeof(float) * rowStride), nullptr) != CE_None) {
+            throw Error(d.name + ": cannot read the DEM's pixels: " + gdalMessage());
+        }
+    };
+    if (d.pixels) {
+        std::call_once(d.pixels->read, [&] {
+            d.pixels->values.resize(static_cast<std::size_t>(d.width) * static_cast<std::size_t>(d.height));
+            readBand(0, 0, d.width, d.height, d.pixels->values.data(), static_cast<std::size_t>(d.width));
+        });
+    }
     // Columns beyond the raster's east edge wrap to its west edge (rasters round the globe).
     int column = x0;
     int done = 0;
     while (done < w) {
         const int start = ((column % d.width) + d.width) % d.width;
         const int run = std::min(w - done, d.width - start);
-        if (GDALRasterIOEx(_band, GF_Read, start, y0, run, h, values.data() + done, run, h, GDT_Float32, sizeof(float),
-                           static_cast<GSpacing>(sizeof(float)) * w, nullptr) != CE_None) {
-            throw Error(d.name + ": cannot read the DEM's pixels: " + gdalMessage());
+        if (d.pixels) {
+            for (int row = 0; row < h; ++row) {
+                const float* from = &d.pixels->values[static_cast<std::size_t>(y0 + row) * static_cast<std::size_t>(d.width) +
+                                                      static_cast<std::size_t>(start)];
+                std::copy_n(from, run, &values[static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(done)]);
+            }
+        } else {
+            readBand(start, y0, run, h, values.data() + done, static_cast<std::size_t>(w));
         }
         done += run;
         column += run;
