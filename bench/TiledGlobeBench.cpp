@@ -17,7 +17,7 @@
 #include <orbis/renderer/Texture2D.h>
 #include <orbis/scene/Camera.h>
 #include <orbis/scene/Scene.h>
-#include <orbis/scene/TerrainSampler.h>
+#include <orbis/world/TerrainSampler.h>
 #include <orbis/scene/TiledGlobe.h>
 #include <orbis/scene/TileQuadtree.h>
 #include <orbis/world/FileAccess.h>
@@ -787,7 +787,7 @@ Table terrainMeshTable(const Options& options)
                 static_cast<float>(2000.0 + 1500.0 * std::sin(0.11 * i) * std::cos(0.07 * j));
         }
     }
-    const TerrainSampler sampler(data);
+    const world::TerrainSampler sampler(data);
     const int tiles = options.quick ? 50 : 2000;
     std::vector<TileKey> keys;
     for (int t = 0; t < tiles; ++t) {
@@ -800,7 +800,7 @@ Table terrainMeshTable(const Options& options)
     table.description =
         "CPU time on one thread per tile of 65 x 65 vertices cut from a 257 x 257 grid (levels 1 to 4 below it, " +
         std::to_string(tiles) +
-        " tiles): sampling the heights on the tile's lattice (TerrainSampler::latticeHeights), the mesh with its "
+        " tiles): sampling the heights on the tile's lattice (world::TerrainSampler::latticeHeights), the mesh with its "
         "skirts (TileMesh::build: positions split for the GPU, relative to the eye) and its normals "
         "(TileMesh::normals). Target: at most 0.3 ms a tile with skirts (CesiumJS takes about 1.6 ms).";
     table.columns = {"skirts", "heights ms", "mesh ms", "normals ms", "total ms a tile"};

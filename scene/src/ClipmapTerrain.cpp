@@ -1,7 +1,6 @@
 #include "orbis/scene/ClipmapTerrain.h"
 
 #include "orbis/scene/Effect.h"
-#include "orbis/scene/TerrainSampler.h"
 
 #include <orbis/core/ClipmapLayout.h>
 #include <orbis/core/ClipmapUpsampling.h>
@@ -20,6 +19,7 @@
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
 #include <orbis/world/ImageCodec.h>
+#include <orbis/world/TerrainSampler.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
 
@@ -95,7 +95,7 @@ public:
     Image image;
 };
 
-/// A terrain tile as a 129 x 129 lattice of its surface (TerrainSampler: on a mesh's triangles),
+/// A terrain tile as a 129 x 129 lattice of its surface (world::TerrainSampler: on a mesh's triangles),
 /// made on the worker that loaded it, so that a post's height is a bilinear lookup rather than a
 /// search for its triangle (a level's write is twice as fast). Twice as fine as the 65 x 65
 /// samples quantized-mesh tiles (ETOPO5's among them) are usually made from.
@@ -494,7 +494,7 @@ struct ClipmapTerrain::Impl {
                     if (fetched.status == world::TerrainFetch::Status::Missing) {
                         return nullptr;
                     }
-                    const TerrainSampler sampler(std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
+                    const world::TerrainSampler sampler(std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
                     auto grid = std::make_shared<TerrainGrid>();
                     grid->heights = sampler.latticeHeights(key, TerrainGrid::kSamplesLog2);
                     return std::make_unique<TerrainContent>(std::move(grid));

@@ -5,8 +5,6 @@
 #include "orbis/scene/ImageryCoverage.h"
 #include "orbis/scene/MercatorReprojection.h"
 
-#include "orbis/scene/TerrainSampler.h"
-
 #include "TileMorph.h"
 
 #include <orbis/core/Error.h>
@@ -24,6 +22,7 @@
 #include <orbis/renderer/VertexArray.h>
 #include <orbis/renderer/VertexBuffer.h>
 #include <orbis/world/ImageCodec.h>
+#include <orbis/world/TerrainSampler.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
 
@@ -60,7 +59,7 @@ enum class LoadState : std::uint8_t { Unloaded, Loading, Ready, Missing, Failed 
 
 /// A surface tile's mesh, with its heights and normals when the globe has terrain.
 struct MeshContent final : world::TileContent {
-    MeshContent(TileMesh mesh_, std::vector<float> normals_, bool normalsFromData_, TerrainSampler::WaterMask water_,
+    MeshContent(TileMesh mesh_, std::vector<float> normals_, bool normalsFromData_, world::TerrainSampler::WaterMask water_,
                 std::uint32_t generation_)
         : mesh(std::move(mesh_))
         , normals(std::move(normals_))
@@ -75,8 +74,8 @@ struct MeshContent final : world::TileContent {
     }
     TileMesh mesh;
     std::vector<float> normals; ///< three per grid and skirt vertex, Earth-fixed, unit; empty without terrain
-    bool normalsFromData;       ///< the terrain data's own (TerrainSampler::latticeNormals), not the mesh's
-    TerrainSampler::WaterMask water; ///< with TiledGlobeOptions::water, where the data has a mask
+    bool normalsFromData;       ///< the terrain data's own (world::TerrainSampler::latticeNormals), not the mesh's
+    world::TerrainSampler::WaterMask water; ///< with TiledGlobeOptions::water, where the data has a mask
     std::uint32_t generation;   ///< of the exaggeration it was made with
 };
 
@@ -90,7 +89,7 @@ public:
 
     /// The deepest tile at or above `key` that the source has; null where it has none (the
     /// ellipsoid then). Throws orbis::Error with the source's message for a tile that failed.
-    std::shared_ptr<const TerrainSampler> samplerFor(TileKey key)
+    std::shared_ptr<const world::TerrainSampler> samplerFor(TileKey key)
     {
         const world::TerrainSourceInfo& info = _source->info();
         if (key.level > info.maximumLevel) {
@@ -113,7 +112,7 @@ public:
                 throw Error(fetched.message);
             }
             if (fetched.status == world::TerrainFetch::Status::Ok) {
-                auto sampler = std::make_shared<const TerrainSampler>(
+                auto sampler = std::make_shared<const world::TerrainSampler>(
                     std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
                 const std::lock_guard lock(_mutex);
                 if (!_samplers.contains(key)) {
@@ -138,7 +137,7 @@ private:
     std::shared_ptr<world::TerrainSource> _source;
     std::mutex _mutex;
     std::list<TileKey> _order; ///< most recently used first
-    std::map<TileKey, std::pair<std::shared_ptr<const TerrainSampler>, std::list<TileKey>::iterator>> _samplers;
+    std::map<TileKey, std::pair<std::shared_ptr<const world::TerrainSampler>, std::list<TileKey>::iterator>> _samplers;
 };
 
 
@@ -759,9 +758,9 @@ world::TileLoadWork TiledGlobe::Impl::workFor(const LoadTarget& target) const
                 generation]() -> std::unique_ptr<world::TileContent> {
             std::vector<float> heights;
             std::vector<float> dataNormals;
-            TerrainSampler::WaterMask mask;
+            world::TerrainSampler::WaterMask mask;
             if (heightsFrom) {
-                if (const std::shared_ptr<const TerrainSampler> data = heightsFrom->samplerFor(key)) {
+                if (const std::shared_ptr<const world::TerrainSampler> data = heightsFrom->samplerFor(key)) {
                     if (water) {
                         mask = data->waterMask(key);
                     }

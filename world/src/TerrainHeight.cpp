@@ -1,6 +1,6 @@
 #include "orbis/world/TerrainHeight.h"
 
-#include "TerrainMesh.h"
+#include "orbis/world/TerrainSampler.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/Math.h>
@@ -27,25 +27,6 @@ std::optional<double> longitudeWithin(double longitude, double west, double east
     return std::nullopt;
 }
 
-/// Bilinear in the grid cell holding column x, row y (fractional sample indices). At x or y on
-/// the grid's last index the cell before it is used with weight 1 on its far side, so an edge's
-/// value comes from the edge's samples alone: 0 * h adds exactly nothing.
-double gridHeight(const TerrainTileData& tile, double x, double y) noexcept
-{
-    const int last = tile.size - 1;
-    const int column = std::clamp(static_cast<int>(std::floor(x)), 0, last - 1);
-    const int row = std::clamp(static_cast<int>(std::floor(y)), 0, last - 1);
-    const double fx = std::clamp(x - column, 0.0, 1.0);
-    const double fy = std::clamp(y - row, 0.0, 1.0);
-    auto at = [&](int r, int c) {
-        return static_cast<double>(tile.heights[static_cast<std::size_t>(r) * static_cast<std::size_t>(tile.size) +
-                                                static_cast<std::size_t>(c)]);
-    };
-    const double north = (1.0 - fx) * at(row, column) + fx * at(row, column + 1);
-    const double south = (1.0 - fx) * at(row + 1, column) + fx * at(row + 1, column + 1);
-    return (1.0 - fy) * north + fy * south;
-}
-
 /// Where a position falls in a tile: u west to east, v south to north, both 0..1; empty outside.
 std::optional<std::pair<double, double>> tileCoordinates(const TileKey& key, const Geodetic2D& position) noexcept
 {
@@ -58,18 +39,16 @@ std::optional<std::pair<double, double>> tileCoordinates(const TileKey& key, con
                      (position.latitude - extent.south) / (extent.north - extent.south));
 }
 
-/// The height of a tile at u, v, with a mesh's triangles found through `mesh` when given.
-std::optional<double> heightIn(const TerrainTileData& tile, const detail::MeshHeights* mesh, double u, double v)
+/// The height of a tile at u, v: bilinear on a grid, on the triangle of a mesh that holds the
+/// point; none for a malformed grid or a point in no triangle.
+std::optional<double> heightIn(const TerrainSampler& sampler, double u, double v)
 {
-    if (!tile.isMesh()) {
-        if (tile.size < 2 || tile.heights.size() != static_cast<std::size_t>(tile.size) * static_cast<std::size_t>(tile.size)) {
-            return std::nullopt;
-        }
-        const double last = tile.size - 1;
-        return gridHeight(tile, u * last, (1.0 - v) * last);
+    const TerrainTileData& tile = sampler.data();
+    if (!tile.isMesh() &&
+        (tile.size < 2 || tile.heights.size() != static_cast<std::size_t>(tile.size) * static_cast<std::size_t>(tile.size))) {
+        return std::nullopt;
     }
-    const double height = mesh ? mesh->at(u, v) : detail::MeshHeights(tile.vertices, tile.indices).at(u, v);
-    return std::isnan(height) ? std::nullopt : std::optional(height);
+    return sampler.heightOnTriangles(u, v);
 }
 
 } // namespace
@@ -80,7 +59,9 @@ std::optional<double> terrainTileHeight(const TerrainTileData& tile, const Geode
     if (!coordinates) {
         return std::nullopt;
     }
-    return heightIn(tile, nullptr, coordinates->first, coordinates->second);
+    // Not owned: the sampler lives for this call only.
+    const TerrainSampler sampler(std::shared_ptr<const TerrainTileData>(&tile, [](const TerrainTileData*) {}));
+    return heightIn(sampler, coordinates->first, coordinates->second);
 }
 
 std::vector<TileKey> terrainTilesAt(std::uint32_t level, const Geodetic2D& position)
@@ -116,7 +97,7 @@ std::vector<TileKey> terrainTilesAt(std::uint32_t level, const Geodetic2D& posit
 struct TerrainHeightQuery::Impl {
     struct Entry {
         std::shared_ptr<const TerrainTileData> tile; ///< null: the source has no such tile
-        std::unique_ptr<detail::MeshHeights> mesh;   ///< a mesh tile's triangle index
+        std::optional<TerrainSampler> sampler;       ///< over the tile (a mesh's triangles indexed)
         std::size_t bytes = 0;
         std::list<TileKey>::iterator position;
     };
@@ -144,9 +125,7 @@ struct TerrainHeightQuery::Impl {
         Entry entry;
         if (fetched.status == TerrainFetch::Status::Ok) {
             auto tile = std::make_shared<const TerrainTileData>(std::move(fetched.tile));
-            if (tile->isMesh()) {
-                entry.mesh = std::make_unique<detail::MeshHeights>(tile->vertices, tile->indices);
-            }
+            entry.sampler.emplace(tile);
             entry.bytes = tile->memoryBytes() + tile->indices.size() * sizeof(std::uint32_t);
             entry.tile = std::move(tile);
         }
@@ -211,7 +190,7 @@ std::optional<TerrainHeight> TerrainHeightQuery::at(const Geodetic2D& position)
             found.push_back(key);
             masks.push_back(tile.childMask);
             const auto coordinates = tileCoordinates(key, position);
-            if (const auto height = heightIn(tile, entry.mesh.get(), coordinates->first, coordinates->second)) {
+            if (const auto height = heightIn(*entry.sampler, coordinates->first, coordinates->second)) {
                 if (count == 0) {
                     best = TerrainHeight{0.0, key, tile.geometricError};
                 }

@@ -42,12 +42,6 @@ void keepAlongEdge(std::span<const float> profile, double tolerance, std::vector
     }
 }
 
-/// Twice the signed area of a triangle (counter-clockwise positive).
-double doubleArea(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
-{
-    return (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-}
-
 /// A triangulation of the grid's lattice refined by greedy insertion (Garland and Heckbert, "Fast
 /// polygonal approximation of terrains and height fields", 1995): starting from the tile's kept
 /// edge samples, the sample farthest (vertically) from the triangle holding it is inserted, and
@@ -538,69 +532,6 @@ std::vector<glm::vec3> gridNormals(const TileKey& key, int size, std::span<const
         }
     }
     return normals;
-}
-
-MeshHeights::MeshHeights(std::span<const glm::vec3> vertices, std::span<const std::uint32_t> indices)
-    : _vertices(vertices), _indices(indices)
-{
-    const std::size_t triangles = indices.size() / 3;
-    _buckets = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(triangles) / 2.0)), 1, 256);
-    const auto bucketOf = [&](float value) {
-        return std::clamp(static_cast<int>(static_cast<double>(value) * _buckets), 0, _buckets - 1);
-    };
-    std::vector<std::uint32_t> counts(static_cast<std::size_t>(_buckets * _buckets) + 1, 0);
-    auto forBuckets = [&](std::size_t t, auto&& f) {
-        const glm::vec3& a = vertices[indices[3 * t]];
-        const glm::vec3& b = vertices[indices[3 * t + 1]];
-        const glm::vec3& c = vertices[indices[3 * t + 2]];
-        const int x0 = bucketOf(std::min({a.x, b.x, c.x}));
-        const int x1 = bucketOf(std::max({a.x, b.x, c.x}));
-        const int y0 = bucketOf(std::min({a.y, b.y, c.y}));
-        const int y1 = bucketOf(std::max({a.y, b.y, c.y}));
-        for (int y = y0; y <= y1; ++y) {
-            for (int x = x0; x <= x1; ++x) {
-                f(static_cast<std::size_t>(y * _buckets + x));
-            }
-        }
-    };
-    for (std::size_t t = 0; t < triangles; ++t) {
-        forBuckets(t, [&](std::size_t bucket) { ++counts[bucket + 1]; });
-    }
-    for (std::size_t i = 1; i < counts.size(); ++i) {
-        counts[i] += counts[i - 1];
-    }
-    _bucketStart = counts;
-    _bucketTriangles.resize(counts.back());
-    for (std::size_t t = 0; t < triangles; ++t) {
-        forBuckets(t, [&](std::size_t bucket) { _bucketTriangles[counts[bucket]++] = static_cast<std::uint32_t>(t); });
-    }
-}
-
-double MeshHeights::at(double u, double v) const noexcept
-{
-    const int x = std::clamp(static_cast<int>(u * _buckets), 0, _buckets - 1);
-    const int y = std::clamp(static_cast<int>(v * _buckets), 0, _buckets - 1);
-    const auto bucket = static_cast<std::size_t>(y * _buckets + x);
-    const glm::dvec2 p(u, v);
-    for (std::uint32_t i = _bucketStart[bucket]; i < _bucketStart[bucket + 1]; ++i) {
-        const std::size_t t = _bucketTriangles[i];
-        const glm::vec3& a = _vertices[_indices[3 * t]];
-        const glm::vec3& b = _vertices[_indices[3 * t + 1]];
-        const glm::vec3& c = _vertices[_indices[3 * t + 2]];
-        const glm::dvec2 pa(a.x, a.y), pb(b.x, b.y), pc(c.x, c.y);
-        const double doubled = doubleArea(pa, pb, pc);
-        if (doubled == 0.0) {
-            continue;
-        }
-        const double wa = doubleArea(pb, pc, p) / doubled;
-        const double wb = doubleArea(pc, pa, p) / doubled;
-        const double wc = 1.0 - wa - wb;
-        constexpr double kSlack = -1e-7;
-        if (wa >= kSlack && wb >= kSlack && wc >= kSlack) {
-            return wa * static_cast<double>(a.z) + wb * static_cast<double>(b.z) + wc * static_cast<double>(c.z);
-        }
-    }
-    return std::numeric_limits<double>::quiet_NaN();
 }
 
 double gridDeviation(std::span<const float> heights, int size, double u, double v, double h) noexcept

@@ -43,21 +43,6 @@ std::vector<float> withoutMargin(std::span<const float> heightsWithMargin, int s
 std::vector<glm::vec3> gridNormals(const orbis::TileKey& key, int size, std::span<const float> heightsWithMargin,
                                    const orbis::Ellipsoid& ellipsoid);
 
-/// The height of a triangle mesh (u, v in 0..1) at points, found through a grid of buckets.
-class MeshHeights {
-public:
-    MeshHeights(std::span<const glm::vec3> vertices, std::span<const std::uint32_t> indices);
-    /// The height at u, v (NaN outside every triangle).
-    double at(double u, double v) const noexcept;
-
-private:
-    std::span<const glm::vec3> _vertices;
-    std::span<const std::uint32_t> _indices;
-    int _buckets = 1;
-    std::vector<std::uint32_t> _bucketStart; ///< _buckets^2 + 1 offsets into _bucketTriangles
-    std::vector<std::uint32_t> _bucketTriangles;
-};
-
 /// The vertical distance from h to a grid's surface at u, v (0..1, v from the south), the larger
 /// of the two ways of cutting the grid cell into triangles, so that the measure holds whichever
 /// diagonal a renderer draws.

@@ -6,6 +6,7 @@
 #include "orbis/world/FileAccess.h"
 #include "orbis/world/TerrainCodec.h"
 #include "orbis/world/TerrainLayer.h"
+#include "orbis/world/TerrainSampler.h"
 #include "orbis/world/TerrainSource.h"
 
 #include <orbis/core/Error.h>
@@ -207,17 +208,15 @@ std::pair<std::vector<std::uint8_t>, double> TerrainTiler::Impl::cut(detail::Dem
     }
 
     // The error: the tile as written against the DEM.
-    const detail::MeshHeights* meshHeights = nullptr;
-    std::optional<detail::MeshHeights> heightsOfMesh;
+    std::optional<TerrainSampler> meshSurface;
     if (mesh) {
-        heightsOfMesh.emplace(decoded.vertices, decoded.indices);
-        meshHeights = &*heightsOfMesh;
+        meshSurface.emplace(std::make_shared<const TerrainTileData>(std::move(decoded)));
     }
     double worst = 0.0;
     auto deviation = [&](double u, double v, double h) {
-        if (meshHeights) {
-            const double surface = meshHeights->at(u, v);
-            return std::isnan(surface) ? std::numeric_limits<double>::infinity() : std::abs(h - surface);
+        if (meshSurface) {
+            const std::optional<double> surface = meshSurface->heightOnTriangles(u, v);
+            return surface ? std::abs(h - *surface) : std::numeric_limits<double>::infinity();
         }
         return detail::gridDeviation(decoded.heights, size, u, v, h);
     };

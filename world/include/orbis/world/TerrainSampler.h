@@ -1,14 +1,15 @@
 #pragma once
 
 #include <orbis/core/TileKey.h>
-#include <orbis/world/TerrainSource.h>
+#include "orbis/world/TerrainSource.h"
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
-namespace orbis::scene {
+namespace orbis::world {
 
 /// Heights (and the data's normals, where it has them) anywhere in one terrain tile of the
 /// geographic scheme: bilinear between a grid's samples, or on the triangle of a mesh
@@ -19,12 +20,16 @@ namespace orbis::scene {
 /// same height: exactly the data's sample where the lattices meet.
 class TerrainSampler {
 public:
-    explicit TerrainSampler(std::shared_ptr<const world::TerrainTileData> data);
+    explicit TerrainSampler(std::shared_ptr<const TerrainTileData> data);
 
-    const world::TerrainTileData& data() const noexcept { return *_data; }
+    const TerrainTileData& data() const noexcept { return *_data; }
 
-    /// The height at u (0 west .. 1 east) and v (0 south .. 1 north) of the data tile.
+    /// The height at u (0 west .. 1 east) and v (0 south .. 1 north) of the data tile; a point of
+    /// a mesh in no triangle (a rounding at an edge) takes the plane of the nearest.
     double height(double u, double v) const noexcept;
+    /// The same, but none for a mesh point farther than a rounding outside every triangle (a mesh
+    /// that does not cover its tile).
+    std::optional<double> heightOnTriangles(double u, double v) const noexcept;
 
     /// The heights of sample (i, j) (column from the west, row from the north) of the
     /// (2^samplesLog2 + 1)^2 lattice of `key`, a descendant of (or the same as) the data's tile.
@@ -52,17 +57,21 @@ private:
         std::array<std::uint32_t, 4> index{};
         std::array<double, 4> weight{};
         int count = 0;
+        double outside = 0.0; ///< how far outside its triangle (the most negative weight, negated)
     };
+    double heightOf(const Weights& weights) const noexcept;
     Weights weightsAt(double u, double v) const noexcept;
     Weights gridWeights(double u, double v) const noexcept;
     Weights meshWeights(double u, double v) const noexcept;
     /// The lattice's u (west to east) and v (north to south) coordinates within the data tile.
     std::pair<std::vector<double>, std::vector<double>> latticeCoordinates(const TileKey& key, int samplesLog2) const;
 
-    std::shared_ptr<const world::TerrainTileData> _data;
-    /// Meshes: triangles listed per bucket of a buckets x buckets grid over the tile.
+    std::shared_ptr<const TerrainTileData> _data;
+    /// Meshes: the triangles over each bucket of a buckets x buckets grid over the tile, bucket
+    /// b's at [_bucketStart[b], _bucketStart[b + 1]) of _bucketTriangles.
     int _buckets = 0;
-    std::vector<std::vector<std::uint32_t>> _bucketTriangles;
+    std::vector<std::uint32_t> _bucketStart;
+    std::vector<std::uint32_t> _bucketTriangles;
 };
 
-} // namespace orbis::scene
+} // namespace orbis::world

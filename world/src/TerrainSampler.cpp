@@ -1,4 +1,4 @@
-#include "orbis/scene/TerrainSampler.h"
+#include "orbis/world/TerrainSampler.h"
 
 #include <glm/geometric.hpp>
 
@@ -6,23 +6,22 @@
 #include <cmath>
 #include <limits>
 
-namespace orbis::scene {
+namespace orbis::world {
 
-TerrainSampler::TerrainSampler(std::shared_ptr<const world::TerrainTileData> data)
+TerrainSampler::TerrainSampler(std::shared_ptr<const TerrainTileData> data)
     : _data(std::move(data))
 {
     if (!_data->isMesh()) {
         return;
     }
-    // About four triangles a bucket: a point query looks at a handful.
+    // About two triangles a bucket: a point query looks at a handful.
     const std::size_t triangles = _data->indices.size() / 3;
-    _buckets = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(triangles) / 4.0)), 1, 64);
-    _bucketTriangles.resize(static_cast<std::size_t>(_buckets) * _buckets);
+    _buckets = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(triangles) / 2.0)), 1, 256);
     const auto& vertices = _data->vertices;
     auto bucketOf = [&](float coordinate) {
         return std::clamp(static_cast<int>(coordinate * static_cast<float>(_buckets)), 0, _buckets - 1);
     };
-    for (std::size_t t = 0; t < triangles; ++t) {
+    auto forBuckets = [&](std::size_t t, auto&& visit) {
         const glm::vec3& a = vertices[_data->indices[3 * t]];
         const glm::vec3& b = vertices[_data->indices[3 * t + 1]];
         const glm::vec3& c = vertices[_data->indices[3 * t + 2]];
@@ -32,15 +31,27 @@ TerrainSampler::TerrainSampler(std::shared_ptr<const world::TerrainTileData> dat
         const int y1 = bucketOf(std::max({a.y, b.y, c.y}));
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
-                _bucketTriangles[static_cast<std::size_t>(y * _buckets + x)].push_back(static_cast<std::uint32_t>(t));
+                visit(static_cast<std::size_t>(y * _buckets + x));
             }
         }
+    };
+    // Counted first, then filled: one array for all the buckets.
+    _bucketStart.assign(static_cast<std::size_t>(_buckets) * static_cast<std::size_t>(_buckets) + 1, 0);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        forBuckets(t, [&](std::size_t bucket) { ++_bucketStart[bucket + 1]; });
+    }
+    for (std::size_t b = 1; b < _bucketStart.size(); ++b) {
+        _bucketStart[b] += _bucketStart[b - 1];
+    }
+    _bucketTriangles.resize(_bucketStart.back());
+    std::vector<std::uint32_t> next(_bucketStart.begin(), _bucketStart.end() - 1);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        forBuckets(t, [&](std::size_t bucket) { _bucketTriangles[next[bucket]++] = static_cast<std::uint32_t>(t); });
     }
 }
 
-double TerrainSampler::height(double u, double v) const noexcept
+double TerrainSampler::heightOf(const Weights& weights) const noexcept
 {
-    const Weights weights = weightsAt(u, v);
     const bool mesh = _data->isMesh();
     double height = 0.0;
     for (int k = 0; k < weights.count; ++k) {
@@ -49,6 +60,22 @@ double TerrainSampler::height(double u, double v) const noexcept
                   static_cast<double>(mesh ? _data->vertices[at].z : _data->heights[at]);
     }
     return height;
+}
+
+double TerrainSampler::height(double u, double v) const noexcept
+{
+    return heightOf(weightsAt(u, v));
+}
+
+std::optional<double> TerrainSampler::heightOnTriangles(double u, double v) const noexcept
+{
+    const Weights weights = weightsAt(u, v);
+    // A rounding: points on an edge of float vertices may come out this far outside both sides.
+    constexpr double kRounding = 1e-7;
+    if (weights.count == 0 || weights.outside > kRounding) {
+        return std::nullopt;
+    }
+    return heightOf(weights);
 }
 
 TerrainSampler::Weights TerrainSampler::weightsAt(double u, double v) const noexcept
@@ -83,7 +110,9 @@ TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const no
     const int y = std::clamp(static_cast<int>(v * _buckets), 0, _buckets - 1);
     Weights nearest;
     double nearestOutside = std::numeric_limits<double>::infinity();
-    for (const std::uint32_t t : _bucketTriangles[static_cast<std::size_t>(y * _buckets + x)]) {
+    const std::size_t bucket = static_cast<std::size_t>(y * _buckets + x);
+    for (std::uint32_t i = _bucketStart[bucket]; i < _bucketStart[bucket + 1]; ++i) {
+        const std::uint32_t t = _bucketTriangles[i];
         const std::uint32_t ia = _data->indices[3 * t];
         const std::uint32_t ib = _data->indices[3 * t + 1];
         const std::uint32_t ic = _data->indices[3 * t + 2];
@@ -102,6 +131,7 @@ TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const no
         weights.count = 3;
         weights.index = {ia, ib, ic, 0};
         weights.weight = {wa, wb, wc, 0.0};
+        weights.outside = std::max(outside, 0.0);
         if (outside <= 1e-9) {
             return weights;
         }
@@ -211,4 +241,4 @@ TerrainSampler::WaterMask TerrainSampler::waterMask(const TileKey& key) const
     return out;
 }
 
-} // namespace orbis::scene
+} // namespace orbis::world

@@ -1,7 +1,5 @@
-#include "SceneTestSupport.h"
-
 #include <orbis/core/TilingScheme.h>
-#include <orbis/scene/TerrainSampler.h>
+#include <orbis/world/TerrainSampler.h>
 #include <orbis/world/TerrainSource.h>
 
 #include <catch2/catch.hpp>
@@ -12,10 +10,14 @@
 #include <memory>
 
 using namespace orbis;
-using namespace orbis::scene;
-using namespace orbis::test;
+using namespace orbis::world;
 
 namespace {
+
+std::string dataPath(const std::string& relative)
+{
+    return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
+}
 
 TerrainSampler samplerOf(world::TerrainSource& source, const TileKey& key)
 {
@@ -53,7 +55,7 @@ std::pair<double, double> edgeMismatch(const TerrainSampler& westData, const Til
 } // namespace
 
 TEST_CASE("Tiles cut from terrain data meet in heights and normals: within one data tile and across two",
-          "[scene][terrain][sampler]")
+          "[world][terrain][sampler]")
 {
     // ETOPO5's level 5 quantized-mesh tiles (oct-encoded normals) over the Alps, cut into level 7
     // lattices: tiles 132 | 133 lie in data tile 33, tiles 135 | 136 in data tiles 33 | 34.
