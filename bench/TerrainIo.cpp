@@ -167,7 +167,7 @@ std::vector<Table> tiling(const Options& options)
                   " to quantized-mesh at its native resolution";
     table.description = "`orbis tile terrain` as a class (world::TerrainTiler), default options (65 x 65 point samples a "
                         "tile, greedy TIN within the level's tolerance, oct normals, gzip 6, each tile decoded again "
-                        "and its error measured against every DEM pixel in it), levels 0 to the first as fine as the "
+                        "and its error measured against every DEM pixel in it and along its triangles' edges), levels 0 to the first as fine as the "
                         "input. Best of " +
                         std::to_string(options.quick ? 1 : 2) + " runs by wall clock; " +
                         std::to_string(std::thread::hardware_concurrency()) +

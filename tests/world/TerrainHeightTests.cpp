@@ -83,16 +83,14 @@ std::unique_ptr<TerrainSource> tile(const TempDirectory& folder, TerrainTileForm
     return openTerrainSource(options.output.string());
 }
 
-/// Every DEM pixel centre, and every grid sample on the edges and corners of the deepest tiles:
-/// within the stated error of the tile that answered, and answered everywhere.
-/// Between the samples a mesh's triangles and the DEM's bilinear cells differ by more than at the
-/// samples, where the tiler measures its stated error: `betweenSamples` is the factor allowed there.
-void checkAgainstDem(TerrainSource& source, double betweenSamples = 1.0)
+/// Every DEM pixel centre, every grid sample on the edges and corners of the deepest tiles, and
+/// random points between them: within the stated error of the tile that answered, and answered
+/// everywhere.
+void checkAgainstDem(TerrainSource& source)
 {
     TerrainHeightQuery query(source);
     std::size_t checked = 0;
     double worstRatio = 0.0;
-    double allowance = 1.0;
     auto check = [&](double longitude, double latitude, double truth) {
         const auto height = query.at(Geodetic2D::fromDegrees(longitude, latitude));
         INFO(source.info().format << " at " << longitude << ", " << latitude);
@@ -100,7 +98,7 @@ void checkAgainstDem(TerrainSource& source, double betweenSamples = 1.0)
         REQUIRE(height->tile.level == 9);
         REQUIRE(height->geometricError);
         // The DEM stores floats; the stated error is rounded up to centimetres.
-        REQUIRE(std::abs(height->height - truth) <= allowance * *height->geometricError + 1e-3);
+        REQUIRE(std::abs(height->height - truth) <= *height->geometricError + 1e-3);
         worstRatio = std::max(worstRatio, std::abs(height->height - truth) / std::max(*height->geometricError, 1e-3));
         ++checked;
     };
@@ -136,7 +134,6 @@ void checkAgainstDem(TerrainSource& source, double betweenSamples = 1.0)
     std::uniform_real_distribution<double> across(kWest + kPixel, kWest + (kColumns - 1) * kPixel);
     std::uniform_real_distribution<double> down(kNorth - (kRows - 1) * kPixel, kNorth - kPixel);
     constexpr std::size_t kRandomPoints = 80000;
-    allowance = betweenSamples;
     for (std::size_t i = 0; i < kRandomPoints; ++i) {
         const double longitude = across(random);
         const double latitude = down(random);
@@ -145,7 +142,7 @@ void checkAgainstDem(TerrainSource& source, double betweenSamples = 1.0)
     CHECK(checked == std::size_t(kColumns * kRows) + onEdges + kRandomPoints);
     CHECK(checked > 100000);
     // The errors are tight: some point comes near its tile's stated error.
-    CHECK(worstRatio > 0.25);
+    CHECK(worstRatio > 0.9); // measured: 0.999 on meshes, 0.987 on heightmaps
     INFO("loaded " << query.tilesLoaded());
     CHECK(query.tilesLoaded() < 200); // each tile once: the cache holds them all
 }
@@ -241,7 +238,7 @@ TEST_CASE("Most-detailed heights from quantized-mesh tiles cut from a DEM: every
 {
     const TempDirectory folder;
     const auto source = tile(folder, TerrainTileFormat::QuantizedMesh, "mesh");
-    checkAgainstDem(*source, 1.1); // measured: 1.05
+    checkAgainstDem(*source);
 }
 
 TEST_CASE("Most-detailed heights asked for without blocking: the synchronous query's answers, in order", "[world][terrain][height]")

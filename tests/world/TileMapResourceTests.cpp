@@ -145,6 +145,12 @@ TEST_CASE("Malformed descriptions are refused with the file, line and element", 
     std::string unordered = description(levels(1));
     unordered.replace(unordered.find("minx=\"-180\""), 11, "minx=\"190\"");
     REQUIRE_THAT(parseError(unordered), Contains("<BoundingBox> is not an ordered rectangle on the globe"));
+    // Ordered only in the slack beyond the pole that the writer's rounding is allowed (found by
+    // the fuzzer): empty once held to the globe.
+    std::string beyondPole = description(levels(1));
+    beyondPole.replace(beyondPole.find("miny=\"-90\" maxx=\"180\" maxy=\"90\""), 31,
+                       "miny=\"90\" maxx=\"180\" maxy=\"90.0000000009\"");
+    REQUIRE_THAT(parseError(beyondPole), Contains("<BoundingBox> is not an ordered rectangle on the globe"));
     std::string href = description(levels(1));
     href.replace(href.find("href=\"0\""), 8, "href=\"../../etc\"");
     REQUIRE_THAT(parseError(href), Contains("href=\"../../etc\" is not a relative folder"));

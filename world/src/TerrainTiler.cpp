@@ -150,6 +150,11 @@ struct TerrainTiler::Impl {
 
     /// One tile: its file's bytes and its measured error.
     std::pair<std::vector<std::uint8_t>, double> cut(detail::DemReader& reader, const TileKey& key) const;
+    /// The largest difference between a mesh's triangle edges and the DEM along them. Where an
+    /// edge crosses a DEM cell the DEM's bilinear surface bends away from it, most between the
+    /// pixels (the difference of a plane and a bilinear patch has no extremum inside a triangle:
+    /// only on its edges and the cells' edges, whose ends are pixels, measured apart).
+    double edgeError(detail::DemReader& reader, const TerrainTileData& mesh, const GeodeticExtent& extent) const;
     void writeLayer() const;
 };
 
@@ -251,10 +256,56 @@ std::pair<std::vector<std::uint8_t>, double> TerrainTiler::Impl::cut(detail::Dem
                                               static_cast<double>(centreHeights[i])));
         }
     }
+    if (meshSurface) {
+        worst = std::max(worst, edgeError(reader, meshSurface->data(), extent));
+    }
     if (!std::isfinite(worst)) {
         throw Error(name + ": the mesh does not cover the tile");
     }
     return {std::move(bytes), worst};
+}
+
+double TerrainTiler::Impl::edgeError(detail::DemReader& reader, const TerrainTileData& mesh, const GeodeticExtent& extent) const
+{
+    // DEM pixels across the tile each way (for a projected DEM, as its footprint spreads them).
+    const GeodeticExtent& covered = footprint();
+    const double pixelsEast = extent.width() / (covered.width() / dem->width);
+    const double pixelsNorth = extent.height() / (covered.height() / dem->height);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    edges.reserve(mesh.indices.size());
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        for (std::size_t e = 0; e < 3; ++e) {
+            const std::uint32_t a = mesh.indices[t + e];
+            const std::uint32_t b = mesh.indices[t + (e + 1) % 3];
+            edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    // Four points a pixel crossed: the bend of a cell's surface along a straight line is a
+    // parabola, its top found to within a sixteenth of the cell's bend.
+    std::vector<Geodetic2D> points;
+    std::vector<double> onMesh;
+    for (const auto& [a, b] : edges) {
+        const glm::dvec3 from(mesh.vertices[a]);
+        const glm::dvec3 to(mesh.vertices[b]);
+        const double pixels = std::hypot((to.x - from.x) * pixelsEast, (to.y - from.y) * pixelsNorth);
+        const int steps = static_cast<int>(std::clamp(std::ceil(4.0 * pixels), 1.0, 65536.0));
+        for (int k = 1; k < steps; ++k) {
+            const glm::dvec3 p = from + (to - from) * (static_cast<double>(k) / steps);
+            points.push_back({extent.west + p.x * extent.width(), extent.south + p.y * extent.height()});
+            onMesh.push_back(p.z);
+        }
+    }
+    std::vector<float> heights(points.size());
+    reader.sample(points, heights);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        if (!std::isnan(heights[i])) {
+            worst = std::max(worst, std::abs(static_cast<double>(heights[i]) - onMesh[i]));
+        }
+    }
+    return worst;
 }
 
 void TerrainTiler::Impl::writeLayer() const

@@ -180,14 +180,16 @@ private:
         const double limitY = mercator ? kMercatorHalfWidth : 90.0;
         // Rounding in the writer's decimals may put an edge a hair outside the globe.
         const double slack = mercator ? 1.0 : 1e-9;
-        if (minX < -limitX - slack || maxX > limitX + slack || minY < -limitY - slack || maxY > limitY + slack ||
-            !(minX < maxX) || !(minY < maxY)) {
-            fail(*box, "is not an ordered rectangle on the globe");
-        }
+        // Ordered once held to the globe: a box entirely in the slack beyond a pole is empty.
+        const bool onGlobe = minX >= -limitX - slack && maxX <= limitX + slack && minY >= -limitY - slack &&
+                             maxY <= limitY + slack;
         minX = std::max(minX, -limitX);
         maxX = std::min(maxX, limitX);
         minY = std::max(minY, -limitY);
         maxY = std::min(maxY, limitY);
+        if (!onGlobe || !(minX < maxX) || !(minY < maxY)) {
+            fail(*box, "is not an ordered rectangle on the globe");
+        }
         if (!mercator) {
             return GeodeticExtent::fromDegrees(minX, minY, maxX, maxY);
         }

@@ -66,7 +66,8 @@ struct TerrainTilerSummary {
 /// sample that a parent and child or two neighbours share has the same height in each. Each
 /// tile's geometric error is measured: the largest vertical distance between the tile as written
 /// (decoded back) and the DEM at every DEM pixel centre inside the tile, every grid sample and
-/// every grid cell's centre (for grids: the larger of the two triangulations of each cell), in
+/// every grid cell's centre (for grids: the larger of the two triangulations of each cell), and
+/// along a mesh's triangle edges (four points a DEM pixel), where the largest differences lie, in
 /// layer.json as "orbis:geometricError" beside the availability. Tiles are cut where the DEM's
 /// footprint is; files appear whole or not at all.
 ///
