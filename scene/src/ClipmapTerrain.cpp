@@ -6,6 +6,7 @@
 #include <orbis/core/ClipmapUpsampling.h>
 #include <orbis/core/Error.h>
 #include <orbis/core/Intersect.h>
+#include <orbis/core/IntersectionTests.h>
 #include <orbis/core/Math.h>
 #include <orbis/core/TilingScheme.h>
 #include <orbis/core/ToroidalGrid.h>
@@ -384,6 +385,27 @@ struct ClipmapTerrain::Impl {
                           static_cast<float>(std::cos(longitude)), static_cast<float>(std::sin(longitude))),
                 glm::vec3(normal), glm::vec3(surfacePoint(normal, 0.0) - eye),
                 static_cast<float>(a / std::sqrt(1.0 - e2 * normal.z * normal.z))};
+    }
+
+    /// A post's height (x, y: posts of level l's window) as the vertex shader draws it: its own,
+    /// blended towards the coarser level's over the window's outer band; without exaggeration.
+    double drawnHeight(int l, int x, int y) const noexcept
+    {
+        const Level& level = levels[static_cast<std::size_t>(l)];
+        const std::int64_t X = originX(l) + x, Y = originY(l) + y;
+        double height = static_cast<double>(level.heights.at(X, Y));
+        if (l + 1 < static_cast<int>(levels.size())) {
+            const int c = centerPost();
+            const double blendWidth = std::max(2, options.posts / 10);
+            const double distance = std::max(std::abs(x - c), std::abs(y - c));
+            const double alpha = std::clamp((distance - (c - blendWidth)) / blendWidth, 0.0, 1.0);
+            const Level& coarser = levels[static_cast<std::size_t>(l) + 1];
+            const std::int64_t cx = X >> 1, cy = Y >> 1;
+            const double coarse = 0.5 * (static_cast<double>(coarser.heights.at(cx, cy)) +
+                                         static_cast<double>(coarser.heights.at(cx + (X & 1), cy + (Y & 1))));
+            height += alpha * (coarse - height);
+        }
+        return height;
     }
 
     std::int64_t originX(int l) const noexcept { return levels[static_cast<std::size_t>(l)].heights.originX(); }
@@ -1145,28 +1167,54 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
     _statistics = statistics;
 }
 
-std::vector<glm::dvec3> ClipmapTerrain::drawnTriangles(bool withDegenerates) const
+std::optional<double> ClipmapTerrain::groundHeight(const Geodetic2D& position) const
 {
     const Impl& impl = *_impl;
+    if (impl.drawn.empty() || !std::isfinite(position.longitude) || !std::isfinite(position.latitude)) {
+        return std::nullopt;
+    }
     const int n = _options.posts;
     const int c = impl.centerPost();
     const int L = static_cast<int>(impl.levels.size());
-    const double blendWidth = std::max(2, n / 10);
-    std::vector<glm::dvec3> triangles;
+    // The point's angles in the grid's parameterisation.
+    const glm::dvec3 u = toFrame(impl.frame, Ellipsoid::geodeticSurfaceNormal(position));
+    const double gridLatitude = std::asin(std::clamp(u.z, -1.0, 1.0));
+    const double gridLongitude = std::atan2(u.y, u.x);
+    for (int l = impl.drawnFinest; l < L; ++l) {
+        const double s = impl.levelSpacing(l);
+        // The turn of longitude that puts the point nearest the level's window.
+        const double turn = kTwoPi / s;
+        const double centreX = static_cast<double>(impl.originX(l) + c);
+        double x = gridLongitude / s;
+        x += std::round((centreX - x) / turn) * turn;
+        // A millionth of a post of slack: a point on the window's edge may round to either side.
+        constexpr double kSlack = 1e-6;
+        const double localX = x - static_cast<double>(impl.originX(l));
+        const double localY = gridLatitude / s - static_cast<double>(impl.originY(l));
+        if (!(localX >= -kSlack && localX <= n - 1.0 + kSlack && localY >= -kSlack && localY <= n - 1.0 + kSlack)) {
+            continue;
+        }
+        auto post = [&](int column, int row) { return impl.drawnHeight(l, column, row); };
+        const int px = std::clamp(static_cast<int>(localX), 0, n - 2), py = std::clamp(static_cast<int>(localY), 0, n - 2);
+        const double fx = std::clamp(localX - px, 0.0, 1.0), fy = std::clamp(localY - py, 0.0, 1.0);
+        // On the cell's triangle: every quad is cut from post (x, y) to (x + 1, y + 1).
+        const double h00 = post(px, py), h11 = post(px + 1, py + 1);
+        const double height = fx >= fy ? h00 + fx * (post(px + 1, py) - h00) + fy * (h11 - post(px + 1, py))
+                                       : h00 + fy * (post(px, py + 1) - h00) + fx * (h11 - post(px, py + 1));
+        return _options.exaggeration * height;
+    }
+    return std::nullopt;
+}
+
+void ClipmapTerrain::forEachDrawnTriangle(bool withDegenerates,
+                                          const std::function<void(const glm::dvec3&, const glm::dvec3&, const glm::dvec3&)>& visit) const
+{
+    const Impl& impl = *_impl;
+    const int n = _options.posts;
     // The vertex shader's position of a post, in double.
     auto position = [&](int l, int x, int y) {
-        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
-        const std::int64_t X = impl.originX(l) + x, Y = impl.originY(l) + y;
-        double height = static_cast<double>(level.heights.at(X, Y));
-        if (l + 1 < L) {
-            const double distance = std::max(std::abs(x - c), std::abs(y - c));
-            const double alpha = std::clamp((distance - (c - blendWidth)) / blendWidth, 0.0, 1.0);
-            const Impl::Level& coarser = impl.levels[static_cast<std::size_t>(l) + 1];
-            const std::int64_t cx = X >> 1, cy = Y >> 1;
-            const double coarse = 0.5 * (static_cast<double>(coarser.heights.at(cx, cy)) + static_cast<double>(coarser.heights.at(cx + (X & 1), cy + (Y & 1))));
-            height += alpha * (coarse - height);
-        }
-        return impl.surfacePoint(impl.postNormal(l, X, Y), _options.exaggeration * height);
+        return impl.surfacePoint(impl.postNormal(l, impl.originX(l) + x, impl.originY(l) + y),
+                                 _options.exaggeration * impl.drawnHeight(l, x, y));
     };
     for (const Impl::Drawn& d : impl.drawn) {
         for (std::size_t i = d.firstIndex; i < d.firstIndex + d.indexCount; i += 3) {
@@ -1180,12 +1228,41 @@ std::vector<glm::dvec3> ClipmapTerrain::drawnTriangles(bool withDegenerates) con
             if (!withDegenerates && e1.x * e2.y - e1.y * e2.x == 0) {
                 continue;
             }
-            for (const glm::ivec2& p : posts) {
-                triangles.push_back(position(d.level, p.x, p.y));
-            }
+            visit(position(d.level, posts[0].x, posts[0].y), position(d.level, posts[1].x, posts[1].y),
+                  position(d.level, posts[2].x, posts[2].y));
         }
     }
+}
+
+std::vector<glm::dvec3> ClipmapTerrain::drawnTriangles(bool withDegenerates) const
+{
+    std::vector<glm::dvec3> triangles;
+    forEachDrawnTriangle(withDegenerates, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        triangles.insert(triangles.end(), {a, b, c});
+    });
     return triangles;
+}
+
+std::optional<double> ClipmapTerrain::pickGround(const Ray& ray) const
+{
+    // Every drawn triangle whose bounding sphere the ray enters nearer than the nearest hit so far.
+    std::optional<double> nearest;
+    forEachDrawnTriangle(false, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        const glm::dvec3 centre = (a + b + c) / 3.0;
+        const double radius = std::max({glm::distance(a, centre), glm::distance(b, centre), glm::distance(c, centre)});
+        const glm::dvec3 toCentre = centre - ray.origin;
+        const double along = glm::dot(toCentre, ray.direction);
+        if (glm::dot(toCentre, toCentre) - along * along > radius * radius || along + radius < 0.0 ||
+            (nearest && along - radius > *nearest)) {
+            return;
+        }
+        if (const std::optional<RayTriangleHit> hit = intersectRayTriangle(ray, a, b, c)) {
+            if (!nearest || hit->distance < *nearest) {
+                nearest = hit->distance;
+            }
+        }
+    });
+    return nearest;
 }
 
 } // namespace orbis::scene

@@ -397,6 +397,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
                description.globe->terrain->method == world::TerrainMethod::Clipmap) {
         // The same sources as the tiles would read, drawn as clipmaps.
         TiledGlobeOptions tiles = tiledGlobeOptions(*description.globe, description.sun, build);
+        ground = std::make_shared<Ground>(tiles.terrain, tiles.terrainExaggeration);
         ClipmapTerrainOptions options;
         options.terrain = std::move(tiles.terrain);
         options.imagery = std::move(tiles.imagery);

@@ -160,6 +160,59 @@ TEST_CASE("Clipmap terrain over ETOPO5 converges, draws at most 2L + 1 commands 
     CHECK(again.statistics.clipmap->bytesUploaded == 0);
 }
 
+TEST_CASE("Clipmap terrain answers the ground's height and picks: the drawn posts' own, on both parameterisations, none off the levels",
+          "[scene][clipmap][gl]")
+{
+    // The Himalaya on the geodetic grid, the Alps on the one whose pole is on the y axis.
+    for (const Geodetic3D& eye : {Geodetic3D::fromDegrees(86.9, 27.0, 150000.0), Geodetic3D::fromDegrees(8.0, 44.0, 150000.0)}) {
+        Scene scene(kEarth);
+        auto terrain = std::make_shared<ClipmapTerrain>(kEarth, etopo5Options());
+        scene.add(terrain);
+        CHECK_FALSE(terrain->groundHeight(Geodetic2D(eye.longitude, eye.latitude))); // nothing drawn yet
+        placeCamera(scene, eye, 0.0, -30.0);
+        renderConverged(scene, *terrain, 160, 90);
+        REQUIRE(terrain->converged());
+        // Every drawn vertex (one in 17) is where the ground's height says, blended levels included.
+        const std::vector<glm::dvec3> points = terrain->drawnTriangles();
+        REQUIRE(points.size() > 10000);
+        std::size_t checked = 0;
+        double lowest = 1e9, highest = -1e9;
+        for (std::size_t i = 0; i < points.size(); i += 17) {
+            const Geodetic3D vertex = kEarth.toGeodetic3D(points[i]);
+            const std::optional<double> height = terrain->groundHeight(Geodetic2D(vertex.longitude, vertex.latitude));
+            INFO("vertex " << i << " at " << toDegrees(vertex.longitude) << ", " << toDegrees(vertex.latitude));
+            REQUIRE(height);
+            REQUIRE(std::abs(*height - vertex.height) < 0.01);
+            lowest = std::min(lowest, vertex.height);
+            highest = std::max(highest, vertex.height);
+            ++checked;
+        }
+        CHECK(checked > 600);
+        CHECK(highest - lowest > 20000.0); // mountains (exaggerated 20 times), not a flat answer
+        // The scene asks it: the camera is kept above it.
+        CHECK(std::abs(scene.groundHeight(Geodetic2D(eye.longitude, eye.latitude)) -
+                       *terrain->groundHeight(Geodetic2D(eye.longitude, eye.latitude))) < 1e-9);
+        // The far side of the globe is outside every level.
+        CHECK_FALSE(terrain->groundHeight(Geodetic2D(eye.longitude + kPi, -eye.latitude)));
+        // A pick straight down onto a drawn triangle's centre meets it there, 10 km down.
+        for (std::size_t t = 0; t + 2 < points.size(); t += 3 * 4999) {
+            const glm::dvec3 centre = (points[t] + points[t + 1] + points[t + 2]) / 3.0;
+            const glm::dvec3 up = kEarth.geodeticSurfaceNormal(centre);
+            const std::optional<double> hit = terrain->pickGround(Ray{centre + 10000.0 * up, -up});
+            REQUIRE(hit);
+            CHECK(std::abs(*hit - 10000.0) < 1e-3);
+        }
+        // And the scene's pick from the view's centre lands on the ground the clipmap answers.
+        const std::optional<glm::dvec3> picked = scene.pickGround({80.0, 45.0}, 160, 90);
+        REQUIRE(picked);
+        const Geodetic3D ground = kEarth.toGeodetic3D(*picked);
+        CHECK(ground.height > lowest - 1.0);
+        CHECK(ground.height < highest + 1.0);
+        // (The flat triangle sags below the grid's interpolation: 5 m here, for cells of about 16 km.)
+        CHECK(std::abs(ground.height - *terrain->groundHeight(Geodetic2D(ground.longitude, ground.latitude))) < 10.0);
+    }
+}
+
 TEST_CASE("A moving viewer's clipmap updates stay within the budget, coarse levels first, and end where a fresh one starts", "[scene][clipmap][gl]")
 {
     ClipmapTerrainOptions options = etopo5Options();

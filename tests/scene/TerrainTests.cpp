@@ -806,6 +806,9 @@ TEST_CASE("Contour lines lie on the heights that are multiples of their interval
 TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for points, polylines, GeoJSON and models",
           "[scene][terrain][scenefile]")
 {
+    // The layers' ground is the terrain's, whichever way the globe draws it.
+    const std::string method = GENERATE(std::string("quadtree"), std::string("clipmap"));
+    INFO("terrain method " << method);
     const TempDirectory directory;
     directory.write("peaks.csv", "name,lon,lat,height\nA,-84.30,36.55,5000\nB,-84.20,36.62,5000\n");
     directory.write("area.geojson", R"({"type": "FeatureCollection", "features": [
@@ -816,7 +819,7 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
     const std::string model = dataPath("models/aircraft.glb");
     const std::filesystem::path file = directory.write("scene.json", R"({"version": 1,
-        "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2}},
+        "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2, "method": ")" + method + R"("}},
         "layers": [
           {"type": "points", "source": "peaks.csv", "heightReference": "clampToGround", "label": {"field": "name"}},
           {"type": "polyline", "positions": [[-84.35, 36.5], [-84.15, 36.65]], "granularity": 0.1,

@@ -101,6 +101,12 @@ public:
     void update(FrameState& frameState, CommandList& commands) override;
     bool supportsLogarithmicDepth() const override { return true; }
     const ClipmapStatistics* clipmapStatistics() const override { return &_statistics; }
+    /// The height (as drawn, exaggeration included) of the finest level drawn in the last frame
+    /// over a point: on the triangle of its posts that holds it, the posts blended towards the
+    /// coarser level as the vertex shader blends them (interpolated in the grid's angles: the flat
+    /// triangle drawn sags below that by (cell / 2)^2 / (2 x radius) at most, centimetres on the
+    /// finest levels); empty before the first frame and outside every level drawn.
+    std::optional<double> groundHeight(const Geodetic2D& position) const override;
 
     /// Every level written from the finest data there is, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }
@@ -110,6 +116,12 @@ public:
     /// data, for checking orientation and finiteness. Degenerate outer-ring triangles included
     /// when `withDegenerates`.
     std::vector<glm::dvec3> drawnTriangles(bool withDegenerates = false) const;
+    /// The same triangles, one call each, without a list of them.
+    void forEachDrawnTriangle(bool withDegenerates,
+                              const std::function<void(const glm::dvec3&, const glm::dvec3&, const glm::dvec3&)>& visit) const;
+    /// The distance along the ray (unit direction) to the nearest drawn triangle it meets (exact,
+    /// every drawn triangle tested against the ray: milliseconds for a click, not for every frame).
+    std::optional<double> pickGround(const Ray& ray) const override;
 
 private:
     struct Impl;
