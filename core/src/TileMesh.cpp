@@ -128,6 +128,7 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
     mesh.maximumHeight = highest;
 
     if (mesh.skirt) {
+        mesh.skirtDepth = skirtDepth;
         std::size_t out = gridVertices;
         for (const Edge edge : {North, East, South, West}) {
             for (int w = 0; w < size; ++w, ++out) {
@@ -141,6 +142,27 @@ TileMesh TileMesh::build(const Ellipsoid& ellipsoid, const TilingScheme& scheme,
         }
     }
     return mesh;
+}
+
+void TileMesh::hangSkirt(const Ellipsoid& ellipsoid, const TilingScheme& scheme)
+{
+    if (!skirt) {
+        return;
+    }
+    const int n = size();
+    std::size_t out = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    for (const Edge edge : {North, East, South, West}) {
+        for (int w = 0; w < n; ++w, ++out) {
+            const std::uint32_t source = edgeVertex(edge, n, w, 0);
+            const int i = static_cast<int>(source) % n;
+            const int j = static_cast<int>(source) / n;
+            const GeodeticGrid point(ellipsoid, {latticeLongitude(scheme, key, samplesLog2, i)},
+                                     {latticeLatitude(scheme, key, samplesLog2, j)});
+            const glm::dvec3 normal = point.normal(0, 0);
+            const double height = static_cast<double>(vertices[source * kFloatsPerVertex + 8]) - skirtDepth;
+            writeVertex(&vertices[out * kFloatsPerVertex], point.surface(normal) + height * normal, i, j, n, height);
+        }
+    }
 }
 
 std::vector<float> TileMesh::normals() const

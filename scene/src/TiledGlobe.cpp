@@ -613,6 +613,8 @@ void TiledGlobe::Impl::conformEdges(QuadtreeTile& tile, const EdgeCoarsening& co
             takePoint(mesh, i, j, *giver, scheme.tilesX(giver->key.level));
         }
     }
+    // The skirt hangs from the edges as they are now drawn, not as they were built.
+    mesh.hangSkirt(ellipsoid, scheme);
     surface.edgesFrom = from;
     surface.edgesOnHeights = surface.heightsVersion;
     ++surface.meshVersion;

@@ -195,6 +195,37 @@ TEST_CASE("TileMesh skirts hang below the edges in use, walls facing out", "[cor
     CHECK(glm::length(mesh.position(81) - mesh.position(0)) == Approx(500.0).epsilon(1e-9));
 }
 
+TEST_CASE("TileMesh skirts hang from the edges as moved, the floats of a mesh built with those heights", "[core][tiles]")
+{
+    const Ellipsoid wgs84 = Ellipsoid::wgs84();
+    const TilingScheme scheme = TilingScheme::geographic();
+    const TileKey key{6, 40, 21};
+    std::vector<float> before(17 * 17), after(17 * 17);
+    for (std::size_t v = 0; v < before.size(); ++v) {
+        before[v] = static_cast<float>(100.0 + 3.0 * static_cast<double>(v % 17));
+        after[v] = before[v];
+    }
+    // Every edge vertex moved (a neighbour's edge taken, a morph's step): up on two edges, down on two.
+    TileMesh moved = TileMesh::build(wgs84, scheme, key, 4, before, 250.0);
+    for (int k = 0; k < 17; ++k) {
+        for (const auto& [i, j, shift] : {std::tuple{k, 0, 40.0}, std::tuple{16, k, -30.0}, std::tuple{k, 16, 75.0},
+                                          std::tuple{0, k, -12.5}}) {
+            const std::size_t v = static_cast<std::size_t>(j * 17 + i);
+            after[v] = static_cast<float>(static_cast<double>(after[v]) + shift);
+            moved.setVertexHeight(wgs84, scheme, i, j, static_cast<double>(after[v]));
+        }
+    }
+    const TileMesh stale = moved;
+    moved.hangSkirt(wgs84, scheme);
+    const TileMesh built = TileMesh::build(wgs84, scheme, key, 4, after, 250.0);
+    CHECK(moved.vertices == built.vertices);
+    CHECK(stale.vertices != built.vertices); // the skirt did hang from the old edges
+    TileMesh flat = TileMesh::build(wgs84, scheme, key, 4, before, 0.0);
+    const std::vector<float> unchanged = flat.vertices;
+    flat.hangSkirt(wgs84, scheme); // no skirt: nothing to do
+    CHECK(flat.vertices == unchanged);
+}
+
 TEST_CASE("TileMesh at a pole collapses the polar row to one point, with no NaN", "[core][tiles]")
 {
     const Ellipsoid wgs84 = Ellipsoid::wgs84();

@@ -276,10 +276,11 @@ TEST_CASE("Morphing over frames: a tile starts on the surface drawn before it, i
             probes.push_back(Geodetic2D::fromDegrees(9.93 + 0.01 * column, 46.0 + 0.008 * row));
         }
     }
-    const auto run = [&](int morphFrames) {
+    const auto run = [&](int morphFrames, bool skirts) {
         // Coloured by height: a pop shows as a step of colour.
         TerrainScene terrain(syntheticTerrain(ridges, 37.0), 1.0, [&](TiledGlobeOptions& options) {
             options.morphFrames = morphFrames;
+            options.skirts = skirts;
             options.shading.color = TerrainShading::Color::Height;
             options.shading.minimumHeight = 0.0;
             options.shading.maximumHeight = 3000.0;
@@ -337,8 +338,17 @@ TEST_CASE("Morphing over frames: a tile starts on the surface drawn before it, i
         const Phase up = watch(Geodetic3D::fromDegrees(10.0, 45.75, 60000.0));
         return std::pair{down, up};
     };
-    const auto [poppingDown, poppingUp] = run(0);
-    const auto [morphingDown, morphingUp] = run(8);
+    const auto [poppingDown, poppingUp] = run(0, false);
+    const auto [morphingDown, morphingUp] = run(8, false);
+    // With skirts, which hang from the edges as drawn: the same surface, no hole either.
+    const auto [skirtedDown, skirtedUp] = run(8, true);
+    for (const auto* skirted : {&skirtedDown, &skirtedUp}) {
+        CHECK(skirted->framesMorphing >= 8);
+        CHECK(skirted->cracks == 0);
+        CHECK(skirted->holes == 0);
+    }
+    CHECK(skirtedDown.heights == morphingDown.heights);
+    CHECK(skirtedUp.heights == morphingUp.heights);
     for (const auto& [name, popping, morphing] : {std::tuple{"down", &poppingDown, &morphingDown},
                                                   std::tuple{"up", &poppingUp, &morphingUp}}) {
         INFO(name << ": popping " << popping->largestHeightStep << " m, image " << popping->largestImageStep

@@ -46,6 +46,7 @@ struct TileMesh {
     TileKey key;
     int samplesLog2 = 0;        ///< k: 2^k + 1 samples along each side
     bool skirt = false;
+    double skirtDepth = 0.0;    ///< metres below its edge vertex each skirt vertex hangs
     std::vector<float> vertices;
     double minimumHeight = 0.0; ///< of the grid, not the skirt
     double maximumHeight = 0.0;
@@ -73,6 +74,10 @@ struct TileMesh {
     void setVertexHeight(const Ellipsoid& ellipsoid, const TilingScheme& scheme, int i, int j, double height);
     /// Puts grid vertex (i, j) at a position (on a coarser neighbour's edge between its vertices).
     void setVertexPosition(int i, int j, const glm::dvec3& position, double height);
+    /// Hangs each skirt vertex skirtDepth below its edge vertex's height again, after edge
+    /// vertices moved (computed as build() computes them: the same floats as a mesh built with
+    /// the edges' heights). Nothing without a skirt.
+    void hangSkirt(const Ellipsoid& ellipsoid, const TilingScheme& scheme);
 
     /// Unit normals of the surface, three floats per vertex: the cross product of the east-west
     /// and north-south differences of the grid's positions (one-sided at the edges, the axis at a
