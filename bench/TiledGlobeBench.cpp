@@ -18,6 +18,7 @@
 #include <orbis/scene/Camera.h>
 #include <orbis/scene/Scene.h>
 #include <orbis/world/TerrainSampler.h>
+#include <orbis/scene/ClipmapTerrain.h>
 #include <orbis/scene/TiledGlobe.h>
 #include <orbis/scene/TileQuadtree.h>
 #include <orbis/world/FileAccess.h>
@@ -502,12 +503,14 @@ struct PixelErrorView {
     double slopeBound; ///< steepest slope of trueHeight (rise over run)
 };
 
-/// Rows of the pixel-error tables, one per screen-space error setting: every fourth pixel's ray
-/// (sixteenth when quick) is cast into the true surface in doubles; at the point it meets, the drawn
-/// surface's height (TiledGlobe::heightAt, the triangle drawn) and the true height are projected,
-/// and their distance on screen is the pixel error. The same ray cast into the drawn surface gives
-/// the depth the frame has there.
-void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& options, Context& context)
+/// Rows of the pixel-error tables, one per screen-space error setting of chunked LOD, then one
+/// for clipmaps (n = 255) when `withClipmap`: every fourth pixel's ray (sixteenth when quick) is
+/// cast into the true surface in doubles; at the point it meets, the drawn surface's height (the
+/// primitive's groundHeight: the triangle drawn) and the true height are projected, and their
+/// distance on screen is the pixel error. The same ray cast into the drawn surface gives the depth
+/// the frame has there.
+void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& options, Context& context,
+                       bool withClipmap = false)
 {
     constexpr int kWidth = 640;
     constexpr int kHeight = 360;
@@ -529,33 +532,25 @@ void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& 
             }
         }
     }
-    for (const double setting : {1.0, 2.0, 4.0, 8.0}) {
-        if (options.quick && setting != 2.0) {
-            continue;
-        }
-        TiledGlobeOptions tiled;
-        tiled.terrain = view.openTerrain();
-        tiled.maximumScreenSpaceError = setting;
-        tiled.loader.workerThreads = 0;
-        tiled.loader.latencyFrames = 0;
-        tiled.loader.maximumStartsPerFrame = 256;
-        auto globe = std::make_shared<TiledGlobe>(kEarth, tiled);
+    // Renders the primitive until `converged` says so, then measures the surface it drew.
+    const auto measure = [&](const std::shared_ptr<Primitive>& ground, const std::function<bool(const FrameStatistics&)>& converged,
+                             const std::string& setting, const std::function<std::vector<std::string>(const FrameStatistics&)>& tail) {
         Scene scene(kEarth);
-        scene.add(globe);
+        scene.add(ground);
         scene.camera() = camera;
         Framebuffer framebuffer = context.createFramebuffer(kWidth, kHeight);
         context.setFramebuffer(&framebuffer);
         FrameStatistics statistics;
-        for (int frame = 0; frame < 400 && !(statistics.tiles && statistics.tiles->converged); ++frame) {
+        for (int frame = 0; frame < 400 && (frame == 0 || !converged(statistics)); ++frame) {
             statistics = scene.render(context);
         }
         context.setFramebuffer(nullptr);
         std::vector<double> errors;
         std::size_t depthsApart = 0;
         for (const Sample& sample : samples) {
-            const std::optional<double> drawn = globe->heightAt(sample.position);
+            const std::optional<double> drawn = ground->groundHeight(sample.position);
             const std::optional<double> drawnDistance = castRayIntoTerrain(
-                sample.ray, [&](const Geodetic2D& g) { return globe->heightAt(g).value_or(view.lowest); }, view.lowest,
+                sample.ray, [&](const Geodetic2D& g) { return ground->groundHeight(g).value_or(view.lowest); }, view.lowest,
                 view.highest, view.slopeBound);
             if (!drawnDistance || std::abs(*drawnDistance - sample.distance) > 0.01 * sample.distance) {
                 ++depthsApart;
@@ -575,11 +570,44 @@ void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& 
         const auto percentile = [&](double p) {
             return errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, static_cast<std::size_t>(p * static_cast<double>(errors.size())))];
         };
-        table.rows.push_back({view.name, formatNumber(setting, 2), std::to_string(errors.size()),
-                              formatNumber(percentile(0.999), 3), formatNumber(errors.empty() ? 0.0 : errors.back(), 3),
-                              formatNumber(100.0 * static_cast<double>(depthsApart) / static_cast<double>(std::max<std::size_t>(samples.size(), 1)), 3),
-                              std::to_string(statistics.tiles->drawn), std::to_string(statistics.tiles->deepestLevelDrawn),
-                              statistics.tiles->converged ? "yes" : "no", statistics.tiles->memoryLimited ? "yes" : "no"});
+        std::vector<std::string> row{view.name, setting, std::to_string(errors.size()),
+                                     formatNumber(percentile(0.999), 3), formatNumber(errors.empty() ? 0.0 : errors.back(), 3),
+                                     formatNumber(100.0 * static_cast<double>(depthsApart) / static_cast<double>(std::max<std::size_t>(samples.size(), 1)), 3)};
+        for (std::string& cell : tail(statistics)) {
+            row.push_back(std::move(cell));
+        }
+        table.rows.push_back(std::move(row));
+    };
+    for (const double setting : {1.0, 2.0, 4.0, 8.0}) {
+        if (options.quick && setting != 2.0) {
+            continue;
+        }
+        TiledGlobeOptions tiled;
+        tiled.terrain = view.openTerrain();
+        tiled.maximumScreenSpaceError = setting;
+        tiled.loader.workerThreads = 0;
+        tiled.loader.latencyFrames = 0;
+        tiled.loader.maximumStartsPerFrame = 256;
+        measure(std::make_shared<TiledGlobe>(kEarth, tiled), [](const FrameStatistics& s) { return s.tiles && s.tiles->converged; },
+                formatNumber(setting, 2), [](const FrameStatistics& s) {
+                    return std::vector<std::string>{std::to_string(s.tiles->drawn), std::to_string(s.tiles->deepestLevelDrawn),
+                                                    s.tiles->converged ? "yes" : "no", s.tiles->memoryLimited ? "yes" : "no"};
+                });
+    }
+    if (withClipmap) {
+        ClipmapTerrainOptions clipmap;
+        clipmap.terrain = view.openTerrain();
+        clipmap.posts = 255;
+        clipmap.loader.workerThreads = 0;
+        clipmap.loader.latencyFrames = 0;
+        clipmap.loader.maximumStartsPerFrame = 256;
+        clipmap.loader.maximumInFlight = 512;
+        measure(std::make_shared<ClipmapTerrain>(kEarth, clipmap), [](const FrameStatistics& s) { return s.clipmap && s.clipmap->converged; },
+                "clipmap, n = 255", [](const FrameStatistics& s) {
+                    return std::vector<std::string>{std::to_string(s.clipmap->levels - s.clipmap->finestLevelDrawn) + " levels",
+                                                    "finest " + std::to_string(s.clipmap->finestLevelDrawn),
+                                                    s.clipmap->converged ? "yes" : "no", "-"};
+                });
     }
 }
 
@@ -590,7 +618,7 @@ const std::vector<std::string> kPixelErrorColumns = {
 constexpr const char* kPixelErrorMethod =
     "640x360, converged (at most 400 frames). Every fourth pixel's ray is cast into the true surface in doubles "
     "(steps bounded by the height gap and the surface's steepest slope, then bisection); where it meets, the drawn "
-    "surface's height (TiledGlobe::heightAt, the triangle drawn) and the true one are projected, and their distance "
+    "surface's height (the globe's groundHeight, the triangle drawn) and the true one are projected, and their distance "
     "on screen is the pixel error. Depth: the same ray cast into the drawn surface meets it more than 1% of the "
     "distance away from the true one: silhouettes moved, ridges hiding other ground. Cap bound: the 256 MiB "
     "cache could not hold the selection, which was made coarser. Targets: 99.9th percentile <= the setting, maximum "
@@ -656,7 +684,7 @@ Table realPixelErrorTable(const Options& options, Context& context)
         addPixelErrorRows(table,
                           {real.name, real.view, [path] { return std::shared_ptr<world::TerrainSource>(world::openTerrainSource(path)); },
                            trueHeight, real.lowest, real.highest, real.slopeBound},
-                          options, context);
+                          options, context, true);
     }
     return table;
 }
