@@ -204,8 +204,10 @@ struct TileFinder {
     /// to north); null where none is loaded.
     const Value* find(const Geodetic2D& g, std::uint32_t level, glm::dvec2& uv)
     {
-        if (!(last && lastAsked == level && g.longitude >= lastExtent.west && g.longitude <= lastExtent.east &&
-              g.latitude >= lastExtent.south && g.latitude <= lastExtent.north)) {
+        // The last tile serves again only if it is of the level asked for: a coarser one found where
+        // the finer was missing would hide finer tiles loaded over the rest of its extent.
+        if (!(last && lastAsked == level && lastKey.level == level && g.longitude >= lastExtent.west &&
+              g.longitude <= lastExtent.east && g.latitude >= lastExtent.south && g.latitude <= lastExtent.north)) {
             TileKey key;
             if (!search(g, level, key)) {
                 return nullptr;

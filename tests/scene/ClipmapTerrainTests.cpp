@@ -8,6 +8,7 @@
 #include <orbis/renderer/ShaderCache.h>
 #include <orbis/scene/ClipmapTerrain.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/world/TerrainHeight.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
 
@@ -211,6 +212,43 @@ TEST_CASE("Clipmap terrain answers the ground's height and picks: the drawn post
         // (The flat triangle sags below the grid's interpolation: 5 m here, for cells of about 16 km.)
         CHECK(std::abs(ground.height - *terrain->groundHeight(Geodetic2D(ground.longitude, ground.latitude))) < 10.0);
     }
+}
+
+TEST_CASE("Clipmap levels take the finest tile loaded at every post, also beside posts only a coarser tile covers",
+          "[scene][clipmap][gl]")
+{
+    // The Cumberland DEM is 27 x 32 km: a level's window of 255 posts reaches beyond it, where
+    // only coarser tiles exist. Writing a row, a post there once made the coarser tile serve the
+    // posts after it over its whole extent, DEM included: the ground 4-6 km from the eye was
+    // 200-330 m below the data.
+    const std::string dem = orbis::test::dataPath("terrain/cumberland/jacksboro_fault.vrt");
+    ClipmapTerrainOptions options;
+    options.terrain = world::openTerrainSource(dem);
+    options.posts = 255;
+    options.loader.workerThreads = 0;
+    options.loader.latencyFrames = 0;
+    options.loader.maximumStartsPerFrame = 256;
+    options.loader.maximumInFlight = 512;
+    auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
+    Scene scene(kEarth);
+    scene.add(terrain);
+    placeCamera(scene, Geodetic3D::fromDegrees(-84.40, 36.46, 2000.0), 45.0, -3.0);
+    renderConverged(scene, *terrain, 160, 90, 100);
+    REQUIRE(terrain->converged());
+    const auto source = world::openTerrainSource(dem);
+    world::TerrainHeightQuery query(*source);
+    double largest = 0.0;
+    for (double latitude = 36.46; latitude <= 36.55; latitude += 0.005) {
+        for (double longitude = -84.42; longitude <= -84.34; longitude += 0.005) {
+            const Geodetic2D point = Geodetic2D::fromDegrees(longitude, latitude);
+            const std::optional<double> drawn = terrain->groundHeight(point);
+            const std::optional<world::TerrainHeight> data = query.at(point);
+            REQUIRE((drawn && data));
+            largest = std::max(largest, std::abs(*drawn - data->height));
+        }
+    }
+    // The finest levels interpolate the DEM's 80 m grids, bilinearly on 129 x 129 lattices.
+    CHECK(largest < 10.0);
 }
 
 TEST_CASE("A moving viewer's clipmap updates stay within the budget, coarse levels first, and end where a fresh one starts", "[scene][clipmap][gl]")
