@@ -85,11 +85,11 @@ Table levelUpdateTable(const Options& options, Context& context)
         "(ClipmapTerrain's budget at 65,536 posts). After converging at one view the camera jumps between two "
         "views 3 km up and more than 97 degrees apart, so every level is written whole, coarse first, with the tiles it reads already in "
         "the cache (after the first round trip); the time is the writes' and uploads' "
-        "(ClipmapStatistics::updateMilliseconds: the render thread's CPU time). A level below the data's spacing takes the "
-        "four-point filter of the coarser level; one at or above reads the terrain tiles (as 257 x 257 lattices "
-        "made on the loader's workers) and the imagery tiles, bilinearly.";
-    table.columns = {"grid", "posts written a frame", "ms, tiles (median)", "ms, tiles (best)", "ms, four-point (median)",
-                     "ms, four-point (best)", "frames"};
+        "(ClipmapStatistics::updateMilliseconds: the render thread's CPU time). A level at or above the data's spacing reads "
+        "the terrain tiles as 129 x 129 lattices made on the loader's workers; one below it, the mesh tiles' own "
+        "triangles (ETOPO5's TINs, the triangle found from the last post's); both read the imagery tiles bilinearly.";
+    table.columns = {"grid", "posts written a frame", "ms, at the data (median)", "ms, at the data (best)",
+                     "ms, below the data (median)", "ms, below the data (best)", "frames"};
     struct Pair {
         const char* name;
         View a, b;

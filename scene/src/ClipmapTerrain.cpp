@@ -104,6 +104,10 @@ struct TerrainGrid {
     static constexpr int kSamplesLog2 = 7;
     static constexpr int kSize = (1 << kSamplesLog2) + 1;
     std::vector<float> heights; ///< kSize^2, row by row from the north
+    /// A mesh tile's own triangles, for the levels finer than the data: its surface at any spacing,
+    /// where the lattice's bilinear cells (or the four-point filter of them) would cut across its
+    /// creases. Null for grid tiles: below their spacing the four-point filter is as good.
+    std::shared_ptr<const world::TerrainSampler> mesh;
 
     /// u 0 west .. 1 east, v 0 south .. 1 north, clamped.
     double height(double u, double v) const noexcept
@@ -125,7 +129,12 @@ public:
         : grid(std::move(grid_))
     {
     }
-    std::size_t byteSize() const noexcept override { return grid->heights.size() * sizeof(float); }
+    std::size_t byteSize() const noexcept override
+    {
+        const std::size_t meshBytes =
+            grid->mesh ? grid->mesh->data().memoryBytes() + grid->mesh->data().indices.size() * sizeof(std::uint32_t) : 0;
+        return grid->heights.size() * sizeof(float) + meshBytes;
+    }
     std::shared_ptr<const TerrainGrid> grid;
 };
 
@@ -518,9 +527,13 @@ struct ClipmapTerrain::Impl {
                     if (fetched.status == world::TerrainFetch::Status::Missing) {
                         return nullptr;
                     }
-                    const world::TerrainSampler sampler(std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
+                    auto sampler = std::make_shared<const world::TerrainSampler>(
+                        std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
                     auto grid = std::make_shared<TerrainGrid>();
-                    grid->heights = sampler.latticeHeights(key, TerrainGrid::kSamplesLog2);
+                    grid->heights = sampler->latticeHeights(key, TerrainGrid::kSamplesLog2);
+                    if (sampler->data().isMesh()) {
+                        grid->mesh = std::move(sampler);
+                    }
                     return std::make_unique<TerrainContent>(std::move(grid));
                 });
             } else {
@@ -605,6 +618,9 @@ struct ClipmapTerrain::Impl {
             sinLongitude[static_cast<std::size_t>(x - x0)] = std::sin(static_cast<double>(x) * s);
             wrappedLongitude[static_cast<std::size_t>(x - x0)] = std::remainder(static_cast<double>(x) * s, kTwoPi);
         }
+        // The mesh tile and triangle the last post was in: the next post is mostly in it too.
+        const TerrainGrid* hintTile = nullptr;
+        std::uint32_t hint = ~0u;
         for (std::int64_t y = y0; y < y1; ++y) {
             const double latitude = static_cast<double>(y) * s;
             const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
@@ -618,10 +634,18 @@ struct ClipmapTerrain::Impl {
                 if (terrain) {
                     glm::dvec2 uv;
                     if (const auto* grid = terrainFinder.find(g, level.terrainLevel, uv)) {
-                        // A tile no finer than the coarser level's data gives nothing the coarser
-                        // level has not: the four-point filter of it is smoother.
+                        // A grid tile no finer than the coarser level's data gives nothing the
+                        // coarser level has not: the four-point filter of it is smoother. A mesh
+                        // tile's triangles are its surface at any spacing.
                         if (!hasCoarser || terrainFinder.lastKey.level > coarserTerrainLevel) {
                             height = (*grid)->height(uv.x, uv.y);
+                            fromTile = true;
+                        } else if ((*grid)->mesh) {
+                            if (hintTile != grid->get()) {
+                                hintTile = grid->get();
+                                hint = ~0u;
+                            }
+                            height = (*grid)->mesh->height(uv.x, uv.y, hint);
                             fromTile = true;
                         }
                     }

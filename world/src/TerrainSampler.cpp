@@ -67,6 +67,11 @@ double TerrainSampler::height(double u, double v) const noexcept
     return heightOf(weightsAt(u, v));
 }
 
+double TerrainSampler::height(double u, double v, std::uint32_t& hint) const noexcept
+{
+    return heightOf(_data->isMesh() ? meshWeights(u, v, &hint) : gridWeights(u, v));
+}
+
 std::optional<double> TerrainSampler::heightOnTriangles(double u, double v) const noexcept
 {
     const Weights weights = weightsAt(u, v);
@@ -103,9 +108,39 @@ TerrainSampler::Weights TerrainSampler::gridWeights(double u, double v) const no
     return weights;
 }
 
-TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const noexcept
+TerrainSampler::Weights TerrainSampler::triangleWeights(std::uint32_t t, double u, double v) const noexcept
 {
     const auto& vertices = _data->vertices;
+    const std::uint32_t ia = _data->indices[3 * t];
+    const std::uint32_t ib = _data->indices[3 * t + 1];
+    const std::uint32_t ic = _data->indices[3 * t + 2];
+    const glm::dvec3 a(vertices[ia]);
+    const glm::dvec3 b(vertices[ib]);
+    const glm::dvec3 c(vertices[ic]);
+    const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    Weights weights;
+    if (area == 0.0) {
+        return weights;
+    }
+    const double wa = ((b.x - u) * (c.y - v) - (c.x - u) * (b.y - v)) / area;
+    const double wb = ((c.x - u) * (a.y - v) - (a.x - u) * (c.y - v)) / area;
+    const double wc = 1.0 - wa - wb;
+    weights.count = 3;
+    weights.index = {ia, ib, ic, 0};
+    weights.weight = {wa, wb, wc, 0.0};
+    weights.outside = std::max(-std::min({wa, wb, wc}), 0.0);
+    return weights;
+}
+
+TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v, std::uint32_t* hint) const noexcept
+{
+    constexpr double kInside = 1e-9;
+    if (hint && *hint < _data->indices.size() / 3) {
+        const Weights weights = triangleWeights(*hint, u, v);
+        if (weights.count > 0 && weights.outside <= kInside) {
+            return weights;
+        }
+    }
     const int x = std::clamp(static_cast<int>(u * _buckets), 0, _buckets - 1);
     const int y = std::clamp(static_cast<int>(v * _buckets), 0, _buckets - 1);
     Weights nearest;
@@ -113,31 +148,19 @@ TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const no
     const std::size_t bucket = static_cast<std::size_t>(y * _buckets + x);
     for (std::uint32_t i = _bucketStart[bucket]; i < _bucketStart[bucket + 1]; ++i) {
         const std::uint32_t t = _bucketTriangles[i];
-        const std::uint32_t ia = _data->indices[3 * t];
-        const std::uint32_t ib = _data->indices[3 * t + 1];
-        const std::uint32_t ic = _data->indices[3 * t + 2];
-        const glm::dvec3 a(vertices[ia]);
-        const glm::dvec3 b(vertices[ib]);
-        const glm::dvec3 c(vertices[ic]);
-        const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-        if (area == 0.0) {
+        const Weights weights = triangleWeights(t, u, v);
+        if (weights.count == 0) {
             continue;
         }
-        const double wa = ((b.x - u) * (c.y - v) - (c.x - u) * (b.y - v)) / area;
-        const double wb = ((c.x - u) * (a.y - v) - (a.x - u) * (c.y - v)) / area;
-        const double wc = 1.0 - wa - wb;
-        const double outside = -std::min({wa, wb, wc});
-        Weights weights;
-        weights.count = 3;
-        weights.index = {ia, ib, ic, 0};
-        weights.weight = {wa, wb, wc, 0.0};
-        weights.outside = std::max(outside, 0.0);
-        if (outside <= 1e-9) {
+        if (weights.outside <= kInside) {
+            if (hint) {
+                *hint = t;
+            }
             return weights;
         }
         // A point in no triangle (rounding at an edge): the nearest triangle's plane.
-        if (outside < nearestOutside) {
-            nearestOutside = outside;
+        if (weights.outside < nearestOutside) {
+            nearestOutside = weights.outside;
             nearest = weights;
         }
     }
