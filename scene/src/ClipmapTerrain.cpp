@@ -1220,13 +1220,15 @@ std::optional<double> ClipmapTerrain::groundHeight(const Geodetic2D& position) c
         if (!(localX >= -kSlack && localX <= n - 1.0 + kSlack && localY >= -kSlack && localY <= n - 1.0 + kSlack)) {
             continue;
         }
-        auto post = [&](int column, int row) { return impl.drawnHeight(l, column, row); };
         const int px = std::clamp(static_cast<int>(localX), 0, n - 2), py = std::clamp(static_cast<int>(localY), 0, n - 2);
         const double fx = std::clamp(localX - px, 0.0, 1.0), fy = std::clamp(localY - py, 0.0, 1.0);
-        // On the cell's triangle: every quad is cut from post (x, y) to (x + 1, y + 1).
-        const double h00 = post(px, py), h11 = post(px + 1, py + 1);
-        const double height = fx >= fy ? h00 + fx * (post(px + 1, py) - h00) + fy * (h11 - post(px + 1, py))
-                                       : h00 + fy * (post(px, py + 1) - h00) + fx * (h11 - post(px, py + 1));
+        // On the cell's triangle: every quad is cut from post (x, y) to (x + 1, y + 1), so the
+        // third corner is (x + 1, y) below that diagonal and (x, y + 1) above it.
+        const bool belowDiagonal = fx >= fy;
+        const double h00 = impl.drawnHeight(l, px, py), h11 = impl.drawnHeight(l, px + 1, py + 1);
+        const double third = belowDiagonal ? impl.drawnHeight(l, px + 1, py) : impl.drawnHeight(l, px, py + 1);
+        const double height = belowDiagonal ? h00 + fx * (third - h00) + fy * (h11 - third)
+                                            : h00 + fy * (third - h00) + fx * (h11 - third);
         return _options.exaggeration * height;
     }
     return std::nullopt;
@@ -1276,10 +1278,8 @@ std::optional<double> ClipmapTerrain::pickGround(const Ray& ray) const
     forEachDrawnTriangle(false, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
         const glm::dvec3 centre = (a + b + c) / 3.0;
         const double radius = std::max({glm::distance(a, centre), glm::distance(b, centre), glm::distance(c, centre)});
-        const glm::dvec3 toCentre = centre - ray.origin;
-        const double along = glm::dot(toCentre, ray.direction);
-        if (glm::dot(toCentre, toCentre) - along * along > radius * radius || along + radius < 0.0 ||
-            (nearest && along - radius > *nearest)) {
+        const std::optional<RayInterval> inside = intersectRaySphere(ray, BoundingSphere{centre, radius});
+        if (!inside || (nearest && inside->nearDistance > *nearest)) {
             return;
         }
         if (const std::optional<RayTriangleHit> hit = intersectRayTriangle(ray, a, b, c)) {

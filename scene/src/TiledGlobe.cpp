@@ -293,10 +293,14 @@ struct TiledGlobe::Impl {
     /// Starts the morphs of tiles drawn in place of others drawn last frame, moves the others a
     /// step, and ends those done or no longer drawn.
     void advanceMorphs(std::uint64_t frame, TileStatistics& statistics);
-    /// Starts a morph from the surface drawn last frame over the tile's ground, if any was.
-    void beginMorph(QuadtreeTile& tile, std::uint64_t frame);
-    /// Puts the tile's grid where its morph is at `factor` (its own surface when none is left).
+    /// Starts a morph from the surface drawn last frame over the tile's ground, if any was;
+    /// `normalsDrawn` keeps the normals read back from the tiles drawn then, for the frame's other
+    /// new tiles (four children start from one parent).
+    void beginMorph(QuadtreeTile& tile, std::uint64_t frame,
+                    std::unordered_map<const QuadtreeTile*, std::vector<float>>& normalsDrawn);
+    /// Puts the tile's grid where its morph is at `factor` (0 to 1, the tile morphing).
     void applyMorph(QuadtreeTile& tile, double factor);
+    /// Puts the tile back on its own surface, exactly as it was built, and forgets the morph.
     void endMorph(QuadtreeTile& tile);
     /// Forgets a morph without moving the tile (its mesh is rebuilt or dropped).
     void cancelMorph(SurfaceTile& surface);
@@ -874,9 +878,10 @@ void TiledGlobe::Impl::advanceMorphs(std::uint64_t frame, TileStatistics& statis
     }
     // New tiles start from what was drawn over their ground last frame (an ancestor, or finer
     // tiles), before any of those moves on.
+    std::unordered_map<const QuadtreeTile*, std::vector<float>> normalsDrawn;
     for (QuadtreeTile* tile : selection.drawn) {
         if (!surfaceOf(*tile).morph && !drawnTiles.contains(tile->key)) {
-            beginMorph(*tile, frame);
+            beginMorph(*tile, frame, normalsDrawn);
         }
     }
     const std::unordered_set<const QuadtreeTile*> drawnNow(selection.drawn.begin(), selection.drawn.end());
@@ -930,7 +935,8 @@ const QuadtreeTile* drawnTileAt(const TileQuadtree& quadtree,
 
 } // namespace
 
-void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame)
+void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame,
+                                  std::unordered_map<const QuadtreeTile*, std::vector<float>>& normalsDrawn)
 {
     SurfaceTile& surface = surfaceOf(tile);
     const TilingScheme& scheme = quadtree.scheme();
@@ -938,7 +944,6 @@ void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame)
     // The tile drawn last frame at each grid vertex: one ancestor for all, or the finer tiles in
     // turn (the last one found holds the next vertex, mostly), with their normals read back once.
     const QuadtreeTile* giver = nullptr;
-    std::unordered_map<const QuadtreeTile*, std::vector<float>> normals;
     bool covered = false;
     auto drawnBefore = [&](int i, int j) -> std::optional<detail::SurfaceSample> {
         auto inside = [&](const QuadtreeTile& candidate) {
@@ -956,8 +961,8 @@ void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame)
                 return std::nullopt;
             }
             giver = found;
-            if (!normals.contains(giver)) {
-                normals.emplace(giver, gridNormals(surfaceOf(*giver)));
+            if (!normalsDrawn.contains(giver)) {
+                normalsDrawn.emplace(giver, gridNormals(surfaceOf(*giver)));
             }
         }
         const SurfaceTile& from = surfaceOf(*giver);
@@ -965,7 +970,7 @@ void TiledGlobe::Impl::beginMorph(QuadtreeTile& tile, std::uint64_t frame)
                                                         scheme.tilesX(giver->key.level));
         covered = true;
         return detail::sampleDrawnSurface(from.drawnMesh, surfaceTriangles(from.coarsening.value_or(EdgeCoarsening{})),
-                                          normals.at(giver), at.x, at.y);
+                                          normalsDrawn.at(giver), at.x, at.y);
     };
     detail::TileMorph morph = detail::TileMorph::start(scheme, surface.drawnMesh, gridNormals(surface), drawnBefore, frame);
     if (!covered) {
@@ -984,21 +989,10 @@ void TiledGlobe::Impl::applyMorph(QuadtreeTile& tile, double factor)
 {
     SurfaceTile& surface = surfaceOf(tile);
     TileMesh& mesh = surface.drawnMesh;
-    const TilingScheme& scheme = quadtree.scheme();
-    surface.morphFactor = surface.morph ? factor : 1.0;
-    if (surface.morph) {
-        surface.morph->moveInnerVertices(mesh, surface.heights, factor);
-    } else {
-        // Its own surface exactly as it was built.
-        const int size = mesh.size();
-        for (int j = 0; j < size; ++j) {
-            for (int i = 0; i < size; ++i) {
-                mesh.setVertexHeight(ellipsoid, scheme, i, j, static_cast<double>(surface.heights[static_cast<std::size_t>(j * size + i)]));
-            }
-        }
-    }
-    if (surface.normalBuffer && surface.morph && !surface.morph->ownNormals.empty()) {
-        const std::vector<float> normals = mesh.normals(surface.morph->normals(surface.morphFactor));
+    surface.morphFactor = factor;
+    surface.morph->moveInnerVertices(mesh, surface.heights, factor);
+    if (surface.normalBuffer && !surface.morph->ownNormals.empty()) {
+        const std::vector<float> normals = mesh.normals(surface.morph->normals(factor));
         surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
     }
     ++surface.heightsVersion; // conformEdges stitches and uploads it
@@ -1007,14 +1001,22 @@ void TiledGlobe::Impl::applyMorph(QuadtreeTile& tile, double factor)
 void TiledGlobe::Impl::endMorph(QuadtreeTile& tile)
 {
     SurfaceTile& surface = surfaceOf(tile);
-    // Its own normals and heights, exactly as loaded.
+    TileMesh& mesh = surface.drawnMesh;
+    // Its own normals and heights, exactly as loaded and built.
     if (surface.normalBuffer && !surface.morph->ownNormals.empty()) {
-        const std::vector<float> normals = surface.drawnMesh.normals(surface.morph->ownNormals);
+        const std::vector<float> normals = mesh.normals(surface.morph->ownNormals);
         surface.normalBuffer->copyFromSystemMemory(std::as_bytes(std::span(normals)));
     }
     cancelMorph(surface);
-    applyMorph(tile, 1.0);
-    tile.region = quadtree.regionOf(tile.key, surface.drawnMesh.minimumHeight, surface.drawnMesh.maximumHeight);
+    const int size = mesh.size();
+    for (int j = 0; j < size; ++j) {
+        for (int i = 0; i < size; ++i) {
+            mesh.setVertexHeight(ellipsoid, quadtree.scheme(), i, j,
+                                 static_cast<double>(surface.heights[static_cast<std::size_t>(j * size + i)]));
+        }
+    }
+    ++surface.heightsVersion; // conformEdges stitches and uploads it
+    tile.region = quadtree.regionOf(tile.key, mesh.minimumHeight, mesh.maximumHeight);
 }
 
 void TiledGlobe::Impl::cancelMorph(SurfaceTile& surface)
@@ -1753,28 +1755,16 @@ void TiledGlobe::setTerrainExaggeration(double exaggeration)
     }
 }
 
-namespace {
-
-
-} // namespace
-
 std::optional<double> TiledGlobe::Impl::meshHeightAt(const QuadtreeTile& tile, const Geodetic2D& position) const
 {
     const SurfaceTile& surface = surfaceOf(tile);
     const TileMesh& mesh = surface.drawnMesh;
     const int size = mesh.size();
     const glm::dvec2 uv = glm::clamp(quadtree.scheme().positionInTile(tile.key, position), 0.0, 1.0);
-    const std::optional<detail::TrianglePoint> point =
-        detail::drawnTriangleAt(size, surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{})),
-                                uv.x * (size - 1), (1.0 - uv.y) * (size - 1));
-    if (!point) {
-        return std::nullopt;
-    }
-    double height = 0.0;
-    for (std::size_t k = 0; k < 3; ++k) {
-        height += point->weights[k] * static_cast<double>(mesh.vertices[point->vertices[k] * TileMesh::kFloatsPerVertex + 8]);
-    }
-    return height;
+    const std::optional<detail::SurfaceSample> sample =
+        detail::sampleDrawnSurface(mesh, surfaceTriangles(surface.coarsening.value_or(EdgeCoarsening{})), {},
+                                   uv.x * (size - 1), (1.0 - uv.y) * (size - 1));
+    return sample ? std::optional(sample->height) : std::nullopt;
 }
 
 std::optional<double> TiledGlobe::heightAt(const Geodetic2D& position) const

@@ -31,6 +31,17 @@ std::string dataPath(const std::string& relative)
     return std::string(ORBIS_SOURCE_DIR) + "/data/" + relative;
 }
 
+/// Loads on the render thread, arriving `latencyFrames` after they start, as many as a view needs.
+world::TileLoaderOptions deterministicLoader(int latencyFrames)
+{
+    world::TileLoaderOptions loader;
+    loader.workerThreads = 0;
+    loader.latencyFrames = latencyFrames;
+    loader.maximumStartsPerFrame = 256;
+    loader.maximumInFlight = 512;
+    return loader;
+}
+
 ClipmapTerrainOptions etopo5Options()
 {
     ClipmapTerrainOptions options;
@@ -38,10 +49,7 @@ ClipmapTerrainOptions etopo5Options()
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
     options.posts = 63;
     options.exaggeration = 20.0;
-    options.loader.workerThreads = 0;
-    options.loader.latencyFrames = 1;
-    options.loader.maximumStartsPerFrame = 256;
-    options.loader.maximumInFlight = 512;
+    options.loader = deterministicLoader(1);
     return options;
 }
 
@@ -225,10 +233,7 @@ TEST_CASE("Clipmap levels take the finest tile loaded at every post, also beside
     ClipmapTerrainOptions options;
     options.terrain = world::openTerrainSource(dem);
     options.posts = 255;
-    options.loader.workerThreads = 0;
-    options.loader.latencyFrames = 0;
-    options.loader.maximumStartsPerFrame = 256;
-    options.loader.maximumInFlight = 512;
+    options.loader = deterministicLoader(0);
     auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
     Scene scene(kEarth);
     scene.add(terrain);
