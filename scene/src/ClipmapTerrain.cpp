@@ -31,6 +31,7 @@
 #include <array>
 #include <ctime>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <list>
 #include <set>
@@ -131,9 +132,7 @@ public:
     }
     std::size_t byteSize() const noexcept override
     {
-        const std::size_t meshBytes =
-            grid->mesh ? grid->mesh->data().memoryBytes() + grid->mesh->data().indices.size() * sizeof(std::uint32_t) : 0;
-        return grid->heights.size() * sizeof(float) + meshBytes;
+        return grid->heights.size() * sizeof(float) + (grid->mesh ? grid->mesh->memoryBytes() : 0);
     }
     std::shared_ptr<const TerrainGrid> grid;
 };
@@ -197,30 +196,34 @@ private:
     std::size_t _bytes = 0;
 };
 
-/// The finest tile in a cache over a point, from `level` up, remembering the last one found so
-/// that a row of posts in one tile looks it up once.
+/// The finest tile in a cache over a point, from `level` up, remembering the last answer and where
+/// it holds, so that a row of posts looks a tile up once.
 template <typename Value>
 struct TileFinder {
-    TileCache<Value>* cache = nullptr;
-    TilingScheme scheme = TilingScheme::geographic();
-    std::uint32_t minimumLevel = 0;
+    TileFinder(TileCache<Value>* cache_, TilingScheme scheme_, std::uint32_t minimumLevel_)
+        : cache(cache_)
+        , scheme(scheme_)
+        , minimumLevel(minimumLevel_)
+    {
+    }
+
+    TileCache<Value>* cache;
+    TilingScheme scheme;
+    std::uint32_t minimumLevel;
     TileKey lastKey{};
     GeodeticExtent lastExtent{};
     const Value* last = nullptr;
-    std::uint32_t lastAsked = 0;
 
     /// The finest tile over g from `level` up, and where g lies in it (0..1 west to east, south
     /// to north); null where none is loaded.
     const Value* find(const Geodetic2D& g, std::uint32_t level, glm::dvec2& uv)
     {
-        // The last tile serves again only if it is of the level asked for: a coarser one found where
-        // the finer was missing would hide finer tiles loaded over the rest of its extent.
-        if (!(last && lastAsked == level && lastKey.level == level && g.longitude >= lastExtent.west &&
-              g.longitude <= lastExtent.east && g.latitude >= lastExtent.south && g.latitude <= lastExtent.north)) {
-            TileKey key;
-            if (!search(g, level, key)) {
-                return nullptr;
-            }
+        if (!(level == _askedLevel && g.longitude >= _holds.west && g.longitude <= _holds.east &&
+              g.latitude >= _holds.south && g.latitude <= _holds.north)) {
+            search(g, level);
+        }
+        if (!last) {
+            return nullptr;
         }
         if (scheme.projection() == TilingProjection::Geographic) {
             // From the extent found, without the scheme's general arithmetic: g is inside it.
@@ -233,25 +236,36 @@ struct TileFinder {
     }
 
 private:
-    bool search(const Geodetic2D& g, std::uint32_t level, TileKey& key)
+    void search(const Geodetic2D& g, std::uint32_t level)
     {
+        // The answer holds over the tile of the level asked for at g: every point of it has the
+        // same ancestors, so the same finest loaded one (a coarser tile found holds only there,
+        // not over its whole extent, where finer tiles may be loaded).
+        _askedLevel = level;
+        _holds = kNowhere;
+        last = nullptr;
+        bool first = true;
         for (std::int64_t l = level; l >= static_cast<std::int64_t>(minimumLevel); --l) {
             const std::optional<TileKey> at = scheme.tileAt(g, static_cast<std::uint32_t>(l));
             if (!at) {
                 continue;
             }
+            if (first) {
+                _holds = scheme.tileExtent(*at);
+                first = false;
+            }
             if (const Value* value = cache->find(*at)) {
                 last = value;
                 lastKey = *at;
-                lastAsked = level;
                 lastExtent = scheme.tileExtent(*at);
-                key = *at;
-                return true;
+                return;
             }
         }
-        last = nullptr;
-        return false;
     }
+
+    static constexpr GeodeticExtent kNowhere{0.0, 1.0, 0.0, -1.0}; ///< south above north: holds no point
+    std::uint32_t _askedLevel = ~0u;
+    GeodeticExtent _holds = kNowhere; ///< where the last search's answer holds
 };
 
 } // namespace
@@ -608,7 +622,7 @@ struct ClipmapTerrain::Impl {
         const std::uint32_t coarserTerrainLevel = hasCoarser ? levels[static_cast<std::size_t>(l) + 1].terrainLevel : 0;
         const Level* coarser = hasCoarser ? &levels[static_cast<std::size_t>(l) + 1] : nullptr;
         auto coarse = [&](std::int64_t X, std::int64_t Y) { return static_cast<double>(coarser->heights.at(X, Y)); };
-        const glm::vec4 base = options.baseColor;
+        const std::uint32_t baseColor = pack(options.baseColor);
         // Per column and per row once: the grid's longitude (wrapped, for the geodetic grid) and
         // its sine and cosine.
         std::vector<double> cosLongitude(static_cast<std::size_t>(x1 - x0)), sinLongitude(cosLongitude.size()),
@@ -621,14 +635,22 @@ struct ClipmapTerrain::Impl {
         // The mesh tile and triangle the last post was in: the next post is mostly in it too.
         const TerrainGrid* hintTile = nullptr;
         std::uint32_t hint = ~0u;
+        std::vector<Geodetic2D> row(static_cast<std::size_t>(x1 - x0));
         for (std::int64_t y = y0; y < y1; ++y) {
+            // The row's geodetic positions: the grid's own in the geodetic grid.
             const double latitude = static_cast<double>(y) * s;
-            const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
+            if (frame == 0) {
+                for (std::size_t i = 0; i < row.size(); ++i) {
+                    row[i] = {wrappedLongitude[i], latitude};
+                }
+            } else {
+                const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
+                for (std::size_t i = 0; i < row.size(); ++i) {
+                    row[i] = geodetic(toEarth(frame, {cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude}));
+                }
+            }
             for (std::int64_t x = x0; x < x1; ++x) {
-                const std::size_t i = static_cast<std::size_t>(x - x0);
-                const glm::dvec3 normal =
-                    toEarth(frame, {cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude});
-                const Geodetic2D g = frame == 0 ? Geodetic2D{wrappedLongitude[i], latitude} : geodetic(normal);
+                const Geodetic2D& g = row[static_cast<std::size_t>(x - x0)];
                 double height = 0.0;
                 bool fromTile = false;
                 if (terrain) {
@@ -656,17 +678,18 @@ struct ClipmapTerrain::Impl {
                 level.heights.at(x, y) = static_cast<float>(height);
                 level.minimumHeight = std::min(level.minimumHeight, height);
                 level.maximumHeight = std::max(level.maximumHeight, height);
-
-                glm::vec4 color = base;
+            }
+            for (std::int64_t x = x0; x < x1; ++x) {
+                std::uint32_t color = baseColor;
                 if (imagery) {
                     glm::dvec2 uv;
-                    if (const auto* image = imageryFinder.find(g, level.imageryLevel, uv)) {
+                    if (const auto* image = imageryFinder.find(row[static_cast<std::size_t>(x - x0)], level.imageryLevel, uv)) {
                         color = sampleImage(**image, uv);
                     } else if (hasCoarser) {
-                        color = unpack(coarser->colors.at(x >> 1, y >> 1));
+                        color = coarser->colors.at(x >> 1, y >> 1);
                     }
                 }
-                level.colors.at(x, y) = pack(color);
+                level.colors.at(x, y) = color;
             }
         }
         // Normals from central differences (one-sided at the window's edges, where the blend
@@ -674,14 +697,16 @@ struct ClipmapTerrain::Impl {
         const std::int64_t gx0 = std::max(x0 - 1, originX(l)), gy0 = std::max(y0 - 1, originY(l));
         const std::int64_t gx1 = std::min(x1 + 1, originX(l) + size), gy1 = std::min(y1 + 1, originY(l) + size);
         const double radius = ellipsoid.maximumRadius();
+        const std::int64_t firstX = originX(l), lastX = originX(l) + size - 1;
+        const std::int64_t firstY = originY(l), lastY = originY(l) + size - 1;
         for (std::int64_t y = gy0; y < gy1; ++y) {
-            const double north = radius * s;
-            const double east = std::max(north * std::cos(static_cast<double>(y) * s), 1e-3);
+            const std::int64_t ys = std::max(y - 1, firstY), yn = std::min(y + 1, lastY);
+            const double north = radius * s * static_cast<double>(yn - ys);
+            const double east = std::max(radius * s * std::cos(static_cast<double>(y) * s), 1e-3);
             for (std::int64_t x = gx0; x < gx1; ++x) {
-                const std::int64_t xw = std::max(x - 1, originX(l)), xe = std::min(x + 1, originX(l) + size - 1);
-                const std::int64_t ys = std::max(y - 1, originY(l)), yn = std::min(y + 1, originY(l) + size - 1);
+                const std::int64_t xw = std::max(x - 1, firstX), xe = std::min(x + 1, lastX);
                 const double dx = (static_cast<double>(level.heights.at(xe, y)) - static_cast<double>(level.heights.at(xw, y))) / (static_cast<double>(xe - xw) * east);
-                const double dy = (static_cast<double>(level.heights.at(x, yn)) - static_cast<double>(level.heights.at(x, ys))) / (static_cast<double>(yn - ys) * north);
+                const double dy = (static_cast<double>(level.heights.at(x, yn)) - static_cast<double>(level.heights.at(x, ys))) / north;
                 level.gradients.at(x, y) = glm::vec2(static_cast<float>(dx), static_cast<float>(dy));
             }
         }
@@ -690,23 +715,34 @@ struct ClipmapTerrain::Impl {
                upload(level.colorTexture, level.colors, written);
     }
 
-    static glm::vec4 sampleImage(const Image& image, const glm::dvec2& uv) noexcept
+    /// The image's bilinear sample at uv (0..1 west to east, south to north, clamped), packed:
+    /// weights of 1/256, two channels a multiply (the red and blue, then the green and alpha bytes
+    /// apart in one word), for the level's posts are many.
+    static std::uint32_t sampleImage(const Image& image, const glm::dvec2& uv) noexcept
     {
-        const double px = std::clamp(uv.x, 0.0, 1.0) * image.width - 0.5;
-        const double py = (1.0 - std::clamp(uv.y, 0.0, 1.0)) * image.height - 0.5;
-        const int ix = static_cast<int>(std::floor(px)), iy = static_cast<int>(std::floor(py));
-        const double fx = px - ix, fy = py - iy;
-        glm::dvec4 sum(0.0);
-        for (int dy = 0; dy < 2; ++dy) {
-            for (int dx = 0; dx < 2; ++dx) {
-                const int cx = std::clamp(ix + dx, 0, image.width - 1), cy = std::clamp(iy + dy, 0, image.height - 1);
-                const std::uint8_t* p = &image.pixels[(static_cast<std::size_t>(cy) * static_cast<std::size_t>(image.width) +
-                                                       static_cast<std::size_t>(cx)) * 4];
-                const double w = (dx ? fx : 1.0 - fx) * (dy ? fy : 1.0 - fy);
-                sum += w * glm::dvec4(p[0], p[1], p[2], p[3]);
-            }
-        }
-        return glm::vec4(sum / 255.0);
+        // Clamped to the outer pixels' centres, where one pixel gives the colour.
+        const double px = std::clamp(std::clamp(uv.x, 0.0, 1.0) * image.width - 0.5, 0.0, image.width - 1.0);
+        const double py = std::clamp((1.0 - std::clamp(uv.y, 0.0, 1.0)) * image.height - 0.5, 0.0, image.height - 1.0);
+        const int ix = std::min(static_cast<int>(px), std::max(image.width - 2, 0));
+        const int iy = std::min(static_cast<int>(py), std::max(image.height - 2, 0));
+        const auto fx = static_cast<std::uint32_t>((px - ix) * 256.0 + 0.5), fy = static_cast<std::uint32_t>((py - iy) * 256.0 + 0.5);
+        const std::size_t east = image.width > 1 ? 4 : 0;
+        const std::size_t south = image.height > 1 ? static_cast<std::size_t>(image.width) * 4 : 0;
+        const std::uint8_t* top = &image.pixels[(static_cast<std::size_t>(iy) * static_cast<std::size_t>(image.width) +
+                                                 static_cast<std::size_t>(ix)) * 4];
+        auto texel = [](const std::uint8_t* p) {
+            std::uint32_t abgr;
+            std::memcpy(&abgr, p, sizeof abgr);
+            return abgr;
+        };
+        // a + (b - a) w / 256 of each byte pair, rounded.
+        auto lerpPairs = [](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
+            return ((a * (256 - w) + b * w + 0x00800080u) >> 8) & 0x00ff00ffu;
+        };
+        auto lerp = [&](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
+            return lerpPairs(a & 0x00ff00ffu, b & 0x00ff00ffu, w) | (lerpPairs((a >> 8) & 0x00ff00ffu, (b >> 8) & 0x00ff00ffu, w) << 8);
+        };
+        return lerp(lerp(texel(top), texel(top + east), fx), lerp(texel(top + south), texel(top + south + east), fx), fy);
     }
 
     template <typename T>

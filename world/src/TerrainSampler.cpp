@@ -35,6 +35,20 @@ TerrainSampler::TerrainSampler(std::shared_ptr<const TerrainTileData> data)
             }
         }
     };
+    // wa = ((b.x - u)(c.y - v) - (c.x - u)(b.y - v)) / area, expanded in u and v; wb likewise.
+    _weightPlanes.resize(triangles);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const glm::dvec3 a(vertices[_data->indices[3 * t]]);
+        const glm::dvec3 b(vertices[_data->indices[3 * t + 1]]);
+        const glm::dvec3 c(vertices[_data->indices[3 * t + 2]]);
+        const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        if (area == 0.0) {
+            _weightPlanes[t] = {};
+            continue;
+        }
+        _weightPlanes[t] = {{(b.y - c.y) / area, (c.x - b.x) / area, (b.x * c.y - c.x * b.y) / area},
+                            {(c.y - a.y) / area, (a.x - c.x) / area, (c.x * a.y - a.x * c.y) / area}};
+    }
     // Counted first, then filled: one array for all the buckets.
     _bucketStart.assign(static_cast<std::size_t>(_buckets) * static_cast<std::size_t>(_buckets) + 1, 0);
     for (std::size_t t = 0; t < triangles; ++t) {
@@ -48,6 +62,11 @@ TerrainSampler::TerrainSampler(std::shared_ptr<const TerrainTileData> data)
     for (std::size_t t = 0; t < triangles; ++t) {
         forBuckets(t, [&](std::size_t bucket) { _bucketTriangles[next[bucket]++] = static_cast<std::uint32_t>(t); });
     }
+}
+
+std::size_t TerrainSampler::memoryBytes() const noexcept
+{
+    return _data->memoryBytes() + (_bucketStart.size() + _bucketTriangles.size()) * sizeof(std::uint32_t) + _weightPlanes.size() * sizeof(WeightPlanes);
 }
 
 double TerrainSampler::heightOf(const Weights& weights) const noexcept
@@ -110,23 +129,16 @@ TerrainSampler::Weights TerrainSampler::gridWeights(double u, double v) const no
 
 TerrainSampler::Weights TerrainSampler::triangleWeights(std::uint32_t t, double u, double v) const noexcept
 {
-    const auto& vertices = _data->vertices;
-    const std::uint32_t ia = _data->indices[3 * t];
-    const std::uint32_t ib = _data->indices[3 * t + 1];
-    const std::uint32_t ic = _data->indices[3 * t + 2];
-    const glm::dvec3 a(vertices[ia]);
-    const glm::dvec3 b(vertices[ib]);
-    const glm::dvec3 c(vertices[ic]);
-    const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    const WeightPlanes& planes = _weightPlanes[t];
     Weights weights;
-    if (area == 0.0) {
-        return weights;
+    if (planes.first[0] == 0.0 && planes.first[1] == 0.0 && planes.first[2] == 0.0) {
+        return weights; // degenerate
     }
-    const double wa = ((b.x - u) * (c.y - v) - (c.x - u) * (b.y - v)) / area;
-    const double wb = ((c.x - u) * (a.y - v) - (a.x - u) * (c.y - v)) / area;
+    const double wa = planes.first[0] * u + planes.first[1] * v + planes.first[2];
+    const double wb = planes.second[0] * u + planes.second[1] * v + planes.second[2];
     const double wc = 1.0 - wa - wb;
     weights.count = 3;
-    weights.index = {ia, ib, ic, 0};
+    weights.index = {_data->indices[3 * t], _data->indices[3 * t + 1], _data->indices[3 * t + 2], 0};
     weights.weight = {wa, wb, wc, 0.0};
     weights.outside = std::max(-std::min({wa, wb, wc}), 0.0);
     return weights;

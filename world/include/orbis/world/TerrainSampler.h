@@ -23,6 +23,8 @@ public:
     explicit TerrainSampler(std::shared_ptr<const TerrainTileData> data);
 
     const TerrainTileData& data() const noexcept { return *_data; }
+    /// What it holds in memory: the data and its index over the triangles.
+    std::size_t memoryBytes() const noexcept;
 
     /// The height at u (0 west .. 1 east) and v (0 south .. 1 north) of the data tile; a point of
     /// a mesh in no triangle (a rounding at an edge) takes the plane of the nearest.
@@ -77,6 +79,13 @@ private:
     int _buckets = 0;
     std::vector<std::uint32_t> _bucketStart;
     std::vector<std::uint32_t> _bucketTriangles;
+    /// Meshes: each triangle's first two barycentric weights as planes in (u, v), w = a u + b v + c
+    /// (the third is 1 minus both): a point's weights without a division (clipmap posts ask for
+    /// many). A degenerate triangle's are all zero.
+    struct WeightPlanes {
+        std::array<double, 3> first, second;
+    };
+    std::vector<WeightPlanes> _weightPlanes;
 };
 
 } // namespace orbis::world
