@@ -5,11 +5,15 @@
 #include <orbis/core/Error.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
+#include <orbis/renderer/Framebuffer.h>
+#include <orbis/renderer/SceneState.h>
+#include <orbis/core/Transforms.h>
 #include <orbis/scene/MeshPrimitive.h>
 #include <orbis/scene/Scene.h>
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -43,6 +47,82 @@ Mesh facingSquare(const glm::dvec3& eye, double distance, double half, double ti
 }
 
 } // namespace
+
+ClipmapJitterResult measureClipmapJitter(renderer::Context& context, const scene::ClipmapTerrainOptions& clipmap,
+                                         const Geodetic2D& place, double eyeAboveGround, const JitterOptions& options)
+{
+    const Ellipsoid& earth = Ellipsoid::wgs84();
+    Scene scene(earth);
+    auto terrain = std::make_shared<ClipmapTerrain>(earth, clipmap);
+    scene.add(terrain);
+    // A frame of the view's aspect, small: what is drawn depends on the view, not on its pixels.
+    renderer::Framebuffer* previous = context.framebuffer();
+    renderer::Framebuffer framebuffer = context.createFramebuffer(64, std::max(1, 64 * options.height / options.width));
+    context.setFramebuffer(&framebuffer);
+    auto converge = [&](double height) {
+        scene.camera().setView(earth, Geodetic3D(place.longitude, place.latitude, height),
+                               HeadingPitchRoll{0.0, toRadians(-20.0), 0.0});
+        for (int frame = 0; frame < 200 && !(frame > 0 && terrain->converged()); ++frame) {
+            scene.render(context);
+        }
+    };
+    ClipmapJitterResult result;
+    try {
+        converge(9000.0);
+        const std::optional<double> ground = terrain->groundHeight(place);
+        if (ground) {
+            converge(*ground + eyeAboveGround);
+        }
+    } catch (...) {
+        context.setFramebuffer(previous);
+        throw;
+    }
+    context.setFramebuffer(previous);
+    const std::optional<double> ground = terrain->groundHeight(place);
+    if (!ground) {
+        return result;
+    }
+    const Camera& camera = scene.camera();
+    result.groundHeight = *ground;
+    result.eyeAboveGround = earth.toGeodetic3D(camera.eye()).height - *ground;
+    result.finestLevelDrawn = terrain->clipmapStatistics()->finestLevelDrawn;
+    result.converged = terrain->converged();
+
+    renderer::SceneState state;
+    state.viewMatrix = camera.viewMatrix();
+    state.projectionMatrix = camera.projectionMatrix(static_cast<double>(options.width) / options.height,
+                                                     0.1 * eyeAboveGround, 1e7);
+    state.cameraEye = camera.eye();
+    state.viewport = {0, 0, options.width, options.height};
+    const std::vector<glm::vec4> clip = terrain->captureDrawnClipPositions(context, state);
+    const std::vector<glm::dvec3> reference = terrain->drawnTriangles(true);
+    if (clip.size() != reference.size()) {
+        throw Error("clipmap jitter: " + std::to_string(clip.size()) + " vertices captured for " +
+                    std::to_string(reference.size()) + " drawn");
+    }
+    const glm::dmat4 viewProjection = state.projectionMatrix * state.viewMatrix;
+    auto window = [&](const glm::dvec4& c) {
+        return glm::dvec2((c.x / c.w * 0.5 + 0.5) * options.width, (c.y / c.w * 0.5 + 0.5) * options.height);
+    };
+    const double pixelAngle = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / options.height;
+    for (std::size_t i = 0; i < clip.size(); ++i) {
+        const glm::dvec4 exact = viewProjection * glm::dvec4(reference[i], 1.0);
+        if (exact.w < 0.1 * eyeAboveGround || std::abs(exact.x) > exact.w || std::abs(exact.y) > exact.w) {
+            continue; // behind the eye, or outside the view
+        }
+        const glm::dvec4 gpu(clip[i]);
+        const double pixels = gpu.w > 0.0 && std::isfinite(gpu.x) && std::isfinite(gpu.y)
+                                  ? glm::length(window(gpu) - window(exact))
+                                  : std::numeric_limits<double>::infinity();
+        if (pixels > result.error.maxPixels) {
+            result.error.maxPixels = pixels;
+            result.error.maxMeters = pixels * pixelAngle * exact.w;
+        }
+        ++result.vertices;
+        result.within10m += glm::distance(reference[i], camera.eye()) < 10.0 ? 1 : 0;
+    }
+    return result;
+}
 
 glm::dvec3 jitterTarget(double heightMeters)
 {

@@ -5,10 +5,13 @@
 // the static library orbis_precision_measurement (bench/measurement/CMakeLists.txt).
 
 #include <orbis/core/Ellipsoid.h>
+#include <orbis/core/Geodetic.h>
+#include <orbis/scene/ClipmapTerrain.h>
 #include <orbis/scene/DepthStrategy.h>
 #include <orbis/scene/FrameStatistics.h>
 #include <orbis/scene/VertexTransform.h>
 
+#include <cstddef>
 #include <cstdint>
 
 namespace orbis::renderer {
@@ -44,6 +47,25 @@ struct JitterResult {
 /// MeshPrimitive would resolve it for the frame.
 JitterResult measureVertexJitter(renderer::Context& context, scene::VertexTransform transform, const glm::dvec3& target,
                                  double eyeDistance, const JitterOptions& options = {});
+
+/// Clipmap terrain's jitter: its window error where the eye stands over the ground.
+struct ClipmapJitterResult {
+    JitterResult error;        ///< maxMeters: the worst vertex's error as a distance at its depth
+    std::size_t vertices = 0;  ///< measured: in front of the eye and in the view
+    std::size_t within10m = 0; ///< of them, within 10 m of the eye
+    double groundHeight = 0.0;   ///< the drawn ground's height above the ellipsoid under the eye
+    double eyeAboveGround = 0.0; ///< the eye's height over it, as measured
+    int finestLevelDrawn = -1;
+    bool converged = false;
+};
+
+/// ClipmapTerrain made from `clipmap` (its loader should be deterministic) over `place`, the eye
+/// `eyeAboveGround` over the ground it draws there looking north 20 degrees down (converged from
+/// 9 km first): every drawn vertex's clip position read back from the clipmap's own vertex shader
+/// (ClipmapTerrain::captureDrawnClipPositions), projected to the window in double, against P V p
+/// of the same triangles computed in double (ClipmapTerrain::drawnTriangles).
+ClipmapJitterResult measureClipmapJitter(renderer::Context& context, const scene::ClipmapTerrainOptions& clipmap,
+                                         const Geodetic2D& place, double eyeAboveGround, const JitterOptions& options = {});
 
 /// A point on the WGS84 surface, 700 km above it and at geostationary height (35,786 km), above
 /// (10 E, 45 N): the jitter measurement's targets.

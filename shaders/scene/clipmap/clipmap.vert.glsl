@@ -26,7 +26,8 @@ uniform float u_centerPost;      // (n - 1) / 2
 uniform float u_spacing;         // radians between posts
 uniform vec4 u_centerTrig;       // cos, sin of the centre's grid latitude; cos, sin of its grid longitude
 uniform vec3 u_centerNormal;     // Earth-fixed geodetic normal at the centre
-uniform vec3 u_centerRelativeToEye; // the centre on the ellipsoid minus the eye
+uniform vec3 u_centerRelativeToEye; // the centre at u_referenceHeight minus the eye
+uniform float u_referenceHeight; // the eye's height: heights are drawn as differences from it
 uniform float u_centerRadius;    // the prime vertical radius of curvature at the centre
 // The same four and the spacing of the coarser level, and where this level's post 0 lies on it
 // (post m or m - 1): the outer posts on coarser posts are placed as the coarser level places
@@ -94,7 +95,10 @@ vec3 positionRelativeToEye(vec2 fromCenter, float height, vec2 gradient, float s
     float root = sqrt(1.0 + t);
     float dRadius = -centerRadius * t / (root * (1.0 + root));
     vec3 k = vec3(1.0, 1.0, 1.0 - u_eccentricitySquared);
-    vec3 offset = dRadius * (k * normal) + centerRadius * (k * dNormal) + height * normal;
+    // height * normal less the reference height along the centre's normal, which the centre's
+    // position carries: small terms near the eye, however high the ground.
+    vec3 offset = dRadius * (k * normal) + centerRadius * (k * dNormal) + (height - u_referenceHeight) * normal +
+                  u_referenceHeight * dNormal;
 
     vec3 east = u_frame * vec3(-sinLon, cosLon, 0.0);
     vec3 north = u_frame * vec3(-sinLat * cosLon, -sinLat * sinLon, cosLat);

@@ -18,6 +18,10 @@
 #include <string>
 #include <vector>
 
+namespace orbis::renderer {
+struct SceneState;
+}
+
 namespace orbis::world {
 class TerrainSource;
 } // namespace orbis::world
@@ -119,6 +123,11 @@ public:
     /// The same triangles, one call each, without a list of them.
     void forEachDrawnTriangle(bool withDegenerates,
                               const std::function<void(const glm::dvec3&, const glm::dvec3&, const glm::dvec3&)>& visit) const;
+    /// What the GPU computed for the same triangles: each vertex's clip position in the last
+    /// frame's draws, read back with transform feedback (Context::captureVertexOutputs) under
+    /// `sceneState`, in the order and number of forEachDrawnTriangle(true)'s points. For measuring
+    /// the positions' precision (jitter) against those, as docs/precision.md measures transforms.
+    std::vector<glm::vec4> captureDrawnClipPositions(renderer::Context& context, const renderer::SceneState& sceneState) const;
     /// The distance along the ray (unit direction) to the nearest drawn triangle it meets (exact,
     /// every drawn triangle tested against the ray: milliseconds for a click, not for every frame).
     std::optional<double> pickGround(const Ray& ray) const override;
