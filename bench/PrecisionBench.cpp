@@ -4,6 +4,7 @@
 // analytic minimum triangle separation, beside its cost per frame. docs/precision.md explains them;
 // the full run also writes docs/precision.svg.
 
+#include "Plot.h"
 #include "PrecisionMeasurement.h"
 #include "Report.h"
 
@@ -48,67 +49,6 @@ std::string tickName(double meters)
     char text[32];
     std::snprintf(text, sizeof text, meters >= 1e3 ? "%.0f km" : "%.0f m", meters >= 1e3 ? meters / 1e3 : meters);
     return text;
-}
-
-// ---- The plot -------------------------------------------------------------------------------
-
-struct Series {
-    std::string name;
-    std::string colour;
-    bool dashed = false;
-    std::vector<std::pair<double, double>> points; ///< x, y > 0 (log-log)
-};
-
-/// One log-log panel of the SVG, at (x0, y0), w x h.
-void plotPanel(std::ostringstream& svg, double x0, double y0, double w, double h, const std::string& title,
-               const std::string& xLabel, const std::string& yLabel, const std::vector<Series>& series,
-               double xMin, double xMax, double yMin, double yMax)
-{
-    const double left = x0 + 70;
-    const double top = y0 + 40;
-    const double width = w - 90;
-    const double height = h - 190;
-    auto px = [&](double x) { return left + width * (std::log10(x) - std::log10(xMin)) / (std::log10(xMax) - std::log10(xMin)); };
-    auto py = [&](double y) {
-        const double clamped = std::clamp(y, yMin, yMax);
-        return top + height * (1.0 - (std::log10(clamped) - std::log10(yMin)) / (std::log10(yMax) - std::log10(yMin)));
-    };
-    svg << "<text x='" << x0 + w / 2 << "' y='" << y0 + 22 << "' text-anchor='middle' font-size='15' font-weight='bold'>"
-        << title << "</text>\n";
-    svg << "<rect x='" << left << "' y='" << top << "' width='" << width << "' height='" << height
-        << "' fill='none' stroke='#444'/>\n";
-    for (int e = static_cast<int>(std::ceil(std::log10(xMin))); e <= static_cast<int>(std::floor(std::log10(xMax))); ++e) {
-        const double x = px(std::pow(10.0, e));
-        svg << "<line x1='" << x << "' y1='" << top << "' x2='" << x << "' y2='" << top + height
-            << "' stroke='#ddd'/>\n<text x='" << x << "' y='" << top + height + 16
-            << "' text-anchor='middle' font-size='11'>" << tickName(std::pow(10.0, e)) << "</text>\n";
-    }
-    for (int e = static_cast<int>(std::ceil(std::log10(yMin))); e <= static_cast<int>(std::floor(std::log10(yMax))); ++e) {
-        const double y = py(std::pow(10.0, e));
-        svg << "<line x1='" << left << "' y1='" << y << "' x2='" << left + width << "' y2='" << y
-            << "' stroke='#ddd'/>\n<text x='" << left - 6 << "' y='" << y + 4
-            << "' text-anchor='end' font-size='11'>1e" << e << "</text>\n";
-    }
-    svg << "<text x='" << left + width / 2 << "' y='" << top + height + 34 << "' text-anchor='middle' font-size='12'>"
-        << xLabel << "</text>\n";
-    svg << "<text transform='translate(" << x0 + 16 << "," << top + height / 2
-        << ") rotate(-90)' text-anchor='middle' font-size='12'>" << yLabel << "</text>\n";
-    for (std::size_t k = 0; k < series.size(); ++k) {
-        const Series& s = series[k];
-        svg << "<polyline fill='none' stroke='" << s.colour << "' stroke-width='2'"
-            << (s.dashed ? " stroke-dasharray='6,4'" : "") << " points='";
-        for (const auto& [x, y] : s.points) {
-            if (std::isfinite(y) && y > 0.0) {
-                svg << px(x) << "," << py(y) << " ";
-            }
-        }
-        svg << "'/>\n";
-        const double lx = left + static_cast<double>(k % 2) * width / 2;
-        const double ly = top + height + 52 + static_cast<double>(k / 2) * 16;
-        svg << "<line x1='" << lx << "' y1='" << ly - 4 << "' x2='" << lx + 24 << "' y2='" << ly - 4 << "' stroke='"
-            << s.colour << "' stroke-width='2'" << (s.dashed ? " stroke-dasharray='6,4'" : "") << "/>\n<text x='"
-            << lx + 30 << "' y='" << ly << "' font-size='11'>" << s.name << "</text>\n";
-    }
 }
 
 // ---- Vertex transforms ------------------------------------------------------------------------
@@ -433,10 +373,13 @@ std::vector<Table> run(const Options& options)
         svg << "<svg xmlns='http://www.w3.org/2000/svg' width='1200' height='600' font-family='sans-serif'>\n"
             << "<rect width='1200' height='600' fill='white'/>\n";
         vertexPlot.push_back({"1 pixel", "#999999", true, {{1.0, 1.0}, {1e7, 1.0}}});
-        plotPanel(svg, 0, 0, 600, 600, "Vertex transforms: window error", "eye distance (target on the surface)",
-                  "worst error, pixels at 1920x1080", vertexPlot, 1.0, 1e7, 1e-6, 1e4);
+        auto powerOfTen = [](double value) { return "1e" + std::to_string(static_cast<int>(std::lround(std::log10(value)))); };
+        plotPanel(svg, 0, 0, 600, 600, "Vertex transforms: window error",
+                  {"eye distance (target on the surface)", 1.0, 1e7, true, 1.0, tickName},
+                  {"worst error, pixels at 1920x1080", 1e-6, 1e4, true, 1.0, powerOfTen}, vertexPlot);
         plotPanel(svg, 600, 0, 600, 600, "Depth: smallest separation resolved",
-                  "distance (something 0.5 m from the eye)", "separation, metres", depthPlot, 1.0, 4e7, 1e-8, 1e8);
+                  {"distance (something 0.5 m from the eye)", 1.0, 4e7, true, 1.0, tickName},
+                  {"separation, metres", 1e-8, 1e8, true, 1.0, powerOfTen}, depthPlot);
         svg << "</svg>\n";
         const std::string path = std::string(ORBIS_SOURCE_DIR) + "/docs/precision.svg";
         std::ofstream(path) << svg.str();
