@@ -635,10 +635,15 @@ struct ClipmapTerrain::Impl {
             sinLongitude[static_cast<std::size_t>(x - x0)] = std::sin(static_cast<double>(x) * s);
             wrappedLongitude[static_cast<std::size_t>(x - x0)] = std::remainder(static_cast<double>(x) * s, kTwoPi);
         }
-        // The mesh tile and triangle the last post was in: the next post is mostly in it too.
-        const TerrainGrid* hintTile = nullptr;
-        std::uint32_t hint = ~0u;
+        // The mesh tile and triangle the last post was in, and those of each post a row before:
+        // a post is mostly in one of the two.
+        struct MeshHint {
+            const TerrainGrid* tile = nullptr;
+            std::uint32_t triangle = ~0u;
+        };
+        MeshHint left;
         std::vector<Geodetic2D> row(static_cast<std::size_t>(x1 - x0));
+        std::vector<MeshHint> below(row.size());
         for (std::int64_t y = y0; y < y1; ++y) {
             // The row's geodetic positions: the grid's own in the geodetic grid.
             const double latitude = static_cast<double>(y) * s;
@@ -666,11 +671,12 @@ struct ClipmapTerrain::Impl {
                             height = (*grid)->height(uv.x, uv.y);
                             fromTile = true;
                         } else if ((*grid)->mesh) {
-                            if (hintTile != grid->get()) {
-                                hintTile = grid->get();
-                                hint = ~0u;
-                            }
-                            height = (*grid)->mesh->height(uv.x, uv.y, hint);
+                            const TerrainGrid* tile = grid->get();
+                            MeshHint& before = below[static_cast<std::size_t>(x - x0)];
+                            std::array<std::uint32_t, 2> hints{left.tile == tile ? left.triangle : ~0u,
+                                                               before.tile == tile ? before.triangle : ~0u};
+                            height = tile->mesh->height(uv.x, uv.y, hints);
+                            left = before = {tile, hints[0]};
                             fromTile = true;
                         }
                     }

@@ -86,9 +86,9 @@ double TerrainSampler::height(double u, double v) const noexcept
     return heightOf(weightsAt(u, v));
 }
 
-double TerrainSampler::height(double u, double v, std::uint32_t& hint) const noexcept
+double TerrainSampler::height(double u, double v, std::array<std::uint32_t, 2>& hints) const noexcept
 {
-    return heightOf(_data->isMesh() ? meshWeights(u, v, &hint) : gridWeights(u, v));
+    return heightOf(_data->isMesh() ? meshWeights(u, v, &hints) : gridWeights(u, v));
 }
 
 std::optional<double> TerrainSampler::heightOnTriangles(double u, double v) const noexcept
@@ -144,13 +144,17 @@ TerrainSampler::Weights TerrainSampler::triangleWeights(std::uint32_t t, double 
     return weights;
 }
 
-TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v, std::uint32_t* hint) const noexcept
+TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v, std::array<std::uint32_t, 2>* hints) const noexcept
 {
     constexpr double kInside = 1e-9;
-    if (hint && *hint < _data->indices.size() / 3) {
-        const Weights weights = triangleWeights(*hint, u, v);
-        if (weights.count > 0 && weights.outside <= kInside) {
-            return weights;
+    for (std::size_t k = 0; hints && k < hints->size(); ++k) {
+        const std::uint32_t t = (*hints)[k];
+        if (t < _data->indices.size() / 3) {
+            const Weights weights = triangleWeights(t, u, v);
+            if (weights.count > 0 && weights.outside <= kInside) {
+                (*hints)[0] = t;
+                return weights;
+            }
         }
     }
     const int x = std::clamp(static_cast<int>(u * _buckets), 0, _buckets - 1);
@@ -165,8 +169,8 @@ TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v, std::uin
             continue;
         }
         if (weights.outside <= kInside) {
-            if (hint) {
-                *hint = t;
+            if (hints) {
+                (*hints)[0] = t;
             }
             return weights;
         }

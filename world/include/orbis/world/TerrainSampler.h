@@ -29,9 +29,10 @@ public:
     /// The height at u (0 west .. 1 east) and v (0 south .. 1 north) of the data tile; a point of
     /// a mesh in no triangle (a rounding at an edge) takes the plane of the nearest.
     double height(double u, double v) const noexcept;
-    /// The same, trying first the triangle `hint` names and leaving there the one found: points
-    /// asked for in order along a row mostly share a triangle (clipmap posts). Start with ~0u.
-    double height(double u, double v, std::uint32_t& hint) const noexcept;
+    /// The same, trying first the triangles `hints` name (~0u: none), in order, and leaving the
+    /// one found in hints[0]: a point asked for in order along a row mostly shares a triangle with
+    /// the last one, or with the one a row before (clipmap posts).
+    double height(double u, double v, std::array<std::uint32_t, 2>& hints) const noexcept;
     /// The same, but none for a mesh point farther than a rounding outside every triangle (a mesh
     /// that does not cover its tile).
     std::optional<double> heightOnTriangles(double u, double v) const noexcept;
@@ -67,7 +68,7 @@ private:
     double heightOf(const Weights& weights) const noexcept;
     Weights weightsAt(double u, double v) const noexcept;
     Weights gridWeights(double u, double v) const noexcept;
-    Weights meshWeights(double u, double v, std::uint32_t* hint = nullptr) const noexcept;
+    Weights meshWeights(double u, double v, std::array<std::uint32_t, 2>* hints = nullptr) const noexcept;
     /// Triangle t's weights at (u, v); count 0 for a degenerate triangle.
     Weights triangleWeights(std::uint32_t t, double u, double v) const noexcept;
     /// The lattice's u (west to east) and v (north to south) coordinates within the data tile.
