@@ -321,6 +321,24 @@ struct ClipmapTerrain::Impl {
     std::array<std::shared_ptr<renderer::ShaderProgram>, 6> programs;
     std::vector<std::byte> scratch;
 
+    /// The globe beyond the coarsest level, which reaches at most 48 degrees from the viewer
+    /// (the grid's pole keeps it there): a geodetic grid of 1 degree cells on the terrain's
+    /// coarsest tiles, coloured by an equirectangular texture of the imagery's coarse tiles, made
+    /// once; drawn where no level is.
+    struct Backdrop {
+        static constexpr int kColumns = 360, kRows = 180, kTextureWidth = 1024;
+        std::uint32_t terrainLevel = 0, imageryLevel = 0;
+        std::vector<TileKey> terrainKeys, imageryKeys;
+        bool tilesChosen = false, built = false;
+        renderer::VertexBuffer positions, texels;
+        renderer::IndexBuffer indices;
+        std::optional<renderer::VertexArray> vertexArray;
+        renderer::Texture2D colors;
+        std::optional<renderer::Sampler> sampler; ///< repeating across the antimeridian, not over the poles
+        std::array<std::shared_ptr<renderer::ShaderProgram>, 6> programs;
+    };
+    Backdrop backdrop;
+
     // For drawnTriangles: what the last frame drew.
     struct Drawn {
         int level;
@@ -520,6 +538,55 @@ struct ClipmapTerrain::Impl {
     }
 
     /// Offers the tiles a level wants that are not loaded.
+    /// Starts loading a terrain (kind 0) or imagery (kind 1) tile unless it is loaded, loading,
+    /// missing or failed; true if it started.
+    bool offerTile(int kind, const TileKey& key, double priority)
+    {
+        const std::uint64_t ticket = ticketFor(kind, key);
+        if (failedOrMissing.contains(ticket) || loader.isLoading(ticket)) {
+            return false;
+        }
+        if (kind == 0) {
+            if (terrainTiles.contains(key) || !terrain->hasTile(key)) {
+                return false;
+            }
+            std::shared_ptr<world::TerrainSource> source = terrain;
+            loader.request(ticket, priority, [source, key]() -> std::unique_ptr<world::TileContent> {
+                world::TerrainFetch fetched = source->load(key);
+                if (fetched.status == world::TerrainFetch::Status::Failed) {
+                    throw Error(fetched.message);
+                }
+                if (fetched.status == world::TerrainFetch::Status::Missing) {
+                    return nullptr;
+                }
+                auto sampler = std::make_shared<const world::TerrainSampler>(
+                    std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
+                auto grid = std::make_shared<TerrainGrid>();
+                grid->heights = sampler->latticeHeights(key, TerrainGrid::kSamplesLog2);
+                if (sampler->data().isMesh()) {
+                    grid->mesh = std::move(sampler);
+                }
+                return std::make_unique<TerrainContent>(std::move(grid));
+            });
+        } else {
+            if (imageryTiles.contains(key)) {
+                return false;
+            }
+            std::shared_ptr<world::TileSource> source = imagery;
+            loader.request(ticket, priority, [source, key]() -> std::unique_ptr<world::TileContent> {
+                world::TileFetch fetched = source->fetch(key);
+                if (fetched.status == world::TileFetch::Status::Failed) {
+                    throw Error(fetched.message);
+                }
+                if (fetched.status == world::TileFetch::Status::Missing) {
+                    return nullptr;
+                }
+                return std::make_unique<ImageryContent>(world::decodeImage(fetched.bytes, source->locate(key), 4));
+            });
+        }
+        return true;
+    }
+
     std::size_t requestTiles(int l)
     {
         const int n = options.posts;
@@ -527,49 +594,10 @@ struct ClipmapTerrain::Impl {
         std::set<std::uint64_t> offered;
         std::size_t requests = 0;
         auto offer = [&](int kind, const TileKey& key) {
-            const std::uint64_t ticket = ticketFor(kind, key);
-            if (!offered.insert(ticket).second || failedOrMissing.contains(ticket) || loader.isLoading(ticket)) {
-                return;
+            if (offered.insert(ticketFor(kind, key)).second &&
+                offerTile(kind, key, static_cast<double>(static_cast<int>(levels.size()) - l) + 0.5 * kind)) {
+                ++requests;
             }
-            if (kind == 0) {
-                if (terrainTiles.contains(key) || !terrain->hasTile(key)) {
-                    return;
-                }
-                std::shared_ptr<world::TerrainSource> source = terrain;
-                loader.request(ticket, static_cast<double>(static_cast<int>(levels.size()) - l), [source, key]() -> std::unique_ptr<world::TileContent> {
-                    world::TerrainFetch fetched = source->load(key);
-                    if (fetched.status == world::TerrainFetch::Status::Failed) {
-                        throw Error(fetched.message);
-                    }
-                    if (fetched.status == world::TerrainFetch::Status::Missing) {
-                        return nullptr;
-                    }
-                    auto sampler = std::make_shared<const world::TerrainSampler>(
-                        std::make_shared<const world::TerrainTileData>(std::move(fetched.tile)));
-                    auto grid = std::make_shared<TerrainGrid>();
-                    grid->heights = sampler->latticeHeights(key, TerrainGrid::kSamplesLog2);
-                    if (sampler->data().isMesh()) {
-                        grid->mesh = std::move(sampler);
-                    }
-                    return std::make_unique<TerrainContent>(std::move(grid));
-                });
-            } else {
-                if (imageryTiles.contains(key)) {
-                    return;
-                }
-                std::shared_ptr<world::TileSource> source = imagery;
-                loader.request(ticket, static_cast<double>(static_cast<int>(levels.size()) - l) + 0.5, [source, key]() -> std::unique_ptr<world::TileContent> {
-                    world::TileFetch fetched = source->fetch(key);
-                    if (fetched.status == world::TileFetch::Status::Failed) {
-                        throw Error(fetched.message);
-                    }
-                    if (fetched.status == world::TileFetch::Status::Missing) {
-                        return nullptr;
-                    }
-                    return std::make_unique<ImageryContent>(world::decodeImage(fetched.bytes, source->locate(key), 4));
-                });
-            }
-            ++requests;
         };
         for (int j = 0; j <= 16; ++j) {
             for (int i = 0; i <= 16; ++i) {
@@ -590,6 +618,163 @@ struct ClipmapTerrain::Impl {
     }
 
     /// A tile arrived: the levels that would read it are rewritten (drawn meanwhile as they are).
+    /// Offers the backdrop's tiles (every tile of one coarse level of each source) until it is
+    /// made; true once every one is loaded, missing or failed.
+    bool requestBackdropTiles()
+    {
+        if (!backdrop.tilesChosen) {
+            backdrop.tilesChosen = true;
+            // A few tiles at most: a source that starts finer leaves the backdrop flat, or plain.
+            auto allTiles = [](const TilingScheme& scheme, std::uint32_t level) {
+                std::vector<TileKey> keys;
+                if (static_cast<std::uint64_t>(scheme.tilesX(level)) * scheme.tilesY(level) > 64) {
+                    return keys;
+                }
+                for (std::uint32_t y = 0; y < scheme.tilesY(level); ++y) {
+                    for (std::uint32_t x = 0; x < scheme.tilesX(level); ++x) {
+                        keys.push_back({level, x, y});
+                    }
+                }
+                return keys;
+            };
+            if (terrain) {
+                backdrop.terrainLevel = terrain->info().minimumLevel;
+                backdrop.terrainKeys = allTiles(terrain->info().scheme, backdrop.terrainLevel);
+            }
+            if (imagery) {
+                // About two of the texture's texels a pixel: 2,048 x 1,024 pixels in the geographic scheme.
+                const world::TileSourceInfo& info = imagery->info();
+                backdrop.imageryLevel = std::clamp<std::uint32_t>(2, info.minimumLevel, info.maximumLevel);
+                backdrop.imageryKeys = allTiles(info.scheme, backdrop.imageryLevel);
+            }
+        }
+        bool ready = true;
+        const double first = static_cast<double>(levels.size()) + 1.0; // before every level's
+        for (int kind = 0; kind < 2; ++kind) {
+            for (const TileKey& key : kind == 0 ? backdrop.terrainKeys : backdrop.imageryKeys) {
+                const bool loaded = kind == 0 ? terrainTiles.contains(key) || !terrain->hasTile(key) : imageryTiles.contains(key);
+                if (!loaded && !failedOrMissing.contains(ticketFor(kind, key))) {
+                    offerTile(kind, key, first);
+                    ready = false;
+                }
+            }
+        }
+        return ready;
+    }
+
+    /// The backdrop's grid and texture from the tiles requestBackdropTiles waited for.
+    void buildBackdrop(FrameState& frameState)
+    {
+        TileFinder<std::shared_ptr<const TerrainGrid>> terrainFinder(
+            &terrainTiles, terrain ? terrain->info().scheme : TilingScheme::geographic(), backdrop.terrainLevel);
+        TileFinder<std::shared_ptr<const Image>> imageryFinder(
+            &imageryTiles, imagery ? imagery->info().scheme : TilingScheme::geographic(), backdrop.imageryLevel);
+        constexpr int columns = Backdrop::kColumns, rows = Backdrop::kRows;
+        std::vector<float> positions, texels;
+        for (int j = 0; j <= rows; ++j) {
+            for (int i = 0; i <= columns; ++i) {
+                const Geodetic2D g{-kPi + kTwoPi * i / columns, -kHalfPi + kPi * j / rows};
+                double height = 0.0;
+                glm::dvec2 uv;
+                if (const auto* grid = terrain ? terrainFinder.find(g, backdrop.terrainLevel, uv) : nullptr) {
+                    height = options.exaggeration * (*grid)->height(uv.x, uv.y);
+                }
+                const glm::vec3 p(surfacePoint(Ellipsoid::geodeticSurfaceNormal(g), height));
+                positions.insert(positions.end(), {p.x, p.y, p.z});
+                texels.insert(texels.end(), {static_cast<float>(i) / columns, static_cast<float>(j) / rows});
+            }
+        }
+        // Counter-clockwise from outside: east, then north.
+        static_assert((columns + 1) * (rows + 1) <= 65536, "16-bit indices");
+        std::vector<std::uint16_t> indices;
+        for (int j = 0; j < rows; ++j) {
+            for (int i = 0; i < columns; ++i) {
+                const auto a = static_cast<std::uint16_t>(j * (columns + 1) + i), b = static_cast<std::uint16_t>(a + 1);
+                const auto d = static_cast<std::uint16_t>(a + columns + 1), c = static_cast<std::uint16_t>(d + 1);
+                indices.insert(indices.end(), {a, b, c, a, c, d});
+            }
+        }
+        constexpr int width = Backdrop::kTextureWidth, height = width / 2;
+        const std::uint32_t baseColor = pack(options.baseColor);
+        std::vector<std::uint32_t> colors(static_cast<std::size_t>(width) * height, baseColor);
+        for (int y = 0; y < height && imagery; ++y) {
+            for (int x = 0; x < width; ++x) {
+                const Geodetic2D g{-kPi + kTwoPi * (x + 0.5) / width, -kHalfPi + kPi * (y + 0.5) / height};
+                glm::dvec2 uv;
+                if (const auto* image = imageryFinder.find(g, backdrop.imageryLevel, uv)) {
+                    colors[static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x)] = sampleImage(**image, uv);
+                }
+            }
+        }
+        backdrop.positions = frameState.device.createVertexBuffer(std::as_bytes(std::span(positions)));
+        backdrop.texels = frameState.device.createVertexBuffer(std::as_bytes(std::span(texels)));
+        backdrop.indices = frameState.device.createIndexBuffer(std::span(indices));
+        backdrop.vertexArray = frameState.context.createVertexArray();
+        backdrop.vertexArray->setAttribute("position", backdrop.positions, {renderer::ComponentType::Float, 3});
+        backdrop.vertexArray->setAttribute("textureCoordinate", backdrop.texels, {renderer::ComponentType::Float, 2});
+        backdrop.vertexArray->setIndexBuffer(&backdrop.indices);
+        backdrop.colors = frameState.device.createTexture2D({width, height, renderer::TextureFormat::RGBA8});
+        backdrop.colors.copyFromSystemMemory(std::as_bytes(std::span(colors)), {0, 0, width, height});
+        SamplerDescription wrapEastWest;
+        wrapEastWest.wrapS = TextureWrap::Repeat;
+        backdrop.sampler = frameState.device.createSampler(wrapEastWest);
+        backdrop.built = true;
+    }
+
+    std::size_t backdropBytes() const noexcept
+    {
+        constexpr std::size_t vertices = (Backdrop::kColumns + 1) * (Backdrop::kRows + 1);
+        return backdrop.built ? vertices * (3 + 2) * sizeof(float) + backdrop.indices.count() * sizeof(std::uint16_t) +
+                                    static_cast<std::size_t>(Backdrop::kTextureWidth) * Backdrop::kTextureWidth / 2 * 4
+                              : 0;
+    }
+
+    /// Whether the ground the eye can see (to its horizon, and mountains beyond it up to the
+    /// highest height) reaches outside the coarsest level's extent (grid angles, centre and half
+    /// width): tested at 32 points of the visible cap's rim, whose inside lies within theirs.
+    bool backdropVisible(const glm::dvec3& eye, const glm::dvec2& center, double halfWidth, double exaggeration) const
+    {
+        const double radius = ellipsoid.minimumRadius(); // the smaller sphere sees the farther horizon
+        const double eyeHeight = std::max(glm::length(eye) - radius, 0.0);
+        const double highest = std::max(exaggeration * levels.back().maximumHeight, 0.0);
+        const double reach = std::acos(radius / (radius + eyeHeight)) + std::acos(radius / (radius + highest));
+        if (reach >= kHalfPi) {
+            return true;
+        }
+        const glm::dvec3 up = glm::normalize(eye);
+        const glm::dvec3 side = glm::normalize(glm::cross(std::abs(up.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0), up));
+        const glm::dvec3 other = glm::cross(up, side);
+        for (int k = 0; k < 32; ++k) {
+            const double a = kTwoPi * k / 32;
+            const glm::dvec3 rim = toFrame(frame, std::cos(reach) * up + std::sin(reach) * (std::cos(a) * side + std::sin(a) * other));
+            const double longitude = std::remainder(std::atan2(rim.y, rim.x) - center.x, kTwoPi);
+            const double latitude = std::asin(std::clamp(rim.z, -1.0, 1.0)) - center.y;
+            if (std::abs(longitude) >= halfWidth || std::abs(latitude) >= halfWidth) {
+                return true;
+            }
+        }
+        return false;
+    }
+
+    renderer::ShaderProgram& backdropProgram(FrameState& frameState)
+    {
+        std::shared_ptr<renderer::ShaderProgram>& program = backdrop.programs[static_cast<std::size_t>(frameState.depthStrategy)];
+        if (!program) {
+            renderer::ShaderProgramDescription description;
+            description.name = "clipmap backdrop";
+            description.vertex = renderer::ShaderSource::embedded("scene/clipmap/backdrop.vert.glsl");
+            description.fragment = renderer::ShaderSource::embedded("scene/clipmap/backdrop.frag.glsl");
+            if (options.lighting) {
+                description.defines.push_back({"LIGHTING"});
+            }
+            for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
+                description.defines.push_back(std::move(define));
+            }
+            program = frameState.device.shaderCache().get(description);
+        }
+        return *program;
+    }
+
     void arrived(int kind, const TileKey& key, const GeodeticExtent& extent)
     {
         for (std::size_t l = 0; l < levels.size(); ++l) {
@@ -1023,6 +1208,9 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
             }
         }
     }
+    if (!impl.backdrop.built && impl.requestBackdropTiles()) {
+        impl.buildBackdrop(frameState);
+    }
     for (int l = L - 1; l >= finestNeeded; --l) {
         statistics.tilesRequested += (impl.terrain || impl.imagery) ? impl.requestTiles(l) : 0;
     }
@@ -1092,11 +1280,12 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
     statistics.finestLevelDrawn = finestDrawn;
     // Heights written this frame may move the level the eye needs (it is measured from the terrain).
     statistics.converged = statistics.postsPending == 0 && statistics.tilesPending == 0 &&
-                           statistics.tilesRequested == 0 && finestLevelNeeded() == finestNeeded;
+                           statistics.tilesRequested == 0 && finestLevelNeeded() == finestNeeded && impl.backdrop.built;
 
     renderer::ShaderProgram& program = impl.program(frameState);
     statistics.gpuBytes = static_cast<std::size_t>(L) * static_cast<std::size_t>(impl.size) * static_cast<std::size_t>(impl.size) * (4 + 8 + 4) +
-                          impl.layout.indices().size() * 4 + static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 8;
+                          impl.layout.indices().size() * 4 + static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 8 +
+                          impl.backdropBytes();
 
     // The commands: per level one arc of its pieces (two ranges where the arc wraps), the finest
     // drawn level's interior besides.
@@ -1245,6 +1434,39 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
             ++statistics.drawCalls;
             statistics.trianglesSubmitted += indexCount / 3;
         }
+    }
+    const int coarsest = L - 1;
+    const bool anyDrawn = finestDrawn < L;
+    // The coarsest level's extent in the grid, less its outer two posts (where both draw).
+    const double coarsestSpacing = impl.levelSpacing(coarsest);
+    const glm::dvec2 coarsestCenter(static_cast<double>(impl.originX(coarsest) + c) * coarsestSpacing,
+                                    static_cast<double>(impl.originY(coarsest) + c) * coarsestSpacing);
+    const double coarsestHalfWidth = anyDrawn ? (c - 2) * coarsestSpacing : 0.0;
+    if (impl.backdrop.built && impl.backdropVisible(eye, coarsestCenter, coarsestHalfWidth, _options.exaggeration)) {
+        // The rest of the globe, where no level is (all of it while none is drawn).
+        renderer::ShaderProgram& backdropProgram = impl.backdropProgram(frameState);
+        SceneCommand command;
+        command.draw.debugName = "clipmap terrain backdrop";
+        command.tags = Effect::Globe | Effect::Terrain | Effect::ClipmapTerrain;
+        command.ground = true;
+        if (_options.lighting) {
+            command.tags = command.tags | Effect::Lighting;
+        }
+        command.draw.vertexArray = &*impl.backdrop.vertexArray;
+        command.draw.shaderProgram = &backdropProgram;
+        const BoundingSphere globe = *boundingSphere();
+        command.boundingSphere = globe;
+        const double distance = glm::length(eye);
+        command.nearestDistance = std::max(0.0, distance - globe.radius);
+        command.farthestDistance = distance + globe.radius;
+        command.draw.uniforms.set("u_toGrid", glm::transpose(frameRotation));
+        command.draw.uniforms.set("u_coarsestCenter", glm::vec2(coarsestCenter));
+        command.draw.uniforms.set("u_coarsestHalfWidth", static_cast<float>(coarsestHalfWidth));
+        command.draw.textures.push_back({0, &impl.backdrop.colors, &*impl.backdrop.sampler});
+        commands.push_back(std::move(command));
+        ++statistics.drawCalls;
+        statistics.trianglesSubmitted += impl.backdrop.indices.count() / 3;
+        statistics.backdropDrawn = true;
     }
     _statistics = statistics;
 }

@@ -162,7 +162,7 @@ std::string FrameStatistics::toText() const
         const ClipmapStatistics& c = *clipmap;
         out << "clipmap: " << c.levels << " levels, finest drawn " << c.finestLevelDrawn << ", grid "
             << c.parameterization << "; " << c.drawCalls << " draws, " << c.trianglesSubmitted << " triangles, "
-            << c.piecesCulled << " pieces culled\n"
+            << c.piecesCulled << " pieces culled" << (c.backdropDrawn ? ", the backdrop beyond" : "") << "\n"
             << "  update: " << c.postsUpdated << " posts in " << number(c.updateMilliseconds) << " ms, "
             << c.postsPending << " pending over " << c.levelsPending << " levels; uploaded "
             << number(static_cast<double>(c.bytesUploaded) / 1048576.0) << " MiB; loads: " << c.tilesRequested
@@ -248,6 +248,7 @@ std::string FrameStatistics::toJson() const
             << ", \"piecesCulled\": " << c.piecesCulled << ", \"trianglesSubmitted\": " << c.trianglesSubmitted
             << ", \"tilesRequested\": " << c.tilesRequested << ", \"tilesLoaded\": " << c.tilesLoaded
             << ", \"tilesPending\": " << c.tilesPending << ", \"gpuBytes\": " << c.gpuBytes
+            << ", \"backdropDrawn\": " << (c.backdropDrawn ? "true" : "false")
             << ", \"updateMilliseconds\": " << number(c.updateMilliseconds)
             << ", \"converged\": " << (c.converged ? "true" : "false") << "}";
     }

@@ -223,6 +223,51 @@ TEST_CASE("Clipmap terrain answers the ground's height and picks: the drawn post
     }
 }
 
+TEST_CASE("From orbit the clipmap's globe is whole: a backdrop beyond the coarsest level, none when the levels cover the view",
+          "[scene][clipmap][gl]")
+{
+    constexpr int kWidth = 160, kHeight = 90;
+    // The coarsest level reaches 48 degrees from the viewer; from 8,000 km the limb is 64 degrees away.
+    for (const Geodetic2D& below : {Geodetic2D::fromDegrees(8.0, 43.0), Geodetic2D::fromDegrees(100.0, 0.0)}) {
+        ClipmapTerrainOptions options = etopo5Options();
+        options.exaggeration = 1.0;
+        Scene scene(kEarth);
+        scene.options().background = {1.0f, 0.0f, 1.0f, 1.0f};
+        auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
+        scene.add(terrain);
+        placeCamera(scene, Geodetic3D(below.longitude, below.latitude, 8e6), 0.0, -90.0);
+        const RenderedFrame frame = renderConverged(scene, *terrain, kWidth, kHeight);
+        REQUIRE(terrain->converged());
+        // Every pixel whose ray meets the globe 30 km inside its surface (clear of the limb, where
+        // heights decide) shows ground, not the background.
+        const Ellipsoid inner(kEarth.radii() - glm::dvec3(30000.0));
+        std::size_t onGlobe = 0, holes = 0;
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                if (!scene.camera().pickEllipsoid({x + 0.5, y + 0.5}, kWidth, kHeight, inner)) {
+                    continue;
+                }
+                ++onGlobe;
+                const std::uint8_t* p = &frame.image.pixels[(static_cast<std::size_t>(y) * kWidth + static_cast<std::size_t>(x)) * 4];
+                holes += (p[0] == 255 && p[1] == 0 && p[2] == 255) ? 1 : 0;
+            }
+        }
+        INFO("below " << toDegrees(below.longitude) << ", " << toDegrees(below.latitude) << ": " << holes << " of " << onGlobe);
+        CHECK(onGlobe > 3000);
+        CHECK(holes == 0);
+        CHECK(frame.statistics.clipmap->backdropDrawn);
+        CHECK(frame.statistics.clipmap->drawCalls <= static_cast<std::size_t>(2 * frame.statistics.clipmap->levels + 2));
+    }
+    // From 150 km the levels cover all the eye sees: no backdrop drawn.
+    Scene low(kEarth);
+    auto terrain = std::make_shared<ClipmapTerrain>(kEarth, etopo5Options());
+    low.add(terrain);
+    placeCamera(low, Geodetic3D::fromDegrees(8.0, 43.0, 150000.0), 0.0, -30.0);
+    const RenderedFrame frame = renderConverged(low, *terrain, 64, 36);
+    REQUIRE(terrain->converged());
+    CHECK_FALSE(frame.statistics.clipmap->backdropDrawn);
+}
+
 TEST_CASE("Clipmap vertices do not jitter at 1 m: the GPU's window positions within 0.1 px of double precision's",
           "[scene][clipmap][gl]")
 {

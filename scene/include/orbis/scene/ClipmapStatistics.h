@@ -22,7 +22,10 @@ struct ClipmapStatistics {
     std::size_t tilesRequested = 0;  ///< terrain and imagery loads started this frame
     std::size_t tilesLoaded = 0;     ///< arrived this frame
     std::size_t tilesPending = 0;    ///< in flight
-    std::size_t gpuBytes = 0;        ///< level textures and the shared buffers: fixed
+    std::size_t gpuBytes = 0;        ///< level textures, the shared buffers and the backdrop: fixed
+    /// The backdrop was drawn: the globe beyond the coarsest level (which reaches 48 degrees from
+    /// the viewer), when the eye sees past it.
+    bool backdropDrawn = false;
     double updateMilliseconds = 0.0; ///< CPU time (this thread's) of this frame's level writes and uploads
     /// Nothing pending: every level written from the finest data loaded, no load in flight.
     bool converged = false;
