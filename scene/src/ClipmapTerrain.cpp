@@ -1,5 +1,7 @@
 #include "orbis/scene/ClipmapTerrain.h"
 
+#include "DepthPrograms.h"
+
 #include "orbis/scene/Effect.h"
 
 #include <orbis/core/ClipmapLayout.h>
@@ -318,7 +320,7 @@ struct ClipmapTerrain::Impl {
     std::optional<renderer::VertexArray> vertexArray;
     std::optional<renderer::Sampler> nearest;
     std::optional<renderer::Sampler> repeatLinear;
-    std::array<std::shared_ptr<renderer::ShaderProgram>, 6> programs;
+    detail::DepthPrograms programs{[this](DepthStrategy, Pass) { return programDescription(); }};
     std::vector<std::byte> scratch;
 
     /// The globe beyond the coarsest level, which reaches at most 48 degrees from the viewer
@@ -335,9 +337,18 @@ struct ClipmapTerrain::Impl {
         std::optional<renderer::VertexArray> vertexArray;
         renderer::Texture2D colors;
         std::optional<renderer::Sampler> sampler; ///< repeating across the antimeridian, not over the poles
-        std::array<std::shared_ptr<renderer::ShaderProgram>, 6> programs;
     };
     Backdrop backdrop;
+    detail::DepthPrograms backdropPrograms{[this](DepthStrategy, Pass) {
+        renderer::ShaderProgramDescription description;
+        description.name = "clipmap backdrop";
+        description.vertex = renderer::ShaderSource::embedded("scene/clipmap/backdrop.vert.glsl");
+        description.fragment = renderer::ShaderSource::embedded("scene/clipmap/backdrop.frag.glsl");
+        if (options.lighting) {
+            description.defines.push_back({"LIGHTING"});
+        }
+        return description;
+    }};
 
     // For drawnTriangles: what the last frame drew.
     struct Drawn {
@@ -756,25 +767,6 @@ struct ClipmapTerrain::Impl {
         return false;
     }
 
-    renderer::ShaderProgram& backdropProgram(FrameState& frameState)
-    {
-        std::shared_ptr<renderer::ShaderProgram>& program = backdrop.programs[static_cast<std::size_t>(frameState.depthStrategy)];
-        if (!program) {
-            renderer::ShaderProgramDescription description;
-            description.name = "clipmap backdrop";
-            description.vertex = renderer::ShaderSource::embedded("scene/clipmap/backdrop.vert.glsl");
-            description.fragment = renderer::ShaderSource::embedded("scene/clipmap/backdrop.frag.glsl");
-            if (options.lighting) {
-                description.defines.push_back({"LIGHTING"});
-            }
-            for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
-                description.defines.push_back(std::move(define));
-            }
-            program = frameState.device.shaderCache().get(description);
-        }
-        return *program;
-    }
-
     void arrived(int kind, const TileKey& key, const GeodeticExtent& extent)
     {
         for (std::size_t l = 0; l < levels.size(); ++l) {
@@ -988,16 +980,8 @@ struct ClipmapTerrain::Impl {
         created = true;
     }
 
-    renderer::ShaderProgram& program(FrameState& frameState)
-    {
-        std::shared_ptr<renderer::ShaderProgram>& program = programs[static_cast<std::size_t>(frameState.depthStrategy)];
-        if (!program) {
-            program = frameState.device.shaderCache().get(programDescription(frameState.depthStrategy));
-        }
-        return *program;
-    }
-
-    renderer::ShaderProgramDescription programDescription(DepthStrategy depthStrategy) const
+    /// The levels' program, before the depth strategy's defines (DepthPrograms adds them).
+    renderer::ShaderProgramDescription programDescription() const
     {
         renderer::ShaderProgramDescription description;
         description.name = "clipmap terrain";
@@ -1015,9 +999,6 @@ struct ClipmapTerrain::Impl {
         }
         if (options.colorByLevel) {
             description.defines.push_back({"COLOR_BY_LEVEL"});
-        }
-        for (renderer::ShaderDefine& define : depthStrategyDefines(depthStrategy, Pass::Opaque)) {
-            description.defines.push_back(std::move(define));
         }
         return description;
     }
@@ -1282,7 +1263,7 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
     statistics.converged = statistics.postsPending == 0 && statistics.tilesPending == 0 &&
                            statistics.tilesRequested == 0 && finestLevelNeeded() == finestNeeded && impl.backdrop.built;
 
-    renderer::ShaderProgram& program = impl.program(frameState);
+    renderer::ShaderProgram& program = impl.programs.get(frameState);
     statistics.gpuBytes = static_cast<std::size_t>(L) * static_cast<std::size_t>(impl.size) * static_cast<std::size_t>(impl.size) * (4 + 8 + 4) +
                           impl.layout.indices().size() * 4 + static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 8 +
                           impl.backdropBytes();
@@ -1444,7 +1425,7 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
     const double coarsestHalfWidth = anyDrawn ? (c - 2) * coarsestSpacing : 0.0;
     if (impl.backdrop.built && impl.backdropVisible(eye, coarsestCenter, coarsestHalfWidth, _options.exaggeration)) {
         // The rest of the globe, where no level is (all of it while none is drawn).
-        renderer::ShaderProgram& backdropProgram = impl.backdropProgram(frameState);
+        renderer::ShaderProgram& backdropProgram = impl.backdropPrograms.get(frameState);
         SceneCommand command;
         command.draw.debugName = "clipmap terrain backdrop";
         command.tags = Effect::Globe | Effect::Terrain | Effect::ClipmapTerrain;
@@ -1544,7 +1525,10 @@ std::vector<glm::vec4> ClipmapTerrain::captureDrawnClipPositions(renderer::Conte
                                                                  const renderer::SceneState& sceneState) const
 {
     Impl& impl = *_impl;
-    renderer::ShaderProgramDescription description = impl.programDescription(impl.drawnDepthStrategy);
+    renderer::ShaderProgramDescription description = impl.programDescription();
+    for (renderer::ShaderDefine& define : depthStrategyDefines(impl.drawnDepthStrategy, Pass::Opaque)) {
+        description.defines.push_back(std::move(define));
+    }
     description.transformFeedbackVaryings = {"gl_Position"};
     const std::shared_ptr<renderer::ShaderProgram> capturing = context.device().shaderCache().get(description);
     // Rasterisation is off while capturing; the draw needs a target all the same.
