@@ -418,7 +418,7 @@ TEST_CASE("A scene without clipmap terrain compiles none of its programs", "[sce
     CHECK(static_cast<int>(centre[1]) == Approx(64).margin(2));
 }
 
-TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole and the antimeridian", "[scene][clipmap][gl][golden]")
+TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole, the antimeridian and the globe from orbit", "[scene][clipmap][gl][golden]")
 {
     struct View {
         const char* name;
@@ -431,6 +431,8 @@ TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole and th
         {"clipmap-alps-levels", Geodetic3D::fromDegrees(8.0, 44.0, 40000.0), 0.0, -25.0, true},
         {"clipmap-north-pole", Geodetic3D::fromDegrees(-40.0, 86.0, 150000.0), 180.0, -35.0, false},
         {"clipmap-antimeridian", Geodetic3D::fromDegrees(178.0, -17.5, 60000.0), 90.0, -30.0, false},
+        // The backdrop beyond the coarsest level, from Japan and Arabia to the limb.
+        {"clipmap-orbit", Geodetic3D::fromDegrees(100.0, 0.0, 8e6), 0.0, -90.0, false},
     };
     for (const View& view : views) {
         ClipmapTerrainOptions options = etopo5Options();
@@ -442,7 +444,8 @@ TEST_CASE("Clipmap terrain golden images: the Alps shaded, the North Pole and th
         // The Sun 50 degrees up behind the viewer's left shoulder: slopes facing it light up.
         const glm::dvec3 up = kEarth.geodeticSurfaceNormal(scene.camera().eye());
         const glm::dvec3 back = glm::normalize(glm::cross(scene.camera().right(), up));
-        scene.setSunDirection(glm::normalize(1.2 * up + back - 0.5 * scene.camera().right()));
+        scene.setSunDirection(view.position.height > 1e6 ? up // from orbit: overhead, the whole disc lit
+                                                         : glm::normalize(1.2 * up + back - 0.5 * scene.camera().right()));
         const RenderedFrame frame = renderConverged(scene, *terrain, 256, 144);
         INFO(view.name << "\n" << frame.statistics.toText());
         REQUIRE(terrain->converged());
