@@ -344,6 +344,13 @@ struct ClipmapTerrain::Impl {
         description.name = "clipmap backdrop";
         description.vertex = renderer::ShaderSource::embedded("scene/clipmap/backdrop.vert.glsl");
         description.fragment = renderer::ShaderSource::embedded("scene/clipmap/backdrop.frag.glsl");
+        if (options.shading.any()) {
+            description.fragment.text.insert(0, terrainShadingSource());
+            addTerrainShadingDefines(options.shading, description.defines);
+        }
+        if (imagery) {
+            description.defines.push_back({"IMAGERY"});
+        }
         if (options.lighting) {
             description.defines.push_back({"LIGHTING"});
         }
@@ -688,11 +695,11 @@ struct ClipmapTerrain::Impl {
                 double height = 0.0;
                 glm::dvec2 uv;
                 if (const auto* grid = terrain ? terrainFinder.find(g, backdrop.terrainLevel, uv) : nullptr) {
-                    height = options.exaggeration * (*grid)->height(uv.x, uv.y);
+                    height = (*grid)->height(uv.x, uv.y);
                 }
-                const glm::vec3 p(surfacePoint(Ellipsoid::geodeticSurfaceNormal(g), height));
+                const glm::vec3 p(surfacePoint(Ellipsoid::geodeticSurfaceNormal(g), options.exaggeration * height));
                 positions.insert(positions.end(), {p.x, p.y, p.z});
-                texels.insert(texels.end(), {static_cast<float>(i) / columns, static_cast<float>(j) / rows});
+                texels.insert(texels.end(), {static_cast<float>(i) / columns, static_cast<float>(j) / rows, static_cast<float>(height)});
             }
         }
         // Counter-clockwise from outside: east, then north.
@@ -722,7 +729,7 @@ struct ClipmapTerrain::Impl {
         backdrop.indices = frameState.device.createIndexBuffer(std::span(indices));
         backdrop.vertexArray = frameState.context.createVertexArray();
         backdrop.vertexArray->setAttribute("position", backdrop.positions, {renderer::ComponentType::Float, 3});
-        backdrop.vertexArray->setAttribute("textureCoordinate", backdrop.texels, {renderer::ComponentType::Float, 2});
+        backdrop.vertexArray->setAttribute("textureCoordinate", backdrop.texels, {renderer::ComponentType::Float, 3});
         backdrop.vertexArray->setIndexBuffer(&backdrop.indices);
         backdrop.colors = frameState.device.createTexture2D({width, height, renderer::TextureFormat::RGBA8});
         backdrop.colors.copyFromSystemMemory(std::as_bytes(std::span(colors)), {0, 0, width, height});
@@ -735,7 +742,7 @@ struct ClipmapTerrain::Impl {
     std::size_t backdropBytes() const noexcept
     {
         constexpr std::size_t vertices = (Backdrop::kColumns + 1) * (Backdrop::kRows + 1);
-        return backdrop.built ? vertices * (3 + 2) * sizeof(float) + backdrop.indices.count() * sizeof(std::uint16_t) +
+        return backdrop.built ? vertices * (3 + 3) * sizeof(float) + backdrop.indices.count() * sizeof(std::uint16_t) +
                                     static_cast<std::size_t>(Backdrop::kTextureWidth) * Backdrop::kTextureWidth / 2 * 4
                               : 0;
     }
@@ -1440,6 +1447,10 @@ void ClipmapTerrain::update(FrameState& frameState, CommandList& commands)
         const double distance = glm::length(eye);
         command.nearestDistance = std::max(0.0, distance - globe.radius);
         command.farthestDistance = distance + globe.radius;
+        if (_options.shading.any()) {
+            command.tags = command.tags | Effect::TerrainShading;
+            setTerrainShadingUniforms(_options.shading, command.draw.uniforms);
+        }
         command.draw.uniforms.set("u_toGrid", glm::transpose(frameRotation));
         command.draw.uniforms.set("u_coarsestCenter", glm::vec2(coarsestCenter));
         command.draw.uniforms.set("u_coarsestHalfWidth", static_cast<float>(coarsestHalfWidth));

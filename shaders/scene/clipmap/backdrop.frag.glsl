@@ -1,8 +1,11 @@
 // The backdrop's colour where no clipmap level is: its fragments inside the coarsest level, less
 // that level's outer band (where both draw, so that no sliver opens between them), are discarded.
+// The terrain's shading options as on the levels (terrain_shading.glsl put before this text), on
+// level ground: the backdrop has no slopes.
 
 in vec3 v_position;
 in vec2 v_texel;
+in float v_height;
 out vec4 fragmentColor;
 
 uniform sampler2D og_texture0; // the imagery, equirectangular (RGBA8)
@@ -26,6 +29,13 @@ void main()
         discard;
     }
     vec3 color = texture(og_texture0, v_texel).rgb;
+#ifdef TERRAIN_SHADING
+    vec3 up = normalize(v_position);
+#ifndef IMAGERY
+    color = terrainBaseColor(color, v_height, up, up);
+#endif
+    color = terrainOverlays(color, v_height, up, up);
+#endif
 #ifdef LIGHTING
     color *= 0.2 + 0.8 * max(dot(normalize(v_position), og_sunDirection), 0.0);
 #endif
