@@ -126,7 +126,7 @@ struct TerrainHeightQuery::Impl {
         if (fetched.status == TerrainFetch::Status::Ok) {
             auto tile = std::make_shared<const TerrainTileData>(std::move(fetched.tile));
             entry.sampler.emplace(tile);
-            entry.bytes = tile->memoryBytes() + tile->indices.size() * sizeof(std::uint32_t);
+            entry.bytes = entry.sampler->memoryBytes(); // the tile and the sampler's index over it
             entry.tile = std::move(tile);
         }
         entry.bytes += 128;
