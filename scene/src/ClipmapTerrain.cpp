@@ -113,18 +113,33 @@ struct TerrainGrid {
     /// creases. Null for grid tiles: below their spacing the four-point filter is as good.
     std::shared_ptr<const world::TerrainSampler> mesh;
 
-    /// u 0 west .. 1 east, v 0 south .. 1 north, clamped.
-    double height(double u, double v) const noexcept
+    /// Bilinear heights along the lattice at one v (a row of posts of one latitude crosses a tile
+    /// at one v): the two lattice rows and their weight found once.
+    struct Row {
+        const float* north;
+        const float* south;
+        double weight; ///< of the southern row
+
+        /// u 0 west .. 1 east, clamped.
+        double at(double u) const noexcept
+        {
+            const double column = std::clamp(u, 0.0, 1.0) * (kSize - 1);
+            const int c = std::min(static_cast<int>(column), kSize - 2);
+            const double fc = column - c;
+            return (1.0 - weight) * ((1.0 - fc) * static_cast<double>(north[c]) + fc * static_cast<double>(north[c + 1])) +
+                   weight * ((1.0 - fc) * static_cast<double>(south[c]) + fc * static_cast<double>(south[c + 1]));
+        }
+    };
+    /// v 0 south .. 1 north, clamped.
+    Row row(double v) const noexcept
     {
-        const double last = kSize - 1;
-        const double column = std::clamp(u, 0.0, 1.0) * last, row = (1.0 - std::clamp(v, 0.0, 1.0)) * last;
-        const int c = std::min(static_cast<int>(column), kSize - 2), r = std::min(static_cast<int>(row), kSize - 2);
-        const double fc = column - c, fr = row - r;
-        const float* top = &heights[static_cast<std::size_t>(r) * kSize + static_cast<std::size_t>(c)];
-        const float* bottom = top + kSize;
-        return (1.0 - fr) * ((1.0 - fc) * static_cast<double>(top[0]) + fc * static_cast<double>(top[1])) +
-               fr * ((1.0 - fc) * static_cast<double>(bottom[0]) + fc * static_cast<double>(bottom[1]));
+        const double row = (1.0 - std::clamp(v, 0.0, 1.0)) * (kSize - 1);
+        const int r = std::min(static_cast<int>(row), kSize - 2);
+        const float* north = &heights[static_cast<std::size_t>(r) * kSize];
+        return {north, north + kSize, row - r};
     }
+    /// u 0 west .. 1 east, v 0 south .. 1 north, clamped.
+    double height(double u, double v) const noexcept { return row(v).at(u); }
 };
 
 class TerrainContent final : public world::TileContent {
@@ -221,21 +236,31 @@ struct TileFinder {
     /// to north); null where none is loaded.
     const Value* find(const Geodetic2D& g, std::uint32_t level, glm::dvec2& uv)
     {
-        if (!(level == _askedLevel && g.longitude >= _holds.west && g.longitude <= _holds.east &&
-              g.latitude >= _holds.south && g.latitude <= _holds.north)) {
+        if (!(level == _askedLevel && holds(g))) {
             search(g, level);
         }
-        if (!last) {
-            return nullptr;
-        }
-        if (scheme.projection() == TilingProjection::Geographic) {
-            // From the extent found, without the scheme's general arithmetic: g is inside it.
-            uv = {(g.longitude - lastExtent.west) / (lastExtent.east - lastExtent.west),
-                  (g.latitude - lastExtent.south) / (lastExtent.north - lastExtent.south)};
-        } else {
-            uv = scheme.positionInTile(lastKey, g);
+        if (last) {
+            uv = positionInLast(g);
         }
         return last;
+    }
+
+    /// Whether the last answer holds at g too.
+    bool holds(const Geodetic2D& g) const noexcept
+    {
+        return g.longitude >= _holds.west && g.longitude <= _holds.east && g.latitude >= _holds.south &&
+               g.latitude <= _holds.north;
+    }
+
+    /// Where g lies in the last tile found (g inside it).
+    glm::dvec2 positionInLast(const Geodetic2D& g) const noexcept
+    {
+        if (scheme.projection() == TilingProjection::Geographic) {
+            // From the extent found, without the scheme's general arithmetic.
+            return {(g.longitude - lastExtent.west) / (lastExtent.east - lastExtent.west),
+                    (g.latitude - lastExtent.south) / (lastExtent.north - lastExtent.south)};
+        }
+        return scheme.positionInTile(lastKey, g);
     }
 
 private:
@@ -841,48 +866,60 @@ struct ClipmapTerrain::Impl {
                     row[i] = geodetic(toEarth(frame, {cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude}));
                 }
             }
-            for (std::int64_t x = x0; x < x1; ++x) {
-                const Geodetic2D& g = row[static_cast<std::size_t>(x - x0)];
-                double height = 0.0;
-                bool fromTile = false;
-                if (terrain) {
-                    glm::dvec2 uv;
-                    if (const auto* grid = terrainFinder.find(g, level.terrainLevel, uv)) {
-                        // A grid tile no finer than the coarser level's data gives nothing the
-                        // coarser level has not: the four-point filter of it is smoother. A mesh
-                        // tile's triangles are its surface at any spacing.
-                        if (!hasCoarser || terrainFinder.lastKey.level > coarserTerrainLevel) {
-                            height = (*grid)->height(uv.x, uv.y);
-                            fromTile = true;
-                        } else if ((*grid)->mesh) {
-                            const TerrainGrid* tile = grid->get();
-                            MeshHint& before = below[static_cast<std::size_t>(x - x0)];
-                            std::array<std::uint32_t, 2> hints{left.tile == tile ? left.triangle : ~0u,
-                                                               before.tile == tile ? before.triangle : ~0u};
-                            height = tile->mesh->height(uv.x, uv.y, hints);
-                            left = before = {tile, hints[0]};
-                            fromTile = true;
-                        }
-                    }
+            // In the geodetic grid a row is one latitude: the posts in one tile share its v, and
+            // its lattice or image row is found once for them.
+            auto runEnd = [&](const auto& finder, std::size_t i) {
+                std::size_t end = i + 1;
+                while (frame == 0 && end < row.size() && finder.holds(row[end])) {
+                    ++end;
                 }
-                if (!fromTile && hasCoarser) {
-                    height = fourPointUpsample(coarse, x, y);
-                }
-                level.heights.at(x, y) = static_cast<float>(height);
+                return end;
+            };
+            auto store = [&](std::size_t i, double height) {
+                level.heights.at(x0 + static_cast<std::int64_t>(i), y) = static_cast<float>(height);
                 level.minimumHeight = std::min(level.minimumHeight, height);
                 level.maximumHeight = std::max(level.maximumHeight, height);
-            }
-            for (std::int64_t x = x0; x < x1; ++x) {
-                std::uint32_t color = baseColor;
-                if (imagery) {
-                    glm::dvec2 uv;
-                    if (const auto* image = imageryFinder.find(row[static_cast<std::size_t>(x - x0)], level.imageryLevel, uv)) {
-                        color = sampleImage(**image, uv);
-                    } else if (hasCoarser) {
-                        color = coarser->colors.at(x >> 1, y >> 1);
+            };
+            for (std::size_t i = 0; i < row.size();) {
+                const std::int64_t x = x0 + static_cast<std::int64_t>(i);
+                glm::dvec2 uv;
+                const auto* grid = terrain ? terrainFinder.find(row[i], level.terrainLevel, uv) : nullptr;
+                // A grid tile no finer than the coarser level's data gives nothing the coarser
+                // level has not: the four-point filter of it is smoother. A mesh tile's triangles
+                // are its surface at any spacing.
+                if (grid && (!hasCoarser || terrainFinder.lastKey.level > coarserTerrainLevel)) {
+                    const TerrainGrid::Row lattice = (*grid)->row(uv.y);
+                    for (const std::size_t end = runEnd(terrainFinder, i); i < end; ++i) {
+                        store(i, lattice.at(terrainFinder.positionInLast(row[i]).x));
                     }
+                    continue;
                 }
-                level.colors.at(x, y) = color;
+                double height = 0.0;
+                if (grid && (*grid)->mesh) {
+                    const TerrainGrid* tile = grid->get();
+                    MeshHint& before = below[i];
+                    std::array<std::uint32_t, 2> hints{left.tile == tile ? left.triangle : ~0u,
+                                                       before.tile == tile ? before.triangle : ~0u};
+                    height = tile->mesh->height(uv.x, uv.y, hints);
+                    left = before = {tile, hints[0]};
+                } else if (hasCoarser) {
+                    height = fourPointUpsample(coarse, x, y);
+                }
+                store(i, height);
+                ++i;
+            }
+            for (std::size_t i = 0; i < row.size();) {
+                const std::int64_t x = x0 + static_cast<std::int64_t>(i);
+                glm::dvec2 uv;
+                if (const auto* image = imagery ? imageryFinder.find(row[i], level.imageryLevel, uv) : nullptr) {
+                    const ImageRow pixels(**image, uv.y);
+                    for (const std::size_t end = runEnd(imageryFinder, i); i < end; ++i) {
+                        level.colors.at(x0 + static_cast<std::int64_t>(i), y) = pixels.at(imageryFinder.positionInLast(row[i]).x);
+                    }
+                    continue;
+                }
+                level.colors.at(x, y) = imagery && hasCoarser ? coarser->colors.at(x >> 1, y >> 1) : baseColor;
+                ++i;
             }
         }
         // Normals from central differences (one-sided at the window's edges, where the blend
@@ -908,35 +945,52 @@ struct ClipmapTerrain::Impl {
                upload(level.colorTexture, level.colors, written);
     }
 
-    /// The image's bilinear sample at uv (0..1 west to east, south to north, clamped), packed:
-    /// weights of 1/256, two channels a multiply (the red and blue, then the green and alpha bytes
-    /// apart in one word), for the level's posts are many.
-    static std::uint32_t sampleImage(const Image& image, const glm::dvec2& uv) noexcept
-    {
-        // Clamped to the outer pixels' centres, where one pixel gives the colour.
-        const double px = std::clamp(std::clamp(uv.x, 0.0, 1.0) * image.width - 0.5, 0.0, image.width - 1.0);
-        const double py = std::clamp((1.0 - std::clamp(uv.y, 0.0, 1.0)) * image.height - 0.5, 0.0, image.height - 1.0);
-        const int ix = std::min(static_cast<int>(px), std::max(image.width - 2, 0));
-        const int iy = std::min(static_cast<int>(py), std::max(image.height - 2, 0));
-        const auto fx = static_cast<std::uint32_t>((px - ix) * 256.0 + 0.5), fy = static_cast<std::uint32_t>((py - iy) * 256.0 + 0.5);
-        const std::size_t east = image.width > 1 ? 4 : 0;
-        const std::size_t south = image.height > 1 ? static_cast<std::size_t>(image.width) * 4 : 0;
-        const std::uint8_t* top = &image.pixels[(static_cast<std::size_t>(iy) * static_cast<std::size_t>(image.width) +
-                                                 static_cast<std::size_t>(ix)) * 4];
-        auto texel = [](const std::uint8_t* p) {
-            std::uint32_t abgr;
-            std::memcpy(&abgr, p, sizeof abgr);
-            return abgr;
-        };
-        // a + (b - a) w / 256 of each byte pair, rounded.
-        auto lerpPairs = [](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
-            return ((a * (256 - w) + b * w + 0x00800080u) >> 8) & 0x00ff00ffu;
-        };
-        auto lerp = [&](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
-            return lerpPairs(a & 0x00ff00ffu, b & 0x00ff00ffu, w) | (lerpPairs((a >> 8) & 0x00ff00ffu, (b >> 8) & 0x00ff00ffu, w) << 8);
-        };
-        return lerp(lerp(texel(top), texel(top + east), fx), lerp(texel(top + south), texel(top + south + east), fx), fy);
-    }
+    /// An image's bilinear samples along one v (0 south .. 1 north, clamped), packed: weights of
+    /// 1/256, two channels a multiply (the red and blue, then the green and alpha bytes apart in
+    /// one word), for the level's posts are many.
+    struct ImageRow {
+        ImageRow(const Image& image_, double v)
+            : image(image_)
+        {
+            // Clamped to the outer pixels' centres, where one pixel gives the colour.
+            const double py = std::clamp((1.0 - std::clamp(v, 0.0, 1.0)) * image.height - 0.5, 0.0, image.height - 1.0);
+            const int iy = std::min(static_cast<int>(py), std::max(image.height - 2, 0));
+            fy = static_cast<std::uint32_t>((py - iy) * 256.0 + 0.5);
+            north = &image.pixels[static_cast<std::size_t>(iy) * static_cast<std::size_t>(image.width) * 4];
+            south = image.height > 1 ? static_cast<std::size_t>(image.width) * 4 : 0;
+        }
+
+        /// u 0 west .. 1 east, clamped.
+        std::uint32_t at(double u) const noexcept
+        {
+            const double px = std::clamp(std::clamp(u, 0.0, 1.0) * image.width - 0.5, 0.0, image.width - 1.0);
+            const int ix = std::min(static_cast<int>(px), std::max(image.width - 2, 0));
+            const auto fx = static_cast<std::uint32_t>((px - ix) * 256.0 + 0.5);
+            const std::size_t east = image.width > 1 ? 4 : 0;
+            const std::uint8_t* p = north + static_cast<std::size_t>(ix) * 4;
+            auto texel = [](const std::uint8_t* q) {
+                std::uint32_t abgr;
+                std::memcpy(&abgr, q, sizeof abgr);
+                return abgr;
+            };
+            // a + (b - a) w / 256 of each byte pair, rounded.
+            auto lerpPairs = [](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
+                return ((a * (256 - w) + b * w + 0x00800080u) >> 8) & 0x00ff00ffu;
+            };
+            auto lerp = [&](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
+                return lerpPairs(a & 0x00ff00ffu, b & 0x00ff00ffu, w) | (lerpPairs((a >> 8) & 0x00ff00ffu, (b >> 8) & 0x00ff00ffu, w) << 8);
+            };
+            return lerp(lerp(texel(p), texel(p + east), fx), lerp(texel(p + south), texel(p + south + east), fx), fy);
+        }
+
+        const Image& image;
+        const std::uint8_t* north;
+        std::size_t south; ///< bytes to the row below
+        std::uint32_t fy;
+    };
+
+    /// The image's bilinear sample at uv (0..1 west to east, south to north, clamped), packed.
+    static std::uint32_t sampleImage(const Image& image, const glm::dvec2& uv) noexcept { return ImageRow(image, uv.y).at(uv.x); }
 
     template <typename T>
     std::size_t upload(renderer::Texture2D& texture, const ToroidalGrid<T>& grid, const GridRegion& region)
