@@ -889,7 +889,8 @@ struct ClipmapTerrain::Impl {
                 // are its surface at any spacing.
                 if (grid && (!hasCoarser || terrainFinder.lastKey.level > coarserTerrainLevel)) {
                     const TerrainGrid::Row lattice = (*grid)->row(uv.y);
-                    for (const std::size_t end = runEnd(terrainFinder, i); i < end; ++i) {
+                    store(i, lattice.at(uv.x));
+                    for (const std::size_t end = runEnd(terrainFinder, i); ++i < end;) {
                         store(i, lattice.at(terrainFinder.positionInLast(row[i]).x));
                     }
                     continue;
@@ -913,7 +914,8 @@ struct ClipmapTerrain::Impl {
                 glm::dvec2 uv;
                 if (const auto* image = imagery ? imageryFinder.find(row[i], level.imageryLevel, uv) : nullptr) {
                     const ImageRow pixels(**image, uv.y);
-                    for (const std::size_t end = runEnd(imageryFinder, i); i < end; ++i) {
+                    level.colors.at(x, y) = pixels.at(uv.x);
+                    for (const std::size_t end = runEnd(imageryFinder, i); ++i < end;) {
                         level.colors.at(x0 + static_cast<std::int64_t>(i), y) = pixels.at(imageryFinder.positionInLast(row[i]).x);
                     }
                     continue;
