@@ -364,23 +364,8 @@ struct ClipmapTerrain::Impl {
         std::optional<renderer::Sampler> sampler; ///< repeating across the antimeridian, not over the poles
     };
     Backdrop backdrop;
-    detail::DepthPrograms backdropPrograms{[this](DepthStrategy, Pass) {
-        renderer::ShaderProgramDescription description;
-        description.name = "clipmap backdrop";
-        description.vertex = renderer::ShaderSource::embedded("scene/clipmap/backdrop.vert.glsl");
-        description.fragment = renderer::ShaderSource::embedded("scene/clipmap/backdrop.frag.glsl");
-        if (options.shading.any()) {
-            description.fragment.text.insert(0, terrainShadingSource());
-            addTerrainShadingDefines(options.shading, description.defines);
-        }
-        if (imagery) {
-            description.defines.push_back({"IMAGERY"});
-        }
-        if (options.lighting) {
-            description.defines.push_back({"LIGHTING"});
-        }
-        return description;
-    }};
+    detail::DepthPrograms backdropPrograms{
+        [this](DepthStrategy, Pass) { return surfaceDescription("clipmap backdrop", "scene/clipmap/backdrop"); }};
 
     // For drawnTriangles: what the last frame drew.
     struct Drawn {
@@ -1043,13 +1028,16 @@ struct ClipmapTerrain::Impl {
         created = true;
     }
 
-    /// The levels' program, before the depth strategy's defines (DepthPrograms adds them).
-    renderer::ShaderProgramDescription programDescription() const
+    /// A program of one of the two surfaces (`path`.vert.glsl and .frag.glsl, the latter after
+    /// surface_color.glsl), with the options' shading, imagery and lighting defines, before the
+    /// depth strategy's (DepthPrograms adds them).
+    renderer::ShaderProgramDescription surfaceDescription(const char* name, const std::string& path) const
     {
         renderer::ShaderProgramDescription description;
-        description.name = "clipmap terrain";
-        description.vertex = renderer::ShaderSource::embedded("scene/clipmap/clipmap.vert.glsl");
-        description.fragment = renderer::ShaderSource::embedded("scene/clipmap/clipmap.frag.glsl");
+        description.name = name;
+        description.vertex = renderer::ShaderSource::embedded(path + ".vert.glsl");
+        description.fragment = renderer::ShaderSource::embedded(path + ".frag.glsl");
+        description.fragment.text.insert(0, renderer::ShaderSource::embedded("scene/clipmap/surface_color.glsl").text);
         if (options.shading.any()) {
             description.fragment.text.insert(0, terrainShadingSource());
             addTerrainShadingDefines(options.shading, description.defines);
@@ -1060,6 +1048,13 @@ struct ClipmapTerrain::Impl {
         if (options.lighting) {
             description.defines.push_back({"LIGHTING"});
         }
+        return description;
+    }
+
+    /// The levels' program.
+    renderer::ShaderProgramDescription programDescription() const
+    {
+        renderer::ShaderProgramDescription description = surfaceDescription("clipmap terrain", "scene/clipmap/clipmap");
         if (options.colorByLevel) {
             description.defines.push_back({"COLOR_BY_LEVEL"});
         }

@@ -1,7 +1,7 @@
 // The backdrop's colour where no clipmap level is: its fragments inside the coarsest level, less
 // that level's outer band (where both draw, so that no sliver opens between them), are discarded.
-// The terrain's shading options as on the levels (terrain_shading.glsl put before this text), on
-// level ground: the backdrop has no slopes.
+// Shaded and lit as the levels are (surface_color.glsl, put before this text), on level ground:
+// the backdrop has no slopes.
 
 in vec3 v_position;
 in vec2 v_texel;
@@ -12,9 +12,6 @@ uniform sampler2D og_texture0; // the imagery, equirectangular (RGBA8)
 uniform mat3 u_toGrid;         // Earth-fixed directions to the clipmap grid's
 uniform vec2 u_coarsestCenter; // the coarsest level's centre: grid longitude, latitude (radians)
 uniform float u_coarsestHalfWidth; // radians; 0 while no level is drawn
-#ifdef LIGHTING
-uniform vec3 og_sunDirection;
-#endif
 
 const float kPi = 3.14159265358979;
 
@@ -28,16 +25,8 @@ void main()
     if (abs(dLongitude) < u_coarsestHalfWidth && abs(dLatitude) < u_coarsestHalfWidth) {
         discard;
     }
-    vec3 color = texture(og_texture0, v_texel).rgb;
-#ifdef TERRAIN_SHADING
+    // Level ground: the ellipsoid's normal (the geocentric direction, a fraction of a degree off)
+    // is the terrain's.
     vec3 up = normalize(v_position);
-#ifndef IMAGERY
-    color = terrainBaseColor(color, v_height, up, up);
-#endif
-    color = terrainOverlays(color, v_height, up, up);
-#endif
-#ifdef LIGHTING
-    color *= 0.2 + 0.8 * max(dot(normalize(v_position), og_sunDirection), 0.0);
-#endif
-    fragmentColor = vec4(color, 1.0);
+    fragmentColor = vec4(surfaceColor(texture(og_texture0, v_texel).rgb, v_height, up, up), 1.0);
 }
