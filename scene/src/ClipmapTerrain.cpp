@@ -751,9 +751,9 @@ struct ClipmapTerrain::Impl {
 
     std::size_t backdropBytes() const noexcept
     {
-        constexpr std::size_t vertices = (Backdrop::kColumns + 1) * (Backdrop::kRows + 1);
-        return backdrop.built ? vertices * (3 + 3) * sizeof(float) + backdrop.indices.count() * sizeof(std::uint16_t) +
-                                    static_cast<std::size_t>(Backdrop::kTextureWidth) * Backdrop::kTextureWidth / 2 * 4
+        return backdrop.built ? backdrop.positions.sizeInBytes() + backdrop.texels.sizeInBytes() +
+                                    backdrop.indices.count() * sizeof(std::uint16_t) +
+                                    static_cast<std::size_t>(backdrop.colors.width()) * backdrop.colors.height() * 4
                               : 0;
     }
 
