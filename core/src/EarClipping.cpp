@@ -55,7 +55,10 @@ std::string describeEdge(const Node& from, const Node& to)
 
 class EarClipper {
 public:
-    EarClipper(std::string_view name, double repairRelativeArea) : _name(name), _repairRelativeArea(repairRelativeArea) {}
+    EarClipper(std::string_view name, double repairRelativeArea, std::vector<LeftOutHole>* leftOutHoles)
+        : _name(name), _repairRelativeArea(repairRelativeArea), _leftOutHoles(leftOutHoles)
+    {
+    }
 
     PolygonTriangles run(std::span<const std::vector<glm::dvec2>> rings)
     {
@@ -63,17 +66,24 @@ public:
         if (!prepareRings(rings, result)) {
             return result;
         }
-        while (!splitTouchingEdges()) {
-            ++result.repairedVertices;
-            --result.vertexCount;
+        for (Split split = splitTouchingEdges(); split != Split::Done; split = splitTouchingEdges()) {
+            if (split == Split::RepairedVertex) {
+                ++result.repairedVertices;
+                --result.vertexCount;
+            }
         }
         for (std::size_t removed = removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
             result.repairedVertices += removed;
             result.vertexCount -= std::min(removed, result.vertexCount);
         }
         result.repairedArea = _repairedArea;
-        checkHoles();
-        bridgeHoles();
+        if (_cycles.size() > 1) {
+            indexEdges();
+            checkHoles();
+            bridgeHoles();
+        }
+        result.holeCount -= _holesLeftOut;
+        _start = _cycles[0];
         clip(result.indices);
         flipSlivers(result.indices);
         return result;
@@ -161,6 +171,7 @@ private:
                 _nodes.push_back(n);
             }
             _cycles.push_back(first);
+            _ringNumbers.push_back(r);
             result.vertexCount += kept.size();
             if (r != 0) {
                 ++result.holeCount;
@@ -198,15 +209,20 @@ private:
     // --- Validation: crossing edges are errors; a vertex touching another edge is made a vertex
     // of that edge too, so that every touch is between vertices. ----------------------------------
 
-    // False when it removed a vertex to undo a crossing (call again); throws on other crossings.
-    bool splitTouchingEdges()
+    // What splitTouchingEdges did: Done, or it changed the rings to undo a crossing (call again).
+    enum class Split { Done, RepairedVertex, LeftOutHole };
+
+    // Throws on crossings it cannot undo.
+    Split splitTouchingEdges()
     {
         std::vector<int> edges; // by the node each starts at
+        std::vector<std::size_t> edgeCycles;
         std::vector<glm::dvec2> starts;
         std::vector<glm::dvec2> ends;
-        for (const int start : _cycles) {
-            forEachInCycle(start, [&](int i) {
+        for (std::size_t k = 0; k < _cycles.size(); ++k) {
+            forEachInCycle(_cycles[k], [&](int i) {
                 edges.push_back(i);
+                edgeCycles.push_back(k);
                 starts.push_back(pos(i));
                 ends.push_back(pos(node(i).next));
             });
@@ -223,8 +239,13 @@ private:
                 touching[static_cast<std::size_t>(edgeFrom)].push_back(vertex);
             }
         };
-        bool repaired = false;
+        Split changed = Split::Done;
+        std::vector<std::pair<std::size_t, std::string>> faulty; // holes to leave out, and why
+        std::vector<bool> isFaulty(_cycles.size(), false);
         detail::findMeetingSegments(starts, ends, [&](std::size_t e, std::size_t f) {
+            if (isFaulty[edgeCycles[e]] || isFaulty[edgeCycles[f]]) {
+                return false; // going anyway
+            }
             const int a = edges[e];
             const int b = node(a).next;
             const int c = edges[f];
@@ -238,10 +259,25 @@ private:
             const int o4 = orient2d(pos(c), pos(d), pos(b));
             if (o1 * o2 < 0 && o3 * o4 < 0) {
                 if (repairCrossing(a, c)) {
-                    repaired = true;
+                    changed = Split::RepairedVertex;
                     return true;
                 }
-                fail(describeEdge(node(a), node(b)) + " crosses " + describeEdge(node(c), node(d)));
+                const std::string crossing = describeEdge(node(a), node(b)) + " crosses " + describeEdge(node(c), node(d));
+                if (_leftOutHoles && (edgeCycles[e] != 0 || edgeCycles[f] != 0)) {
+                    // The hole goes, or the smaller of two holes.
+                    const std::size_t hole = edgeCycles[e] == 0                           ? edgeCycles[f]
+                                             : edgeCycles[f] == 0                         ? edgeCycles[e]
+                                             : cycleArea(edgeCycles[e]) <= cycleArea(edgeCycles[f]) ? edgeCycles[e]
+                                                                                                     : edgeCycles[f];
+                    const std::size_t other = hole == edgeCycles[e] ? edgeCycles[f] : edgeCycles[e];
+                    isFaulty[hole] = true;
+                    faulty.emplace_back(hole, "it crosses " +
+                                                  (other == 0 ? std::string("the outer ring")
+                                                              : "hole ring " + std::to_string(_ringNumbers[other])) +
+                                                  " (" + crossing + ")");
+                    return false; // the others in the same pass: one pass more, not one a hole
+                }
+                fail(crossing);
             }
             touches(c, a, o1);
             touches(d, a, o2);
@@ -249,8 +285,15 @@ private:
             touches(b, c, o4);
             return false;
         });
-        if (repaired) {
-            return false;
+        if (changed != Split::Done) {
+            return changed;
+        }
+        if (!faulty.empty()) {
+            std::sort(faulty.begin(), faulty.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+            for (const auto& [hole, reason] : faulty) { // last first: the numbers before stay
+                leaveOutHole(hole, reason);
+            }
+            return Split::LeftOutHole;
         }
         for (std::size_t from = 0; from < touching.size(); ++from) {
             std::vector<int>& list = touching[from];
@@ -269,7 +312,7 @@ private:
                 after = insertAfter(after, node(v));
             }
         }
-        return true;
+        return Split::Done;
     }
 
     // Edges e (from node a) and f (from node c) cross with at most kTwistEdges edges between them:
@@ -406,40 +449,128 @@ private:
         return points;
     }
 
-    Location locate(const glm::dvec2& p, std::span<const int> cycles) const
+    double cycleArea(std::size_t k) const
     {
-        int winding = 0;
-        for (const int start : cycles) {
-            bool boundary = false;
+        std::vector<glm::dvec2> points;
+        forEachInCycle(_cycles[k], [&](int i) { points.push_back(pos(i)); });
+        return std::abs(signedArea(points));
+    }
+
+    // Hole k goes (its nodes stay unlinked), listed with the reason: only with _leftOutHoles.
+    void leaveOutHole(std::size_t k, const std::string& reason)
+    {
+        _leftOutHoles->push_back({_ringNumbers[k], reason});
+        _cycles.erase(_cycles.begin() + static_cast<std::ptrdiff_t>(k));
+        _ringNumbers.erase(_ringNumbers.begin() + static_cast<std::ptrdiff_t>(k));
+        ++_holesLeftOut;
+    }
+
+    // --- Where points lie, through an index of the edges (made once the rings are final) -------
+
+    // Files every edge by the cells it passes through, and each node under its ring's number (the
+    // outer ring 0; holes keep theirs until bridged, then become part of ring 0). Only polygons
+    // with holes need it.
+    void indexEdges()
+    {
+        glm::dvec2 lo(HUGE_VAL);
+        glm::dvec2 hi(-HUGE_VAL);
+        std::size_t count = 0;
+        for (const int start : _cycles) {
             forEachInCycle(start, [&](int i) {
-                const glm::dvec2& u = pos(i);
-                const glm::dvec2& v = pos(node(i).next);
-                if (onSegment(u, v, p)) {
-                    boundary = true;
-                }
-                if (u.y <= p.y) {
-                    if (v.y > p.y && orient2d(u, v, p) > 0) {
-                        ++winding;
-                    }
-                } else if (v.y <= p.y && orient2d(u, v, p) < 0) {
-                    --winding;
-                }
+                lo = glm::min(lo, pos(i));
+                hi = glm::max(hi, pos(i));
+                ++count;
             });
-            if (boundary) {
-                return Location::Boundary;
+        }
+        _edges.emplace(lo, hi, count);
+        _lo = lo;
+        _hi = hi;
+        _ringOf.assign(_nodes.size(), -1);
+        for (std::size_t k = 0; k < _cycles.size(); ++k) {
+            forEachInCycle(_cycles[k], [&](int i) {
+                _ringOf[static_cast<std::size_t>(i)] = static_cast<int>(k);
+                indexEdge(i);
+            });
+        }
+    }
+
+    void indexEdge(int i) { _edges->insert(i, pos(i), pos(node(i).next)); }
+    int ringOf(int i) const { return _ringOf[static_cast<std::size_t>(i)]; }
+
+    // The winding numbers about p of the rings (by their numbers in _ringOf) whose edges meet a ray
+    // from p to the nearest side of the rings' bounding box, and whether p lies on each. The plane
+    // is turned (exactly, by quarter turns, which keep orientations) so that the ray runs towards
+    // +x; the edges that count for a winding number then meet it (Sunday's rule: upward edges with
+    // p to their left, downward ones with p to their right).
+    struct RingWinding {
+        int ring = 0;
+        int winding = 0;
+        bool boundary = false;
+    };
+    void windingsAt(const glm::dvec2& p, std::vector<RingWinding>& windings)
+    {
+        windings.clear();
+        const double room[4] = {_hi.x - p.x, _hi.y - p.y, p.x - _lo.x, p.y - _lo.y}; // +x, +y, -x, -y
+        const int quarter = static_cast<int>(std::min_element(room, room + 4) - room);
+        const glm::dvec2 end = quarter == 0 ? glm::dvec2(_hi.x, p.y)
+                               : quarter == 1 ? glm::dvec2(p.x, _hi.y)
+                               : quarter == 2 ? glm::dvec2(_lo.x, p.y)
+                                              : glm::dvec2(p.x, _lo.y);
+        const auto turn = [quarter](const glm::dvec2& q) {
+            return quarter == 0 ? q : quarter == 1 ? glm::dvec2(q.y, -q.x) : quarter == 2 ? -q : glm::dvec2(-q.y, q.x);
+        };
+        const glm::dvec2 t = turn(p);
+        _edges->forEachNear(p, glm::max(_lo, glm::min(_hi, end)), [&](int i) {
+            if (ringOf(i) < 0) {
+                return;
+            }
+            const glm::dvec2 u = turn(pos(i));
+            const glm::dvec2 v = turn(pos(node(i).next));
+            int step = 0;
+            if (u.y <= t.y) {
+                step = v.y > t.y && orient2d(u, v, t) > 0 ? 1 : 0;
+            } else if (v.y <= t.y && orient2d(u, v, t) < 0) {
+                step = -1;
+            }
+            const bool boundary = std::min(u.x, v.x) <= t.x && t.x <= std::max(u.x, v.x) && std::min(u.y, v.y) <= t.y &&
+                                  t.y <= std::max(u.y, v.y) && onSegment(u, v, t);
+            if (step == 0 && !boundary) {
+                return;
+            }
+            auto found = std::find_if(windings.begin(), windings.end(), [&](const RingWinding& w) { return w.ring == ringOf(i); });
+            if (found == windings.end()) {
+                windings.push_back({ringOf(i), 0, false});
+                found = windings.end() - 1;
+            }
+            found->winding += step;
+            found->boundary = found->boundary || boundary;
+        });
+    }
+
+    // Where p lies against ring `ring`, or against all the rings together when ring < 0.
+    Location locate(const glm::dvec2& p, int ring = -1)
+    {
+        windingsAt(p, _windings);
+        int winding = 0;
+        for (const RingWinding& w : _windings) {
+            if (ring < 0 || w.ring == ring) {
+                if (w.boundary) {
+                    return Location::Boundary;
+                }
+                winding += w.winding;
             }
         }
         return winding != 0 ? Location::Inside : Location::Outside;
     }
 
-    // Where a ring lies relative to another: by its first vertex that is not on the other's boundary.
-    std::optional<Location> ringAgainst(int ring, int other) const
+    // Where ring number `ring` lies against ring `other`: by its first vertex that is not on the
+    // other's boundary.
+    std::optional<Location> ringAgainst(int ring, int other)
     {
         std::optional<Location> found;
-        const int cycles[] = {other};
-        forEachInCycle(ring, [&](int i) {
+        forEachInCycle(_cycles[static_cast<std::size_t>(ring)], [&](int i) {
             if (!found) {
-                const Location l = locate(pos(i), cycles);
+                const Location l = locate(pos(i), other);
                 if (l != Location::Boundary) {
                     found = l;
                 }
@@ -450,34 +581,47 @@ private:
 
     void checkHoles()
     {
-        struct Box {
-            glm::dvec2 lo{HUGE_VAL}, hi{-HUGE_VAL};
-        };
-        std::vector<Box> boxes(_cycles.size());
-        for (std::size_t k = 0; k < _cycles.size(); ++k) {
-            forEachInCycle(_cycles[k], [&](int i) {
-                boxes[k].lo = glm::min(boxes[k].lo, pos(i));
-                boxes[k].hi = glm::max(boxes[k].hi, pos(i));
-            });
-        }
+        std::vector<RingWinding> around;
+        std::vector<std::pair<std::size_t, std::string>> faulty; // holes and why, left out at the end
         for (std::size_t k = 1; k < _cycles.size(); ++k) {
-            const std::optional<Location> l = ringAgainst(_cycles[k], _cycles[0]);
+            const int hole = static_cast<int>(k);
+            // Where the hole lies against another ring: by the winding number about its first
+            // vertex, unless that vertex is on the other's boundary (then its other vertices tell).
+            windingsAt(pos(_cycles[k]), around);
+            const auto against = [&](int other) -> std::optional<Location> {
+                const auto w = std::find_if(around.begin(), around.end(), [&](const RingWinding& x) { return x.ring == other; });
+                if (w == around.end()) {
+                    return Location::Outside;
+                }
+                // The winding test counts a hole's clockwise turn as -1: inside means nonzero.
+                return w->boundary ? ringAgainst(hole, other) : (w->winding != 0 ? Location::Inside : Location::Outside);
+            };
+            const std::optional<Location> l = against(0);
             if (!l || *l == Location::Outside) {
-                fail("hole ring " + std::to_string(node(_cycles[k]).ring) + " lies outside the outer ring (or on it)");
+                faulty.emplace_back(k, "lies outside the outer ring (or on it)");
+                continue;
             }
-            for (std::size_t m = 1; m < _cycles.size(); ++m) {
-                if (m == k || boxes[m].lo.x > boxes[k].hi.x || boxes[m].hi.x < boxes[k].lo.x ||
-                    boxes[m].lo.y > boxes[k].hi.y || boxes[m].hi.y < boxes[k].lo.y) {
+            for (const RingWinding& w : around) {
+                if (w.ring == 0 || w.ring == hole) {
                     continue;
                 }
-                // The winding test counts the hole's clockwise turn as -1: inside means nonzero.
-                const std::optional<Location> inside = ringAgainst(_cycles[k], _cycles[m]);
+                const std::optional<Location> inside = against(w.ring);
                 if (inside && *inside == Location::Inside) {
-                    fail("hole ring " + std::to_string(node(_cycles[k]).ring) + " lies inside hole ring " +
-                         std::to_string(node(_cycles[m]).ring));
+                    faulty.emplace_back(k, "lies inside hole ring " + std::to_string(_ringNumbers[static_cast<std::size_t>(w.ring)]));
+                    break;
                 }
             }
         }
+        if (faulty.empty()) {
+            return;
+        }
+        if (!_leftOutHoles) {
+            fail("hole ring " + std::to_string(_ringNumbers[faulty[0].first]) + " " + faulty[0].second);
+        }
+        for (auto it = faulty.rbegin(); it != faulty.rend(); ++it) { // last first: the numbers before stay
+            leaveOutHole(it->first, "it " + it->second);
+        }
+        indexEdges();
     }
 
     // --- Holes: bridges from each hole's rightmost vertex to a visible vertex -------------------
@@ -501,47 +645,45 @@ private:
         return false; // a spike tip or a zero-length edge: no interior to speak of
     }
 
-    bool bridgeIsValid(int m, int p, std::span<const int> cycles) const
+    bool bridgeIsValid(int m, int p)
     {
-        const glm::dvec2& mp = pos(m);
-        const glm::dvec2& pp = pos(p);
+        const glm::dvec2 mp = pos(m);
+        const glm::dvec2 pp = pos(p);
         if (mp == pp || !locallyInside(p, mp) || !locallyInside(m, pp)) {
             return false;
         }
         bool valid = true;
-        for (const int start : cycles) {
-            forEachInCycle(start, [&](int i) {
-                if (!valid) {
-                    return;
-                }
-                const glm::dvec2& u = pos(i);
-                const glm::dvec2& v = pos(node(i).next);
-                if (!segmentsIntersect(mp, pp, u, v)) {
-                    return;
-                }
-                const bool uAt = u == mp || u == pp;
-                const bool vAt = v == mp || v == pp;
-                if (uAt == vAt) {
-                    valid = false; // crosses, or runs along the bridge
-                    return;
-                }
-                // The edge leaves one end of the bridge: fine unless it runs along it.
-                const glm::dvec2& end = uAt ? u : v;
-                const glm::dvec2& other = uAt ? v : u;
-                const glm::dvec2& far = end == mp ? pp : mp;
-                if (onSegment(mp, pp, other) || onSegment(end, other, far)) {
-                    valid = false;
-                }
-            });
-        }
+        _edges->forEachNear(mp, pp, [&](int i) {
+            if (!valid || ringOf(i) < 0) {
+                return;
+            }
+            const glm::dvec2& u = pos(i);
+            const glm::dvec2& v = pos(node(i).next);
+            if (!segmentsIntersect(mp, pp, u, v)) {
+                return;
+            }
+            const bool uAt = u == mp || u == pp;
+            const bool vAt = v == mp || v == pp;
+            if (uAt == vAt) {
+                valid = false; // crosses, or runs along the bridge
+                return;
+            }
+            // The edge leaves one end of the bridge: fine unless it runs along it.
+            const glm::dvec2& end = uAt ? u : v;
+            const glm::dvec2& other = uAt ? v : u;
+            const glm::dvec2& far = end == mp ? pp : mp;
+            if (onSegment(mp, pp, other) || onSegment(end, other, far)) {
+                valid = false;
+            }
+        });
         // The bridge crosses nothing, so it is inside or outside as a whole: test its midpoint
         // against every ring (this settles the places where rings touch).
-        return valid && locate(0.5 * (mp + pp), cycles) == Location::Inside;
+        return valid && locate(0.5 * (mp + pp)) == Location::Inside;
     }
 
     void bridgeHoles()
     {
-        std::vector<int> holes;
+        std::vector<std::pair<int, std::size_t>> holes; // rightmost node, cycle
         for (std::size_t k = 1; k < _cycles.size(); ++k) {
             int rightmost = _cycles[k];
             forEachInCycle(_cycles[k], [&](int i) {
@@ -551,31 +693,32 @@ private:
                     rightmost = i;
                 }
             });
-            holes.push_back(rightmost);
+            holes.emplace_back(rightmost, k);
         }
-        std::sort(holes.begin(), holes.end(), [&](int a, int b) { return pos(a).x > pos(b).x; });
+        std::sort(holes.begin(), holes.end(), [&](const auto& a, const auto& b) { return pos(a.first).x > pos(b.first).x; });
 
-        // The rings still separate: the outer (with the holes bridged so far) and the rest.
-        std::vector<int> cycles = {_cycles[0]};
-        cycles.insert(cycles.end(), holes.begin(), holes.end());
-        for (std::size_t h = 0; h < holes.size(); ++h) {
-            const int m = holes[h];
-            const int p = findBridge(m, cycles);
+        for (const auto& [m, k] : holes) {
+            const int p = findBridge(m);
             if (p < 0) {
                 if (mergeAtTouch(m)) {
-                    cycles.erase(std::find(cycles.begin(), cycles.end(), m));
                     continue;
                 }
-                fail("hole ring " + std::to_string(node(m).ring) +
-                     " cannot be joined to the outer ring (no vertex in sight; do rings overlap?)");
+                const std::string why = "cannot be joined to the outer ring (no vertex in sight; do rings overlap?)";
+                if (!_leftOutHoles) {
+                    fail("hole ring " + std::to_string(_ringNumbers[k]) + " " + why);
+                }
+                // Its edges no longer count (ring -1), so that later bridges may pass where it was.
+                _leftOutHoles->push_back({_ringNumbers[k], "it " + why});
+                ++_holesLeftOut;
+                forEachInCycle(m, [&](int i) { _ringOf[static_cast<std::size_t>(i)] = -1; });
+                continue;
             }
+            joinOuterRing(m);
             // Splice: p -> m -> ...hole... -> m' -> p' -> (p's old next).
             const int pNext = node(p).next;
             const int mPrev = node(m).prev;
-            const int m2 = static_cast<int>(_nodes.size());
-            _nodes.push_back(node(m));
-            const int p2 = static_cast<int>(_nodes.size());
-            _nodes.push_back(node(p));
+            const int m2 = copyNode(m);
+            const int p2 = copyNode(p);
             node(p).next = m;
             node(m).prev = p;
             node(mPrev).next = m2;
@@ -584,9 +727,25 @@ private:
             node(p2).prev = m2;
             node(p2).next = pNext;
             node(pNext).prev = p2;
-            cycles.erase(std::find(cycles.begin(), cycles.end(), m));
+            for (const int moved : {p, m2, p2}) { // mPrev's edge ends at m's copy: still in its cells
+                indexEdge(moved);
+            }
         }
-        _start = _cycles[0];
+    }
+
+    // The hole whose node is `hole` becomes part of the outer ring (ring 0 in _ringOf).
+    void joinOuterRing(int hole)
+    {
+        forEachInCycle(hole, [&](int i) { _ringOf[static_cast<std::size_t>(i)] = 0; });
+    }
+
+    // A copy of node i, of the outer ring, not yet linked.
+    int copyNode(int i)
+    {
+        const int copy = static_cast<int>(_nodes.size());
+        _nodes.push_back(node(i));
+        _ringOf.push_back(0);
+        return copy;
     }
 
     // A hole with no bridge in sight may touch the outer cycle at a vertex: join it there, with
@@ -600,8 +759,8 @@ private:
             if (touchP >= 0) {
                 return;
             }
-            forEachInCycle(_cycles[0], [&](int p) {
-                if (touchP < 0 && pos(p) == pos(h) && locallyInside(p, pos(node(h).next)) &&
+            _edges->forEachInBox(pos(h), pos(h), [&](int p) {
+                if (touchP < 0 && ringOf(p) == 0 && pos(p) == pos(h) && locallyInside(p, pos(node(h).next)) &&
                     locallyInside(p, pos(node(h).prev))) {
                     touchP = p;
                     touchH = h;
@@ -611,16 +770,19 @@ private:
         if (touchP < 0) {
             return false;
         }
+        joinOuterRing(hole);
         const int pNext = node(touchP).next;
         const int hNext = node(touchH).next;
         node(touchP).next = hNext;
         node(hNext).prev = touchP;
         node(touchH).next = pNext;
         node(pNext).prev = touchH;
+        indexEdge(touchP); // the two swap edges
+        indexEdge(touchH);
         return true;
     }
 
-    int findBridge(int m, std::span<const int> cycles) const
+    int findBridge(int m)
     {
         const glm::dvec2 mp = pos(m);
         // Eberly's candidate: the nearest edge of the outer cycle hit by the ray from m towards
@@ -628,10 +790,10 @@ private:
         // closest in angle to the ray.
         int candidate = -1;
         double bestX = HUGE_VAL;
-        forEachInCycle(_cycles[0], [&](int i) {
+        _edges->forEachTowardsPlusX(mp, std::max(_hi.x, mp.x), [&](int i) {
             const glm::dvec2& u = pos(i);
             const glm::dvec2& v = pos(node(i).next);
-            if ((u.y > mp.y && v.y > mp.y) || (u.y < mp.y && v.y < mp.y)) {
+            if (ringOf(i) != 0 || (u.y > mp.y && v.y > mp.y) || (u.y < mp.y && v.y < mp.y)) {
                 return;
             }
             double x;
@@ -656,7 +818,7 @@ private:
                 bestX = x;
                 candidate = end;
             }
-        });
+        }, [&](double columnLeft) { return bestX < columnLeft; }); // what lies right of this column is farther
         if (candidate >= 0 && pos(candidate).y != mp.y) {
             const glm::dvec2 hit(bestX, mp.y);
             const glm::dvec2 end = pos(candidate);
@@ -666,9 +828,10 @@ private:
             const glm::dvec2 c = ccw ? end : hit;
             double bestCos = -2.0;
             double bestDistance = HUGE_VAL;
-            forEachInCycle(_cycles[0], [&](int i) {
+            const int hidden = candidate;
+            _edges->forEachInBox(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)), [&](int i) {
                 const glm::dvec2& q = pos(i);
-                if (i == candidate || q == mp || !inClosedTriangle(a, b, c, q)) {
+                if (ringOf(i) != 0 || i == hidden || q == mp || !inClosedTriangle(a, b, c, q)) {
                     return;
                 }
                 if (orient2d(pos(node(i).prev), q, pos(node(i).next)) >= 0) {
@@ -686,14 +849,17 @@ private:
         if (candidate >= 0) {
             // Of the copies of a vertex that bridges made, the one whose wedge holds m.
             const glm::dvec2 cp = pos(candidate);
-            int found = -1;
-            forEachInCycle(_cycles[0], [&](int i) {
-                if (found < 0 && pos(i) == cp && bridgeIsValid(m, i, cycles)) {
-                    found = i;
+            std::vector<int> copies;
+            _edges->forEachInBox(cp, cp, [&](int i) {
+                if (ringOf(i) == 0 && pos(i) == cp) {
+                    copies.push_back(i);
                 }
             });
-            if (found >= 0) {
-                return found;
+            std::sort(copies.begin(), copies.end()); // as they were made: the same choice on every machine
+            for (const int i : copies) {
+                if (bridgeIsValid(m, i)) {
+                    return i;
+                }
             }
         }
         // Fallback: every vertex of the outer cycle, nearest first.
@@ -704,7 +870,7 @@ private:
         });
         std::sort(byDistance.begin(), byDistance.end());
         for (const auto& [distance, i] : byDistance) {
-            if (bridgeIsValid(m, i, cycles)) {
+            if (bridgeIsValid(m, i)) {
                 return i;
             }
         }
@@ -1081,10 +1247,18 @@ private:
 
     std::string_view _name;
     double _repairRelativeArea;
+    std::vector<LeftOutHole>* _leftOutHoles; // null: faulty holes throw
+    std::size_t _holesLeftOut = 0;
     double _outerArea = 0.0;
     double _repairedArea = 0.0;
     std::vector<Node> _nodes;
     std::vector<int> _cycles; // the first node of each ring kept: the outer ring first
+    std::vector<std::size_t> _ringNumbers; // per cycle: its ring's index in the input
+    // For polygons with holes, from the holes' check on (indexEdges):
+    std::optional<detail::SegmentIndex> _edges; // every edge, by the node it starts at
+    std::vector<int> _ringOf;                   // per node: its ring's number in _cycles, -1 if unlinked
+    glm::dvec2 _lo{0.0}, _hi{0.0};              // the vertices' bounding box
+    std::vector<RingWinding> _windings;         // locate's, kept to spare allocations
     int _start = -1;
     std::size_t _remaining = 0;
     // While clipping:
@@ -1099,9 +1273,9 @@ private:
 } // namespace
 
 PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name,
-                         double repairRelativeArea)
+                         double repairRelativeArea, std::vector<LeftOutHole>* leftOutHoles)
 {
-    return EarClipper(name, std::max(repairRelativeArea, 0.0)).run(rings);
+    return EarClipper(name, std::max(repairRelativeArea, 0.0), leftOutHoles).run(rings);
 }
 
 } // namespace orbis

@@ -125,14 +125,17 @@ bool fits(const PlaneFit& fit)
 }
 
 /// Ear clipping in the tangent plane; indices into the concatenated input rings.
-PolygonTriangles clipInPlane(const CleanPolygon& clean, const EllipsoidTangentPlane& plane, std::string_view name)
+PolygonTriangles clipInPlane(const CleanPolygon& clean, const EllipsoidTangentPlane& plane, std::string_view name,
+                             std::vector<LeftOutHole>* leftOutHoles)
 {
     std::vector<std::vector<glm::dvec2>> rings2;
     std::vector<std::uint32_t> original;
+    std::vector<std::size_t> originalRings;
     for (std::size_t r = 0; r < clean.kept.size(); ++r) {
         if (clean.kept[r].empty()) {
             continue;
         }
+        originalRings.push_back(r);
         std::vector<glm::dvec2> ring;
         for (const std::size_t i : clean.kept[r]) {
             const std::optional<glm::dvec2> q = plane.projectPointOntoPlane(clean.surface[r][i]);
@@ -145,9 +148,13 @@ PolygonTriangles clipInPlane(const CleanPolygon& clean, const EllipsoidTangentPl
         }
         rings2.push_back(std::move(ring));
     }
-    PolygonTriangles triangles = earClip(rings2, name);
+    const std::size_t before = leftOutHoles ? leftOutHoles->size() : 0;
+    PolygonTriangles triangles = earClip(rings2, name, kSpikeRepairRelativeArea, leftOutHoles);
     for (std::uint32_t& index : triangles.indices) {
         index = original[index];
+    }
+    for (std::size_t h = before; leftOutHoles && h < leftOutHoles->size(); ++h) {
+        (*leftOutHoles)[h].ring = originalRings[(*leftOutHoles)[h].ring];
     }
     return triangles;
 }
@@ -641,7 +648,7 @@ Mesh triangulateBySplitting(const Ellipsoid& ellipsoid, const CleanPolygon& clea
 } // namespace
 
 PolygonTriangles earClipOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const std::vector<glm::dvec3>> rings,
-                                    std::string_view name)
+                                    std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
 {
     const CleanPolygon clean = cleanPolygon(ellipsoid, rings, name);
     if (clean.empty) {
@@ -657,11 +664,11 @@ PolygonTriangles earClipOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const 
                        " degrees from the centre of the polygon, beyond the 80 that one tangent plane can take "
                        "(triangulatePolygon splits such polygons)");
     }
-    return clipInPlane(clean, fit.plane, name);
+    return clipInPlane(clean, fit.plane, name, leftOutHoles);
 }
 
 Mesh triangulatePolygon(const Ellipsoid& ellipsoid, std::span<const std::vector<glm::dvec3>> rings,
-                        double granularityRadians, std::string_view name)
+                        double granularityRadians, std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
 {
     const CleanPolygon clean = cleanPolygon(ellipsoid, rings, name);
     if (clean.empty) {
@@ -671,7 +678,7 @@ Mesh triangulatePolygon(const Ellipsoid& ellipsoid, std::span<const std::vector<
     if (!fits(fit)) {
         return triangulateBySplitting(ellipsoid, clean, granularityRadians, name);
     }
-    const PolygonTriangles triangles = clipInPlane(clean, fit.plane, name);
+    const PolygonTriangles triangles = clipInPlane(clean, fit.plane, name, leftOutHoles);
     // Only the vertices used, in order of first use.
     std::vector<glm::dvec3> positions;
     std::unordered_map<std::uint32_t, std::uint32_t> compact;

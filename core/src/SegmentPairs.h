@@ -21,7 +21,7 @@ namespace orbis::detail {
 /// named by a 64-bit number, and hashed.
 class SegmentGrid {
 public:
-    SegmentGrid(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to) : _from(from), _to(to)
+    SegmentGrid(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to)
     {
         glm::dvec2 lo(HUGE_VAL);
         glm::dvec2 hi(-HUGE_VAL);
@@ -47,13 +47,24 @@ public:
         _cells = static_cast<std::int64_t>(std::floor(extent * _scale)) + 1;
     }
 
-    /// Calls emit(cell) for each cell segment k passes through (with a margin for rounding), or
-    /// every cell of its bounding box when that is at most 2 x 2.
-    template <typename Emit>
-    void cellsOf(std::size_t k, Emit&& emit) const
+    /// Square cells over the box lo..hi, cellsPerAxis of them along its longer side.
+    SegmentGrid(const glm::dvec2& lo, const glm::dvec2& hi, std::int64_t cellsPerAxis) : _lo(lo)
     {
-        const glm::dvec2& a = _from[k];
-        const glm::dvec2& b = _to[k];
+        const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+        if (extent > 0.0 && std::isfinite(extent) && cellsPerAxis > 1) {
+            _scale = static_cast<double>(cellsPerAxis) / extent;
+            _cells = cellsPerAxis;
+        }
+    }
+
+    /// The cells' names run from 0 to this, less one.
+    std::uint64_t cellCount() const noexcept { return index(_cells - 1, _cells - 1) + 1; }
+
+    /// Calls emit(cell) for each cell the segment a -> b passes through (with a margin for
+    /// rounding), or every cell of its bounding box when that is at most 2 x 2.
+    template <typename Emit>
+    void cellsOf(const glm::dvec2& a, const glm::dvec2& b, Emit&& emit) const
+    {
         const std::int64_t x0 = cellOn(0, std::min(a.x, b.x));
         const std::int64_t x1 = cellOn(0, std::max(a.x, b.x));
         const std::int64_t y0 = cellOn(1, std::min(a.y, b.y));
@@ -91,6 +102,37 @@ public:
         }
     }
 
+    /// Calls emit(cell) for each cell of the box lo..hi.
+    template <typename Emit>
+    void cellsOfBox(const glm::dvec2& lo, const glm::dvec2& hi, Emit&& emit) const
+    {
+        for (std::int64_t y = cellOn(1, lo.y); y <= cellOn(1, hi.y); ++y) {
+            for (std::int64_t x = cellOn(0, lo.x); x <= cellOn(0, hi.x); ++x) {
+                emit(index(x, y));
+            }
+        }
+    }
+
+    /// Calls emit(cell) for the cells of the ray from p towards +x up to x = xEnd, a column of
+    /// cells at a time from left to right (with a margin for rounding across), until
+    /// stop(columnLeft), asked after each column, says the cells right of that column's left edge
+    /// need no look.
+    template <typename Emit, typename Stop>
+    void cellsTowardsPlusX(const glm::dvec2& p, double xEnd, Emit&& emit, Stop&& stop) const
+    {
+        const double margin = 1e-9 * (2.0 * std::abs(p.y) + std::abs(p.x) + std::abs(xEnd));
+        const std::int64_t y0 = cellOn(1, p.y - margin);
+        const std::int64_t y1 = cellOn(1, p.y + margin);
+        for (std::int64_t x = cellOn(0, p.x); x <= cellOn(0, xEnd); ++x) {
+            for (std::int64_t y = y0; y <= y1; ++y) {
+                emit(index(x, y));
+            }
+            if (stop(_lo.x + static_cast<double>(x) / _scale)) {
+                return;
+            }
+        }
+    }
+
 private:
     std::int64_t cellOn(int axis, double value) const noexcept
     {
@@ -102,8 +144,6 @@ private:
         return static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(_cells) + static_cast<std::uint64_t>(x);
     }
 
-    std::span<const glm::dvec2> _from;
-    std::span<const glm::dvec2> _to;
     glm::dvec2 _lo{0.0};
     double _scale = 0.0;     // cells per unit
     std::int64_t _cells = 1; // per axis
@@ -135,7 +175,7 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
         return static_cast<std::uint32_t>(((cell * 0x9e3779b97f4a7c15ull) >> 32) & (bucketCount - 1));
     };
     for (std::size_t k = 0; k < count; ++k) {
-        grid.cellsOf(k, [&](std::uint64_t cell) { buckets.push_back(bucketOf(cell)); });
+        grid.cellsOf(from[k], to[k], [&](std::uint64_t cell) { buckets.push_back(bucketOf(cell)); });
         bucketsStart[k + 1] = static_cast<std::uint32_t>(buckets.size());
     }
     std::vector<std::uint32_t> start(bucketCount + 1, 0); // per bucket, into segments
@@ -177,5 +217,87 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
     }
     return false;
 }
+
+/// Segments, named by ids, filed by the cells of a uniform grid that they pass through (about one
+/// segment to a cell where they spread evenly), so that the segments that may meet a segment or a
+/// box are found without looking at all of them, as segments are added. An id filed again (its
+/// segment moved) stays under its old cells too: a query reports it there as well, and the caller
+/// judges its segment as it is now.
+class SegmentIndex {
+public:
+    /// For segments within the box lo..hi, about `expected` of them.
+    SegmentIndex(const glm::dvec2& lo, const glm::dvec2& hi, std::size_t expected)
+        : _grid(lo, hi, static_cast<std::int64_t>(std::ceil(std::sqrt(static_cast<double>(expected))))),
+          _cells(static_cast<std::size_t>(_grid.cellCount()))
+    {
+    }
+
+    void insert(int id, const glm::dvec2& a, const glm::dvec2& b)
+    {
+        if (static_cast<std::size_t>(id) >= _seen.size()) {
+            _seen.resize(static_cast<std::size_t>(id) + 1, 0);
+        }
+        _grid.cellsOf(a, b, [&](std::uint64_t cell) {
+            std::vector<int>& ids = _cells[static_cast<std::size_t>(cell)];
+            if (ids.empty() || ids.back() != id) {
+                ids.push_back(id);
+            }
+        });
+    }
+
+    /// Calls visit(id) once for each id filed under a cell that the segment a -> b passes through:
+    /// every segment that meets it, and some near it.
+    template <typename Visit>
+    void forEachNear(const glm::dvec2& a, const glm::dvec2& b, Visit&& visit)
+    {
+        beginQuery();
+        _grid.cellsOf(a, b, [&](std::uint64_t cell) { visitCell(cell, visit); });
+    }
+
+    /// Calls visit(id) once for each id filed under a cell of the box lo..hi: every segment with a
+    /// point in the box, and some near it.
+    template <typename Visit>
+    void forEachInBox(const glm::dvec2& lo, const glm::dvec2& hi, Visit&& visit)
+    {
+        beginQuery();
+        _grid.cellsOfBox(lo, hi, [&](std::uint64_t cell) { visitCell(cell, visit); });
+    }
+
+    /// Calls visit(id) once for each id filed under the cells of the ray from p towards +x up to
+    /// x = xEnd, left to right, until stop(x) after a column of cells says nothing right of x
+    /// matters (see SegmentGrid::cellsTowardsPlusX).
+    template <typename Visit, typename Stop>
+    void forEachTowardsPlusX(const glm::dvec2& p, double xEnd, Visit&& visit, Stop&& stop)
+    {
+        beginQuery();
+        _grid.cellsTowardsPlusX(p, xEnd, [&](std::uint64_t cell) { visitCell(cell, visit); }, stop);
+    }
+
+private:
+    void beginQuery()
+    {
+        if (++_query == 0) { // wrapped: forget every earlier query's marks
+            std::fill(_seen.begin(), _seen.end(), 0);
+            _query = 1;
+        }
+    }
+
+    template <typename Visit>
+    void visitCell(std::uint64_t cell, Visit& visit)
+    {
+        for (const int id : _cells[static_cast<std::size_t>(cell)]) {
+            std::uint32_t& seen = _seen[static_cast<std::size_t>(id)];
+            if (seen != _query) {
+                seen = _query;
+                visit(id);
+            }
+        }
+    }
+
+    SegmentGrid _grid;
+    std::vector<std::vector<int>> _cells;
+    std::vector<std::uint32_t> _seen; // per id: the last query that visited it
+    std::uint32_t _query = 0;
+};
 
 } // namespace orbis::detail

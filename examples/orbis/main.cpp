@@ -207,6 +207,18 @@ bool confineFiles(const std::string& folder)
     }
 }
 
+/// A scene's warnings on stderr, naming the scene file: the first 20, then how many more.
+void printWarnings(const std::string& path, const std::vector<std::string>& warnings)
+{
+    constexpr std::size_t kShown = 20;
+    for (std::size_t i = 0; i < std::min(warnings.size(), kShown); ++i) {
+        std::fprintf(stderr, "%s: warning: %s\n", path.c_str(), warnings[i].c_str());
+    }
+    if (warnings.size() > kShown) {
+        std::fprintf(stderr, "%s: warning: %zu more warnings like these\n", path.c_str(), warnings.size() - kShown);
+    }
+}
+
 /// Builds the scene's primitives as render does, without a GPU (polygons triangulated, billboard
 /// images packed, models unfolded): what the files' readers accept but drawing them refuses. False,
 /// with the message, when that fails.
@@ -214,7 +226,7 @@ bool buildsWithoutFault(const std::string& path, const orbis::world::SceneDescri
 {
     try {
         orbis::scene::Scene scene;
-        orbis::scene::populateScene(description, scene);
+        printWarnings(path, orbis::scene::populateScene(description, scene));
         return true;
     } catch (const orbis::Error& error) {
         std::fprintf(stderr, "%s: %s\n", path.c_str(), error.what());
@@ -476,7 +488,7 @@ int runRender(Arguments arguments)
             context.createFramebuffer(width.value_or(description.width), height.value_or(description.height));
         context.setFramebuffer(&framebuffer);
         orbis::scene::Scene scene;
-        orbis::scene::populateScene(description, scene);
+        printWarnings(scenePath.value_or("the default scene"), orbis::scene::populateScene(description, scene));
 
         orbis::world::AsyncPngWriter writer(frameCount > 1 ? frameWriterThreads() : 1);
         std::string statisticsJson = frameCount > 1 ? "[\n" : "";
@@ -553,7 +565,7 @@ int runView(Arguments arguments)
         // The viewer keeps drawing while tiles arrive: they enter whenever they are ready.
         orbis::scene::SceneBuildOptions build;
         build.loader.latencyFrames = 0;
-        orbis::scene::populateScene(description, scene, build);
+        printWarnings(parsed.scenePath.value_or("the default scene"), orbis::scene::populateScene(description, scene, build));
         orbis::examples::runViewer(device, scene, options);
         return kExitOk;
     } catch (const orbis::Error& error) {

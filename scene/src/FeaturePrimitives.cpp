@@ -89,13 +89,18 @@ private:
         name.append(" (feature ").append(std::to_string(_feature->index));
         name.append(", polygon ").append(std::to_string(part)).append(")");
         const glm::vec4 color = _style.fillColorOf ? _style.fillColorOf(*_feature) : _style.fillColor;
+        std::vector<LeftOutHole> leftOut;
         try {
-            _out.fills->add(polygon, color, name);
+            _out.fills->add(polygon, color, name, _style.skipInvalidPolygons ? &leftOut : nullptr);
         } catch (const Error& error) {
             if (!_style.skipInvalidPolygons) {
                 throw;
             }
             _out.warnings.push_back(std::string("left out: ") + error.what());
+        }
+        for (const LeftOutHole& hole : leftOut) {
+            _out.warnings.push_back("polygon '" + name + "': left out hole ring " + std::to_string(hole.ring) + ": " +
+                                    hole.reason);
         }
     }
 

@@ -124,7 +124,8 @@ std::size_t PolygonCollection::size() const noexcept
     return _polygons.size();
 }
 
-std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name)
+std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name,
+                                   std::vector<LeftOutHole>* leftOutHoles)
 {
     std::vector<std::vector<glm::dvec3>> rings;
     rings.reserve(polygon.rings.size());
@@ -135,15 +136,15 @@ std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec
             cartesian.push_back(_ellipsoid.toCartesian(Geodetic2D{position.longitude, position.latitude}));
         }
     }
-    return add(rings, color, name);
+    return add(rings, color, name, leftOutHoles);
 }
 
 std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
-                                   std::string_view name)
+                                   std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
 {
     Item item;
     item.color = color;
-    item.mesh = triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name);
+    item.mesh = triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name, leftOutHoles);
     item.mesh.normals.clear();
     item.mesh.normals.shrink_to_fit();
     if (!item.mesh.indices.empty()) {

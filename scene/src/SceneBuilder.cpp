@@ -134,7 +134,8 @@ private:
 /// Borders and fills of a GeoJSON file; with neither style given, lines and outlines in the
 /// default stroke. With a ground reference the lines follow the ground as a polyline layer's do,
 /// and over terrain the fills are draped on it (either reference: a fill can only lie on it).
-void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Ground>& ground, Scene& scene)
+void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Ground>& ground, Scene& scene,
+                     std::vector<std::string>& warnings)
 {
     FeatureStyle style;
     style.borders = layer.stroke.has_value() || !layer.fill.has_value();
@@ -155,12 +156,22 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Gro
             };
         }
     }
-    const world::FeatureCollection features = world::loadGeoJson(layer.source);
+    style.skipInvalidPolygons = layer.skipInvalid;
+    world::GeoJsonOptions reading;
+    reading.skipInvalidFeatures = layer.skipInvalid;
+    const world::FeatureCollection features = world::loadGeoJson(layer.source, reading);
+    warnings.insert(warnings.end(), features.warnings.begin(), features.warnings.end()); // these name the file
+    const std::string file = world::cutForMessage(layer.source.string());
     try {
-        buildFeaturePrimitives(scene.ellipsoid(), features, style).addTo(scene);
+        const FeaturePrimitives primitives = buildFeaturePrimitives(scene.ellipsoid(), features, style);
+        primitives.addTo(scene);
+        for (const std::string& warning : primitives.warnings) {
+            warnings.push_back(file + ": " + warning);
+        }
     } catch (const Error& error) {
         // What the triangulation refuses names the feature; the file is named here.
-        throw Error(world::cutForMessage(layer.source.string()) + ": " + error.what());
+        const char* hint = layer.skipInvalid ? "" : " (with \"invalid\": \"skip\" the layer leaves out faulty holes and polygons, each named in a warning)";
+        throw Error(file + ": " + error.what() + hint);
     }
 }
 
@@ -377,8 +388,10 @@ bool hasVirtualTexture(const world::GlobeDescription& globe)
 
 } // namespace
 
-void populateScene(const world::SceneDescription& description, Scene& scene, const SceneBuildOptions& build)
+std::vector<std::string> populateScene(const world::SceneDescription& description, Scene& scene,
+                                       const SceneBuildOptions& build)
 {
+    std::vector<std::string> warnings;
     scene.options().depthStrategy = description.depth;
     scene.camera() = makeCamera(description.camera, scene.ellipsoid());
     scene.setSunDirection(description.sun.directionEarthFixed);
@@ -432,7 +445,11 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
                 [&](const auto& layer) {
                     using Layer = std::decay_t<decltype(layer)>;
                     if constexpr (std::is_same_v<Layer, world::GeoJsonLayer>) {
-                        addGeoJsonLayer(layer, ground, scene);
+                        std::vector<std::string> layerWarnings;
+                        addGeoJsonLayer(layer, ground, scene, layerWarnings);
+                        for (const std::string& warning : layerWarnings) {
+                            warnings.push_back("/layers/" + std::to_string(i) + ": " + warning);
+                        }
                     } else if constexpr (std::is_same_v<Layer, world::PolylineLayer>) {
                         addPolylineLayer(layer, ground, scene);
                     } else if constexpr (std::is_same_v<Layer, world::PointsLayer>) {
@@ -447,6 +464,7 @@ void populateScene(const world::SceneDescription& description, Scene& scene, con
             throw Error("/layers/" + std::to_string(i) + ": " + error.what());
         }
     }
+    return warnings;
 }
 
 } // namespace orbis::scene

@@ -333,6 +333,105 @@ TEST_CASE("earClip bridges holes: n + 2h - 2 triangles covering the area between
     }
 }
 
+TEST_CASE("earClip joins a thousand holes to a wavy outer ring, each bridge checked against the edges near it",
+          "[polygon][ear-clipping]")
+{
+    // As a country's lakes: many small holes, of 4 to 8 vertices and either winding, on a jittered
+    // grid inside a coast-like ring. Most bridges end on holes bridged before (the nearest vertex
+    // to the right), so the edges' index must follow every splice. (Its time, and earcut's, is in
+    // the benchmark: orbis_bench --only polygons.)
+    std::mt19937_64 random(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    Ring coast;
+    for (int i = 0; i < 2000; ++i) {
+        const double angle = kTwoPi * i / 2000;
+        const double radius = 1.0 + 0.05 * std::sin(37.0 * angle) + 0.01 * unit(random);
+        coast.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+    }
+    Rings rings = {coast};
+    std::size_t n = coast.size();
+    const int side = 32;
+    const double cell = 1.2 / side;
+    for (int h = 0; h < side * side; ++h) {
+        const glm::dvec2 centre(-0.6 + cell * (h % side + 0.45 + 0.1 * unit(random)),
+                                -0.6 + cell * (h / side + 0.45 + 0.1 * unit(random)));
+        const int count = 4 + static_cast<int>(5 * unit(random));
+        Ring hole;
+        for (int k = 0; k < count; ++k) {
+            const double angle = kTwoPi * k / count;
+            hole.push_back(centre + cell * (0.2 + 0.2 * unit(random)) * glm::dvec2(std::cos(angle), std::sin(angle)));
+        }
+        if (unit(random) < 0.5) {
+            std::reverse(hole.begin(), hole.end());
+        }
+        n += hole.size();
+        rings.push_back(hole);
+    }
+    const PolygonTriangles result = earClip(rings);
+    REQUIRE(result.holeCount == side * side);
+    REQUIRE(result.triangleCount() == n + 2 * side * side - 2);
+    requireTriangulation(rings, result);
+
+    SECTION("a hole outside the outer ring, or inside another hole, is named")
+    {
+        Rings outside = rings;
+        outside.push_back(square(2, 2, 0.1, false));
+        REQUIRE_THROWS_WITH(earClip(outside), Contains("hole ring 1025 lies outside the outer ring"));
+        Rings nested = rings;
+        const glm::dvec2 inFirst = -glm::dvec2(0.6) + cell * glm::dvec2(0.5); // within 0.07 cells of hole 1's centre
+        nested.push_back({inFirst, inFirst + glm::dvec2(1e-4, 0), inFirst + glm::dvec2(1e-4), inFirst + glm::dvec2(0, 1e-4)});
+        REQUIRE_THROWS_WITH(earClip(nested), Contains("hole ring 1025 lies inside hole ring 1"));
+    }
+}
+
+TEST_CASE("earClip leaves out faulty holes when asked, naming each, and triangulates the rest", "[polygon][ear-clipping]")
+{
+    // A 10 x 10 square with a good hole at (1, 1), and one faulty hole at a time.
+    const Ring outer = square(0, 0, 10);
+    const Ring good = square(1, 1, 2, false);
+    struct Case {
+        const char* what;
+        Ring faulty;
+        std::size_t leftOut; // the ring expected to go
+        const char* reason;
+    };
+    const Case cases[] = {
+        {"outside the outer ring", square(20, 20, 1), 2, "it lies outside the outer ring"},
+        {"inside the good hole", square(1.5, 1.5, 0.5), 2, "it lies inside hole ring 1"},
+        {"crossing the good hole, and larger", square(2, 2, 3), 1, "it crosses hole ring 2"},
+        {"crossing the outer ring", square(8, 4, 4), 2, "it crosses the outer ring"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.what);
+        const Rings rings = {outer, good, c.faulty};
+        REQUIRE_THROWS_AS(earClip(rings), Error); // by default they throw
+        std::vector<LeftOutHole> leftOut;
+        const PolygonTriangles result = earClip(rings, "lakes", kSpikeRepairRelativeArea, &leftOut);
+        REQUIRE(leftOut.size() == 1);
+        CHECK(leftOut[0].ring == c.leftOut);
+        CHECK_THAT(leftOut[0].reason, Contains(c.reason));
+        CHECK(result.holeCount == 1);
+        Rings kept = rings;
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(c.leftOut));
+        requireTriangulation(kept, result.indices.empty() ? result : [&] {
+            // The indices count the rings given: renumber those after the left-out ring.
+            PolygonTriangles renumbered = result;
+            const auto from = static_cast<std::uint32_t>(4 * c.leftOut);
+            for (std::uint32_t& index : renumbered.indices) {
+                REQUIRE((index < from || index >= from + 4));
+                index = index < from ? index : index - 4;
+            }
+            return renumbered;
+        }());
+    }
+    SECTION("the outer ring crossing itself still throws")
+    {
+        std::vector<LeftOutHole> leftOut;
+        const Rings bowtie = {{{0, 0}, {10, 10}, {10, 0}, {0, 10}}, good};
+        REQUIRE_THROWS_WITH(earClip(bowtie, "bowtie", kSpikeRepairRelativeArea, &leftOut), Contains("crosses"));
+    }
+}
+
 TEST_CASE("earClip gives no triangles for rings with no area, and drops such holes", "[polygon][ear-clipping]")
 {
     const PolygonTriangles point = earClip(Rings{{{1, 1}, {1, 1}, {1, 1}, {1, 1}}});

@@ -232,6 +232,17 @@ TEST_CASE("A GeoJSON layer without styles gets the default stroke", "[world][sce
     REQUIRE_FALSE(layer.fill.has_value());
 }
 
+TEST_CASE("A GeoJSON layer refuses invalid polygons unless its \"invalid\" says skip", "[world][scenefile]")
+{
+    CHECK_FALSE(std::get<GeoJsonLayer>(parse(withLayer(R"({"type": "geojson", "source": "a.json"})")).layers[0]).skipInvalid);
+    CHECK(std::get<GeoJsonLayer>(parse(withLayer(R"({"type": "geojson", "source": "a.json", "invalid": "skip"})")).layers[0])
+              .skipInvalid);
+    CHECK_FALSE(std::get<GeoJsonLayer>(parse(withLayer(R"({"type": "geojson", "source": "a.json", "invalid": "error"})")).layers[0])
+                    .skipInvalid);
+    CHECK_THAT(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "invalid": "repair"})")),
+               Contains(R"(/layers/0/invalid: )") && Contains(R"("error", "skip")"));
+}
+
 TEST_CASE("Billboards take a built-in shape, and billboards and labels a distance within which they are not depth-tested", "[world][scenefile]")
 {
     const auto defaults = std::get<PointsLayer>(
@@ -363,7 +374,7 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[world][s
             R"(test.json:1:44: /sun/elevation: unknown key "elevation"; expected one of "lon", "lat")");
     // A key that belongs to another layer type.
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "positions": []})")) ==
-            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve", "heightReference")");
+            R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve", "heightReference", "invalid")");
     // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
     CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
             R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "samples", "globe", "layers")");

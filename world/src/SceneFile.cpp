@@ -110,8 +110,8 @@ constexpr std::array<std::string_view, 11> kVirtualTextureKeys = {
     "trilinear", "maximumAnisotropy", "lodBias",       "dynamicLodBias",  "uploadMegabytesPerFrame"};
 constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
-constexpr std::array<std::string_view, 7> kGeoJsonKeys = {"type", "source",      "stroke", "fill",
-                                                          "granularity", "curve", "heightReference"};
+constexpr std::array<std::string_view, 8> kGeoJsonKeys = {"type",  "source",          "stroke", "fill", "granularity",
+                                                          "curve", "heightReference", "invalid"};
 constexpr std::array<std::string_view, 5> kPointsKeys = {"type", "source", "billboard", "label", "heightReference"};
 constexpr std::array<std::string_view, 7> kPolylineKeys = {"type", "positions", "width", "color",
                                                             "granularity", "curve", "heightReference"};
@@ -159,6 +159,10 @@ constexpr std::array<Named<HeightReference>, 3> kHeightReferences = {{
     {"absolute", HeightReference::Absolute},
     {"clampToGround", HeightReference::ClampToGround},
     {"relativeToGround", HeightReference::RelativeToGround},
+}};
+constexpr std::array<Named<bool>, 2> kInvalidFeatures = {{ // true: skip them
+    {"error", false},
+    {"skip", true},
 }};
 constexpr std::array<Named<CurveType>, 2> kCurves = {{
     {"section", CurveType::PlaneSection},
@@ -1057,6 +1061,9 @@ private:
         }
         attempt([&] { layer.path = readLinePath(value, pointer); });
         readHeightReference(value, pointer, layer.heightReference);
+        if (const Json* invalid = member(value, "invalid")) {
+            attempt([&] { layer.skipInvalid = readEnum(*invalid, pointer + "/invalid", kInvalidFeatures); });
+        }
         return layer;
     }
 

@@ -5,10 +5,18 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace orbis {
+
+/// A hole a triangulation left out because it was invalid with the rest of its polygon (see
+/// earClip's leftOutHoles).
+struct LeftOutHole {
+    std::size_t ring = 0; ///< its index in the rings given
+    std::string reason;   ///< e.g. "it lies outside the outer ring (or on it)"
+};
 
 /// The triangles of a polygon, as indices into its vertices.
 struct PolygonTriangles {
@@ -60,7 +68,15 @@ inline constexpr double kSpikeRepairRelativeArea = 1e-2;
 /// triangles (and vertexCount the distinct vertices); holes with no area are dropped. Throws orbis::Error, with a message naming
 /// `name` and the rings and vertices concerned, when a vertex is not finite, edges cross, a hole
 /// lies outside the outer ring or inside another hole, or no triangulation is found.
+///
+/// With leftOutHoles given, a faulty hole is left out instead, and listed there, as data invalid
+/// as published has them (OpenStreetMap's lakes): a hole outside the outer ring or inside another
+/// hole (leaving it out changes nothing: it removes nothing from the polygon), or one whose edges
+/// cross another ring's beyond repair (the smaller of two crossing holes goes: the polygon then
+/// covers that hole's area inside the outer ring). Edges of the outer ring crossing each other
+/// still throw.
 PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name = "polygon",
-                         double repairRelativeArea = kSpikeRepairRelativeArea);
+                         double repairRelativeArea = kSpikeRepairRelativeArea,
+                         std::vector<LeftOutHole>* leftOutHoles = nullptr);
 
 } // namespace orbis

@@ -32,9 +32,10 @@ inline constexpr double kMaximumTangentPlaneAngleRadians = toRadians(80.0);
 ///
 /// Throws orbis::Error naming `name` for what earClip rejects, for a non-finite position, and for
 /// a polygon with a vertex farther than kMaximumTangentPlaneAngleRadians from the plane's normal
-/// (too large for one plane: triangulatePolygon splits such polygons).
+/// (too large for one plane: triangulatePolygon splits such polygons). With leftOutHoles given,
+/// faulty holes are left out and listed there, as earClip does (their indices into `rings`).
 PolygonTriangles earClipOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const std::vector<glm::dvec3>> rings,
-                                    std::string_view name = "polygon");
+                                    std::string_view name = "polygon", std::vector<LeftOutHole>* leftOutHoles = nullptr);
 
 /// A polygon on the ellipsoid as a mesh of triangles no coarser than granularityRadians
 /// (subdivideOnEllipsoid after ear clipping), positions on the surface with geodetic normals,
@@ -52,7 +53,10 @@ PolygonTriangles earClipOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const 
 ///
 /// Throws orbis::Error naming `name` as earClipOnEllipsoid does (for any polygon size), and when
 /// the outer ring divides the ellipsoid into two halves of equal area (which is meant is unknown).
+/// leftOutHoles as for earClipOnEllipsoid, for polygons within one tangent plane; a polygon split
+/// into pieces still throws for a faulty hole.
 Mesh triangulatePolygon(const Ellipsoid& ellipsoid, std::span<const std::vector<glm::dvec3>> rings,
-                        double granularityRadians, std::string_view name = "polygon");
+                        double granularityRadians, std::string_view name = "polygon",
+                        std::vector<LeftOutHole>* leftOutHoles = nullptr);
 
 } // namespace orbis

@@ -30,8 +30,9 @@ struct FeatureStyle {
     /// that meridian which are no border: leave them out of the borders. Edges from one longitude of
     /// +-180 degrees to another, at different latitudes, are such edges.
     bool skipAntimeridianEdges = true;
-    /// false: a polygon that cannot be triangulated throws. true: it is left out and described in
-    /// FeaturePrimitives::warnings (its borders are still drawn).
+    /// false: a polygon that cannot be triangulated throws. true: a faulty hole is left out (see
+    /// earClip's leftOutHoles), a polygon that still cannot be triangulated too, each described in
+    /// FeaturePrimitives::warnings (their borders are still drawn).
     bool skipInvalidPolygons = false;
     /// Lines on the ground, as a polyline layer's (PolylineCollectionOptions::groundHeight; null:
     /// on the ellipsoid), with a drawn vertex at least every groundSpacingRadians (the terrain's
@@ -48,7 +49,7 @@ struct FeatureStyle {
 struct FeaturePrimitives {
     std::shared_ptr<PolygonCollection> fills;
     std::shared_ptr<PolylineCollection> borders;
-    std::vector<std::string> warnings; ///< one line per polygon left out
+    std::vector<std::string> warnings; ///< one line per polygon or hole left out
 
     /// Adds the fills, then the borders (so borders draw over the fills).
     void addTo(Scene& scene) const;

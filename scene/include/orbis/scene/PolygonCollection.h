@@ -2,6 +2,7 @@
 
 #include "orbis/scene/PolylineCollection.h"
 
+#include <orbis/core/EarClipping.h>
 #include <orbis/core/Mesh.h>
 #include <orbis/world/Feature.h>
 
@@ -69,11 +70,13 @@ public:
     /// surface), edges along plane sections through the centre, either winding. Returns its index.
     /// A polygon with no area keeps its index and draws nothing. Throws orbis::Error naming `name`
     /// for what triangulatePolygon rejects (self-crossing rings, a ring cutting the ellipsoid in
-    /// halves, non-finite positions).
+    /// halves, non-finite positions). With leftOutHoles given, faulty holes are left out and listed
+    /// there instead (triangulatePolygon's leftOutHoles).
     std::size_t add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
-                    std::string_view name = "polygon");
+                    std::string_view name = "polygon", std::vector<LeftOutHole>* leftOutHoles = nullptr);
     /// The same for a GeoJSON polygon (radians; heights ignored).
-    std::size_t add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon");
+    std::size_t add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon",
+                    std::vector<LeftOutHole>* leftOutHoles = nullptr);
 
     std::size_t size() const noexcept;
     bool empty() const noexcept { return size() == 0; }

@@ -5,6 +5,9 @@
 
 #include <orbis/world/TileLoader.h>
 
+#include <string>
+#include <vector>
+
 namespace orbis::scene {
 
 /// How a scene built from a file streams its tiles.
@@ -19,7 +22,11 @@ struct SceneBuildOptions {
 /// creating only what the description asks for (GPU resources follow on the first render).
 /// Model layers read their glTF file here, and imagery layers open their tile sources. Throws
 /// orbis::Error naming the layer ("/layers/2", "/globe/imagery/0") for a file or source it cannot
-/// read (the reader's message follows), or a depth strategy this build cannot draw yet.
-void populateScene(const world::SceneDescription& description, Scene& scene, const SceneBuildOptions& options = {});
+/// read (the reader's message follows), or a depth strategy this build cannot draw yet. Returns
+/// the warnings, one line each naming the layer and the file: what a layer left out (features and
+/// polygons refused, with "invalid": "skip") or repaired (rings a TopoJSON file's quantization
+/// collapsed).
+std::vector<std::string> populateScene(const world::SceneDescription& description, Scene& scene,
+                                       const SceneBuildOptions& options = {});
 
 } // namespace orbis::scene

@@ -235,6 +235,10 @@ struct GeoJsonLayer {
     /// Lines follow it as a polyline layer's do; fills on the ground (either ground reference)
     /// are draped over the terrain, their heights ignored as they always are.
     HeightReference heightReference = HeightReference::Absolute;
+    /// Key "invalid": false ("error"), a feature the reader refuses or a polygon the triangulation
+    /// refuses fails the layer; true ("skip"), each is left out and named in a warning (data
+    /// invalid as published, such as a hole outside its polygon's outer ring).
+    bool skipInvalid = false;
 
     friend bool operator==(const GeoJsonLayer&, const GeoJsonLayer&) = default;
 };
