@@ -96,6 +96,7 @@ std::vector<Table> run(const Options& options)
     auto billboards = examples::cityBillboards(kEarth, cities, dotImage());
     auto labels = countryLabels();
     GlobeOptions globeOptions;
+    globeOptions.lighting = true;
     globeOptions.dayTexture = examples::xplanetDayImage();
     auto globe = std::make_shared<Globe>(kEarth, globeOptions);
 

@@ -62,6 +62,7 @@ world::TileLoaderOptions deterministicLoader()
 ClipmapTerrainOptions etopo5Clipmap(int posts, double exaggeration = 1.0)
 {
     ClipmapTerrainOptions options;
+    options.lighting = true;
     options.terrain = world::openTerrainSource((kData / "terrain/etopo5").string());
     options.imagery.push_back({world::openTileSource((kData / "imagery/BlueMarble").string()), {}});
     options.posts = posts;
@@ -209,6 +210,7 @@ Table comparisonTable(const Options& options, Context& context)
         }
         {
             TiledGlobeOptions tiled;
+            tiled.lighting = true;
             tiled.terrain = world::openTerrainSource((kData / "terrain/etopo5").string());
             tiled.imagery.push_back({world::openTileSource((kData / "imagery/BlueMarble").string()), {}});
             tiled.loader = deterministicLoader();
@@ -279,6 +281,7 @@ Table flightTable(const Options& options, Context& context)
             scene.add(std::make_shared<ClipmapTerrain>(kEarth, etopo5Clipmap(255)));
         } else {
             TiledGlobeOptions tiled;
+            tiled.lighting = true;
             tiled.terrain = world::openTerrainSource((kData / "terrain/etopo5").string());
             tiled.imagery.push_back({world::openTileSource((kData / "imagery/BlueMarble").string()), {}});
             tiled.loader = deterministicLoader();

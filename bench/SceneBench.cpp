@@ -121,6 +121,7 @@ std::vector<Table> globeTables(const Options& options)
     context.setFramebuffer(&framebuffer);
 
     GlobeOptions textured;
+    textured.lighting = true;
     textured.dayTexture = "/usr/share/xplanet/images/earth.jpg";
     textured.nightTexture = "/usr/share/xplanet/images/night.jpg";
     std::vector<GlobeConfiguration> configurations;

@@ -112,7 +112,6 @@ struct StreamedScene {
     {
         TiledGlobeOptions options = base;
         options.imagery.push_back({std::move(source), {}});
-        options.lighting = false;
         globe = std::make_shared<TiledGlobe>(kEarth, options);
         scene.add(globe);
     }
@@ -165,6 +164,7 @@ Table errorTable(const Options& options, Device& device, Context& context)
     for (const double error : errors) {
         auto source = std::make_shared<SyntheticImagery>(18);
         TiledGlobeOptions tiled;
+        tiled.lighting = true;
         tiled.maximumScreenSpaceError = error;
         tiled.loader.latencyFrames = 1;
         tiled.loader.maximumStartsPerFrame = 64;
@@ -275,6 +275,7 @@ Table jumpTable(const Options& options, Context& context)
         options.quick ? std::vector<std::pair<int, int>>{{1, 16}} : std::vector<std::pair<int, int>>{{1, 8}, {2, 8}, {2, 16}, {4, 32}};
     for (const auto& [latency, perFrame] : settings) {
         TiledGlobeOptions tiled;
+        tiled.lighting = true;
         tiled.loader.latencyFrames = latency;
         tiled.loader.maximumStartsPerFrame = static_cast<std::size_t>(perFrame);
         tiled.loader.maximumInFlight = static_cast<std::size_t>(perFrame * (latency + 1));
@@ -588,6 +589,7 @@ void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& 
             continue;
         }
         TiledGlobeOptions tiled;
+        tiled.lighting = true;
         tiled.terrain = view.openTerrain();
         tiled.maximumScreenSpaceError = setting;
         tiled.loader = loader;
@@ -599,6 +601,7 @@ void addPixelErrorRows(Table& table, const PixelErrorView& view, const Options& 
     }
     if (withClipmap) {
         ClipmapTerrainOptions clipmap;
+        clipmap.lighting = true;
         clipmap.terrain = view.openTerrain();
         clipmap.posts = 255;
         clipmap.loader = loader;
@@ -719,6 +722,7 @@ Table flightTable(const Options& options, Context& context)
 std::vector<std::string> flightRow(int frames, bool terrain, Context& context)
 {
     TiledGlobeOptions tiled;
+    tiled.lighting = true;
     if (terrain) {
         tiled.terrain = syntheticTerrain();
     }
@@ -774,6 +778,7 @@ std::vector<std::string> flightRow(int frames, bool terrain, Context& context)
 Table fillTable(const Options& options, Device& device, Context& context)
 {
     TiledGlobeOptions tiled;
+    tiled.lighting = true;
     tiled.loader.latencyFrames = 1;
     tiled.loader.maximumStartsPerFrame = 64;
     StreamedScene streamed(world::openTileSource(kBlueMarble.string()), tiled);
@@ -914,6 +919,7 @@ Table morphTable(const Options& options, Context& context)
     }
     for (const int morphFrames : settings) {
         TiledGlobeOptions tiled;
+        tiled.lighting = true;
         tiled.terrain = syntheticTerrain();
         tiled.morphFrames = morphFrames;
         tiled.loader.latencyFrames = 2;

@@ -208,6 +208,7 @@ std::vector<Table> run(const Options& options)
     };
     for (const Setup& setup : setups) {
         GlobeOptions globe;
+        globe.lighting = true;
         if (setup.textured) {
             globe.dayTexture = "/usr/share/xplanet/images/earth.jpg";
         }

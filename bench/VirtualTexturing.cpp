@@ -59,7 +59,6 @@ VirtualTextureGlobeOptions baseOptions()
 {
     VirtualTextureGlobeOptions options;
     options.source = blueMarble();
-    options.lighting = false;
     options.loader.workerThreads = 2;
     options.loader.latencyFrames = 2;
     options.loader.maximumStartsPerFrame = 8;
@@ -173,7 +172,6 @@ Table convergenceTable(const Options& options)
 
         TiledGlobeOptions tiledOptions;
         tiledOptions.imagery.push_back({blueMarble(), {}});
-        tiledOptions.lighting = false;
         Scene tiled(kEarth);
         tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
         place(tiled.camera(), view);

@@ -10,6 +10,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_globe_ray_casting.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
+        options.lighting = true;
         options.method = GlobeMethod::RayCast;
         options.dayTexture = examples::xplanetDayImage();
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));

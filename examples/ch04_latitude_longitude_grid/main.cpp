@@ -10,6 +10,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_latitude_longitude_grid.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
+        options.lighting = true;
         options.dayTexture = examples::xplanetDayImage();
         options.grid = true;
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));

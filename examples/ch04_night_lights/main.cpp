@@ -11,6 +11,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_night_lights.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
+        options.lighting = true; // night lights show where the Sun does not
         options.dayTexture = examples::xplanetDayImage();
         options.nightTexture = examples::xplanetNightImage();
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));

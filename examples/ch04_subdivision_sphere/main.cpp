@@ -11,6 +11,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch04_subdivision_sphere.png", [](Scene& scene, const auto&) {
         GlobeOptions options;
+        options.lighting = true;
         options.method = GlobeMethod::Tessellated;
         options.tessellation = GlobeTessellation::SubdivisionEllipsoid;
         options.tessellationLevel = 6;

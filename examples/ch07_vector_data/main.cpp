@@ -16,6 +16,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch07_vector_data.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
+        globe.lighting = true;
         globe.dayTexture = examples::xplanetDayImage();
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), globe));
 

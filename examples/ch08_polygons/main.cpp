@@ -18,6 +18,7 @@ int main(int argc, char** argv)
     using namespace orbis::scene;
     return examples::runSceneExample(argc, argv, "ch08_polygons.png", [](Scene& scene, const auto&) {
         GlobeOptions globe;
+        globe.lighting = true;
         globe.color = {0.08f, 0.16f, 0.32f, 1.0f};
         scene.add(std::make_shared<Globe>(scene.ellipsoid(), globe));
 

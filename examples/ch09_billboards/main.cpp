@@ -94,6 +94,7 @@ int main(int argc, char** argv)
     return examples::runSceneExample(argc, argv, "ch09_billboards.png", [](Scene& scene, const auto&) {
         const Ellipsoid& ellipsoid = scene.ellipsoid();
         GlobeOptions globe;
+        globe.lighting = true;
         globe.dayTexture = examples::xplanetDayImage();
         scene.add(std::make_shared<Globe>(ellipsoid, globe));
 

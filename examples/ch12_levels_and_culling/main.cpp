@@ -91,6 +91,7 @@ int main(int argc, char** argv)
             char caption[256];
             if (index == 0) {
                 TiledGlobeOptions options;
+                options.lighting = true;
                 options.terrain = world::openTerrainSource(terrainFolder);
                 options.terrainExaggeration = 3.0;
                 options.colorByLevel = true;
@@ -111,7 +112,6 @@ int main(int argc, char** argv)
             const Outside& outside = kOutside[index - 1];
             TiledGlobeOptions backdrop;
             backdrop.imagery.push_back({world::openTileSource(imageryFolder), {1.0, 0.6, 1.0, 1.0, {}}});
-            backdrop.lighting = false;
             scene.add(std::make_shared<TiledGlobe>(scene.ellipsoid(), backdrop));
             auto lines = std::make_shared<PolylineCollection>(scene.ellipsoid());
             addBoxes(*lines, selected);

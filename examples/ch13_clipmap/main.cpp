@@ -42,6 +42,7 @@ int main(int argc, char** argv)
         [&](renderer::Context& context, std::size_t index, const examples::ExampleSettings&) {
             const Panel& panel = kPanels[index];
             ClipmapTerrainOptions options;
+            options.lighting = true;
             options.terrain = world::openTerrainSource(terrainFolder);
             options.exaggeration = 20.0;
             options.posts = 127;

@@ -35,6 +35,7 @@ int main(int argc, char** argv)
         [&](renderer::Context& context, std::size_t index, const examples::ExampleSettings&) {
             const Panel& panel = kPanels[index];
             TiledGlobeOptions options;
+            options.lighting = true;
             options.terrain = world::openTerrainSource(terrainFolder);
             options.terrainExaggeration = 3.0;
             options.maximumScreenSpaceError = panel.screenSpaceError;

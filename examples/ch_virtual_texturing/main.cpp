@@ -56,7 +56,6 @@ int main(int argc, char** argv)
             options.virtualTexture.border = 4;
             options.virtualTexture.physicalPages = 64;
             options.virtualTexture.feedbackDivisor = 4;
-            options.lighting = false;
             options.loader.workerThreads = 2;
             globe = std::make_shared<VirtualTextureGlobe>(scene.ellipsoid(), options);
             scene.add(globe);

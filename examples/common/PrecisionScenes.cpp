@@ -178,6 +178,7 @@ void buildDepthScene(Scene& scene)
     const Geodetic3D origin = Geodetic3D::fromDegrees(86.9, 27.9, 0.0);
 
     GlobeOptions globe;
+    globe.lighting = true;
     globe.dayTexture = xplanetDayImage();
     scene.add(std::make_shared<Globe>(ellipsoid, globe));
 

@@ -35,7 +35,7 @@ bool isFiniteAngle(double radians)
 
 void checkDescription(const orbis::world::SceneDescription& scene)
 {
-    require(scene.version == orbis::world::kSceneFileVersion);
+    require(scene.version >= 1 && scene.version <= orbis::world::kSceneFileVersion);
     require(scene.width >= 1 && scene.width <= 16384 && scene.height >= 1 && scene.height <= 16384);
     require(scene.camera.fieldOfViewY > 0.0 && scene.camera.fieldOfViewY < orbis::kPi);
     require(isFiniteAngle(scene.camera.position.latitude) && std::isfinite(scene.camera.position.height));

@@ -418,7 +418,6 @@ TEST_CASE("A billboard on the surface shows whole over the globe, and with the d
         Scene scene(kEarth);
         GlobeOptions globeOptions;
         globeOptions.method = method;
-        globeOptions.lighting = false;
         globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
         scene.add(std::make_shared<Globe>(kEarth, globeOptions));
         auto billboards = std::make_shared<BillboardCollection>();
@@ -475,12 +474,13 @@ TEST_CASE("A billboard at 0 m is hidden behind an aircraft 1,500 m above it, and
     const glm::dvec3 ground = kEarth.toCartesian(Geodetic3D{place.longitude, place.latitude, 0.0});
     Scene scene(kEarth);
     GlobeOptions globeOptions;
-    globeOptions.lighting = false;
     globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
     scene.add(std::make_shared<Globe>(kEarth, globeOptions));
     const std::filesystem::path aircraft = std::filesystem::path(ORBIS_SOURCE_DIR) / "data" / "models" / "aircraft.glb";
+    // Lit, so that no shaded pixel of it matches the billboard's pure red (its left wingtip light is red).
     scene.add(ModelPrimitive::fromFile(aircraft, kEarth,
-                                       ModelPlacement{Geodetic3D{place.longitude, place.latitude, 1500.0}, {}, 100.0}));
+                                       ModelPlacement{Geodetic3D{place.longitude, place.latitude, 1500.0}, {}, 100.0},
+                                       ModelOptions{.lighting = true}));
     auto billboards = std::make_shared<BillboardCollection>();
     Billboard b;
     b.position = ground;
@@ -504,7 +504,6 @@ TEST_CASE("Without the horizon test, the globe's depth hides a billboard behind 
     constexpr int size = 64;
     Scene scene(kEarth);
     GlobeOptions globeOptions;
-    globeOptions.lighting = false;
     globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
     scene.add(std::make_shared<Globe>(kEarth, globeOptions));
     lookFromAbove(scene, 2e7);
@@ -557,7 +556,6 @@ TEST_CASE("A billboard collection renders as its golden image", "[scene][billboa
 {
     Scene scene(kEarth);
     GlobeOptions globeOptions;
-    globeOptions.lighting = false;
     globeOptions.color = {0.1f, 0.2f, 0.45f, 1.0f};
     scene.add(std::make_shared<Globe>(kEarth, globeOptions));
     lookFromAbove(scene, 1.2e7);

@@ -48,6 +48,7 @@ ClipmapTerrainOptions etopo5Options()
     ClipmapTerrainOptions options;
     options.terrain = world::openTerrainSource(dataPath("terrain/etopo5"));
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
+    options.lighting = true;
     options.posts = 63;
     options.exaggeration = 20.0;
     options.loader = deterministicLoader(1);
@@ -375,7 +376,6 @@ TEST_CASE("Clipmap terrain at the poles and across the antimeridian draws no col
         INFO(view.name);
         ClipmapTerrainOptions options;
         options.posts = 63;
-        options.lighting = false;
         options.colorByLevel = true;
         Scene scene(kEarth);
         auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
@@ -403,7 +403,6 @@ TEST_CASE("A scene without clipmap terrain compiles none of its programs", "[sce
 
     ClipmapTerrainOptions options;
     options.posts = 31;
-    options.lighting = false;
     options.baseColor = {0.5f, 0.25f, 0.125f, 1.0f};
     Scene clipmapScene(kEarth);
     clipmapScene.add(std::make_shared<ClipmapTerrain>(kEarth, options));

@@ -36,7 +36,6 @@ const Ellipsoid kEarth = Ellipsoid::wgs84();
 std::shared_ptr<Globe> blueGlobe()
 {
     GlobeOptions options;
-    options.lighting = false;
     options.color = {0.0f, 0.0f, 1.0f, 1.0f};
     return std::make_shared<Globe>(kEarth, options);
 }

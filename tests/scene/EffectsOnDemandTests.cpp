@@ -4,6 +4,7 @@
 
 #include "RendererTestSupport.h"
 
+#include <orbis/scene/Globe.h>
 #include <orbis/scene/SceneBuilder.h>
 #include <orbis/world/SceneFile.h>
 
@@ -28,7 +29,7 @@ const std::filesystem::path kScenes = std::filesystem::path(ORBIS_SOURCE_DIR) / 
 std::string sceneText(const std::string& extra = "", const std::string& globeExtra = "",
                       const std::string& cameraHeight = "12000000")
 {
-    return R"({"version": 1, "width": 96, "height": 96,
+    return R"({"version": 2, "width": 96, "height": 96,
       "camera": {"position": {"lon": 20, "lat": 45, "height": )" +
            cameraHeight + R"(}, "target": {"lon": 20, "lat": 45, "height": 0}, "fovY": 40},
       "globe": {"texture": "/usr/share/xplanet/images/earth.jpg")" +
@@ -96,6 +97,34 @@ TEST_CASE("Placing the Sun adds lighting and nothing else", "[scene][effects]")
     requireOnlyEffect(render(sceneText()), render(sceneText(R"(, "time": "2026-12-21T18:00:00Z")")), {"lighting"});
 }
 
+TEST_CASE("A globe built through the API is unlit by default, as a file's without a Sun, and the same picture",
+          "[scene][effects]")
+{
+    // The file's globe and the API's default one: the same options but for the texture and lighting.
+    const Frame file = render(sceneText());
+    const SceneDescription description = parseSceneText(sceneText(), "test", kScenes);
+    for (const bool lighting : {false, true}) {
+        INFO("lighting " << lighting);
+        Scene scene;
+        scene.camera() = makeCamera(description.camera, scene.ellipsoid());
+        GlobeOptions options;
+        options.dayTexture = "/usr/share/xplanet/images/earth.jpg";
+        if (lighting) {
+            options.lighting = true;
+        }
+        scene.add(std::make_shared<Globe>(scene.ellipsoid(), options));
+        const RenderedFrame frame = renderFrame(scene, description.width, description.height);
+        const std::vector<std::string> names = frame.statistics.effectsRun();
+        CHECK(std::set<std::string>(names.begin(), names.end()) ==
+              (lighting ? std::set<std::string>{"globe", "lighting"} : file.effects));
+        if (lighting) {
+            CHECK(changedPixels(frame.image, file.image) > 20);
+        } else {
+            CHECK(changedPixels(frame.image, file.image) == 0);
+        }
+    }
+}
+
 TEST_CASE("A night texture adds night lights and nothing else", "[scene][effects]")
 {
     const std::string dusk = R"(, "time": "2026-12-21T18:00:00Z")";
@@ -124,7 +153,7 @@ TEST_CASE("Flying low adds a depth strategy only when the depth range needs it",
     // 40 km away, the range is too deep for one: near ~250 m, far past the horizon. "auto" then
     // pays for complementary depth where the driver has glClipControl and for logarithmic depth
     // where it does not (docs/precision.md); "multi-frustum" for more frustums.
-    const std::string low = R"({"version": 1, "width": 96, "height": 96,
+    const std::string low = R"({"version": 2, "width": 96, "height": 96,
       "camera": {"position": {"lon": 20, "lat": 45, "height": 300}, "heading": 0, "pitch": -2, "fovY": 40},
       "globe": {"texture": "/usr/share/xplanet/images/earth.jpg"}, "depth": "%s"})";
     auto withDepth = [&](const std::string& depth) {

@@ -47,7 +47,6 @@ Image renderGlobeFrom(const Geodetic3D& eye, const std::filesystem::path& textur
 {
     GlobeOptions options;
     options.dayTexture = texture;
-    options.lighting = false;
     Scene scene(kEarth);
     scene.add(std::make_shared<Globe>(kEarth, options));
     scene.camera().lookAt(kEarth.toCartesian(eye), glm::dvec3(0.0), std::abs(eye.latitude) > 1.5 ? glm::dvec3(1, 0, 0)

@@ -274,7 +274,6 @@ TEST_CASE("A depth-tested label hanging below its anchor at a slant is not cut b
     constexpr int size = 96;
     Scene scene(kEarth);
     GlobeOptions globeOptions;
-    globeOptions.lighting = false;
     globeOptions.color = {0.0f, 0.0f, 1.0f, 1.0f};
     scene.add(std::make_shared<Globe>(kEarth, globeOptions));
     const glm::dvec3 anchor = kEarth.toCartesian(Geodetic3D::fromDegrees(10, 30, 0));
@@ -304,7 +303,6 @@ TEST_CASE("Labels over billboards on a globe render as their golden image", "[sc
 {
     Scene scene(kEarth);
     GlobeOptions globeOptions;
-    globeOptions.lighting = false;
     globeOptions.color = {0.1f, 0.3f, 0.2f, 1.0f};
     scene.add(std::make_shared<Globe>(kEarth, globeOptions));
     scene.camera().lookAt(kEarth.toCartesian(Geodetic3D::fromDegrees(9.5, 48.6, 1.1e6)),
@@ -415,7 +413,7 @@ TEST_CASE("Decluttering hides a label that overlaps an earlier one shown, and no
 TEST_CASE("A scene file's label declutter key turns decluttering on for its layer", "[scene][label][declutter][scenefile]")
 {
     const auto labelsOf = [](const std::string& labelKeys) {
-        const std::string text = R"({"version": 1, "camera": {"position": {"lon": 10, "lat": 20, "height": 15000000}},
+        const std::string text = R"({"version": 2, "camera": {"position": {"lon": 10, "lat": 20, "height": 15000000}},
             "layers": [{"type": "points", "source": "capitals.csv", "label": {"field": "name")" + labelKeys + "}}]}";
         auto scene = std::make_unique<Scene>(kEarth);
         populateScene(parseSceneText(text, "labels.json", ORBIS_SOURCE_DIR "/data/scenes"), *scene);

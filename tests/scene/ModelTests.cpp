@@ -197,7 +197,6 @@ glm::dvec2 projectModelPoint(const Scene& scene, const ModelPrimitive& model, co
 std::shared_ptr<Globe> plainGlobe()
 {
     GlobeOptions options;
-    options.lighting = false;
     options.color = {0.0f, 0.0f, 1.0f, 1.0f};
     return std::make_shared<Globe>(kEarth, options);
 }
@@ -767,7 +766,7 @@ TEST_CASE("A scene file's model layer becomes a ModelPrimitive; a bad model name
     TempDirectory directory;
     directory.write("broken.glb", "glTF but nothing more");
     const std::filesystem::path badScene = directory.write(
-        "scene.json", R"({"version": 1, "layers": [{"type": "model", "source": "broken.glb", "position": {"lon": 0, "lat": 0}}]})");
+        "scene.json", R"({"version": 2, "layers": [{"type": "model", "source": "broken.glb", "position": {"lon": 0, "lat": 0}}]})");
     Scene other(kEarth);
     CHECK_THAT(errorMessage([&] { populateScene(parseSceneFile(badScene), other); }),
                Contains("/layers/0: " + (directory.path() / "broken.glb").string() + ": "));

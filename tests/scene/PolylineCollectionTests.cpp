@@ -361,7 +361,7 @@ TEST_CASE("Empty collections and lines of fewer than two positions submit nothin
 
 TEST_CASE("Scene files draw GeoJSON layers as borders and fills, and polyline layers as lines", "[polyline][polygon][scenefile]")
 {
-    const std::string text = R"({"version": 1,
+    const std::string text = R"({"version": 2,
         "camera": {"position": {"lon": 20, "lat": 10, "height": 15000000}, "target": {"lon": 20, "lat": 10, "height": 0}},
         "globe": {"method": "raycast"},
         "layers": [
@@ -378,7 +378,7 @@ TEST_CASE("Scene files draw GeoJSON layers as borders and fills, and polyline la
     REQUIRE(countPixelsNear(image, {255, 255, 0, 255}) > 40);  // the line across the South Atlantic and Africa
 
     // A layer that cannot be drawn (here a model whose file is missing) names itself.
-    const std::string points = R"({"version": 1, "layers": [{"type": "model", "source": "m.glb",
+    const std::string points = R"({"version": 2, "layers": [{"type": "model", "source": "m.glb",
         "position": {"lon": 0, "lat": 0}}]})";
     const SceneDescription unsupported =
         parseSceneText(points, "model.json", ORBIS_SOURCE_DIR "/data", SceneParseOptions{false});
@@ -390,7 +390,7 @@ TEST_CASE("Scene file layers draw their lines at the granularity and along the c
 {
     const Geodetic3D ends[] = {Geodetic3D::fromDegrees(-10, -30), Geodetic3D::fromDegrees(50, -30)};
     const auto linesOf = [](const std::string& layer) {
-        const std::string text = R"({"version": 1, "layers": [)" + layer + "]}";
+        const std::string text = R"({"version": 2, "layers": [)" + layer + "]}";
         Scene scene(kEarth);
         populateScene(parseSceneText(text, "lines.json", ORBIS_SOURCE_DIR "/data"), scene);
         std::vector<std::shared_ptr<PolylineCollection>> lines;

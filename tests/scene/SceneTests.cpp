@@ -34,7 +34,6 @@ std::shared_ptr<Globe> plainGlobe(GlobeMethod method = GlobeMethod::RayCast)
 {
     GlobeOptions options;
     options.method = method;
-    options.lighting = false;
     options.color = {0.0f, 0.0f, 1.0f, 1.0f};
     return std::make_shared<Globe>(kEarth, options);
 }

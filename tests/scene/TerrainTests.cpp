@@ -68,6 +68,7 @@ struct TerrainScene {
         TiledGlobeOptions options;
         options.terrain = std::move(terrain);
         options.terrainExaggeration = exaggeration;
+        options.lighting = true; // what most of these tests look at
         options.loader.workerThreads = 0;
         options.loader.latencyFrames = 0;
         options.loader.maximumStartsPerFrame = 64;
@@ -378,7 +379,7 @@ TEST_CASE("A scene file's morphFrames makes its terrain morph: counted in the st
           "[scene][tiles][terrain][scenefile][gl]")
 {
     const auto render = [](const std::string& morphKey) {
-        const std::string text = R"({"version": 1, "camera": {"position": {"lon": 86.9, "lat": 27.0, "height": 300000},
+        const std::string text = R"({"version": 2, "camera": {"position": {"lon": 86.9, "lat": 27.0, "height": 300000},
             "heading": 0, "pitch": -30}, "globe": {"terrain": {"source": "../terrain/etopo5", "exaggeration": 10)" +
                                  morphKey + "}}}";
         Scene scene(kEarth);
@@ -828,7 +829,7 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
          "coordinates": [[-84.34, 36.52, 900], [-84.16, 36.64, 900]]}}]})");
     const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
     const std::string model = dataPath("models/aircraft.glb");
-    const std::filesystem::path file = directory.write("scene.json", R"({"version": 1,
+    const std::filesystem::path file = directory.write("scene.json", R"({"version": 2,
         "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2, "method": ")" + method + R"("}},
         "layers": [
           {"type": "points", "source": "peaks.csv", "heightReference": "clampToGround", "label": {"field": "name"}},
@@ -923,7 +924,7 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     CHECK(topHeight > highest);
 
     // Without terrain the same layer lies on the ellipsoid, as it always has: nothing draped.
-    const std::filesystem::path flat = directory.write("flat.json", R"({"version": 1, "layers": [
+    const std::filesystem::path flat = directory.write("flat.json", R"({"version": 2, "layers": [
           {"type": "geojson", "source": "area.geojson", "fill": {"color": "#ff000080"}, "heightReference": "clampToGround"}]})");
     Scene plain(kEarth);
     populateScene(world::parseSceneFile(flat), plain);

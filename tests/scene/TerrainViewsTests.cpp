@@ -70,6 +70,7 @@ void checkTerrainView(const TerrainView& view, std::uint32_t deepestLevelAtLeast
 {
     TiledGlobeOptions options;
     options.terrain = world::openTerrainSource(dataPath(view.terrain));
+    options.lighting = true;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
     options.loader.workerThreads = 0;
     options.loader.latencyFrames = 0;

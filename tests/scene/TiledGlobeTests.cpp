@@ -34,7 +34,6 @@ TEST_CASE("A tiled globe over the Alps converges to the Blue Marble's deepest le
 {
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
-    options.lighting = false;
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
     placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
@@ -77,7 +76,6 @@ Flight flyWith(int threads)
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
     options.imagery.push_back({world::openTileSource(dataPath("imagery/NaturalEarthII")), {0.5, 1.2, 1.1, 1.0, {}}});
-    options.lighting = false;
     options.loader.workerThreads = threads;
     options.loader.latencyFrames = 2;
     options.loader.maximumStartsPerFrame = 5;
@@ -115,7 +113,6 @@ TEST_CASE("Streaming never leaves a hole: a nadir flight across the antimeridian
 {
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
-    options.lighting = false;
     options.baseColor = glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
     options.loader.workerThreads = 2;
     options.loader.latencyFrames = 3;
@@ -172,7 +169,6 @@ TEST_CASE("The tile cache never holds more than its cap: the selection coarsens 
 {
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
-    options.lighting = false;
     options.cacheBytes = 2u << 20; // 2 MiB: about ten textures
     options.loader.workerThreads = 2;
     options.loader.latencyFrames = 1;
@@ -267,7 +263,6 @@ TEST_CASE("Tiles over HTTP: slow, missing, failing, cut short and corrupt tiles,
     sourceOptions.http.totalTimeout = std::chrono::milliseconds(3000);
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(server.url("/tms/"), sourceOptions), {}});
-    options.lighting = false;
     options.loader.workerThreads = 2;
     options.loader.latencyFrames = 1;
     std::map<std::string, int> warnings;
@@ -383,7 +378,6 @@ TEST_CASE("A Web Mercator layer over a geographic one: its parallels fall where 
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
     options.imagery.push_back({graticule, {}});
-    options.lighting = false;
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
     placeCamera(scene, Geodetic3D::fromDegrees(15.0, 60.0, 2.5e6), 0.0, -90.0);
@@ -414,7 +408,6 @@ TEST_CASE("Beyond the Web Mercator limit the first layer's edge row reaches the 
     mercatorOptions.maximumLevel = 3;
     TiledGlobeOptions options;
     options.imagery.push_back({world::openTileSource(writeMercatorGraticule(folder, 3), mercatorOptions), {}});
-    options.lighting = false;
     options.baseColor = glm::vec4(0.0f, 0.0f, 1.0f, 1.0f);
     Scene scene(kEarth);
     scene.add(std::make_shared<TiledGlobe>(kEarth, options));
@@ -462,7 +455,6 @@ TEST_CASE("Tiled globe golden images: 10 km over Paris, the North Pole and the a
             options.imagery.push_back({world::openTileSource(writeMercatorGraticule(folder, 3), mercatorOptions),
                                        {0.8, 1.0, 1.0, 1.0, {}}});
         }
-        options.lighting = false;
         Scene scene(kEarth);
         scene.add(std::make_shared<TiledGlobe>(kEarth, options));
         placeCamera(scene, view.position, view.heading, view.pitch);

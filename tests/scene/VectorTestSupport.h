@@ -33,7 +33,6 @@ inline std::shared_ptr<scene::Globe> unlitGlobe(const Ellipsoid& ellipsoid, cons
 {
     scene::GlobeOptions options;
     options.method = method;
-    options.lighting = false;
     options.color = color;
     return std::make_shared<scene::Globe>(ellipsoid, options);
 }

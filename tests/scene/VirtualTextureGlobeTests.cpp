@@ -34,7 +34,6 @@ VirtualTextureGlobeOptions blueMarble()
 {
     VirtualTextureGlobeOptions options;
     options.source = world::openTileSource(dataPath("imagery/BlueMarble"));
-    options.lighting = false;
     options.loader.workerThreads = 0;
     options.loader.latencyFrames = 1;
     return options;
@@ -268,7 +267,6 @@ VirtualTextureGlobeOptions procedural(int physicalPages, TexelPattern pattern = 
     options.virtualTexture.pageSize = 64;
     options.virtualTexture.border = 2;
     options.virtualTexture.physicalPages = physicalPages;
-    options.lighting = false;
     options.loader.workerThreads = 0;
     options.loader.latencyFrames = 1;
     return options;
@@ -382,7 +380,6 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][vi
 {
     TiledGlobeOptions tiledOptions;
     tiledOptions.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
-    tiledOptions.lighting = false;
     Scene tiled(kEarth);
     tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
     placeCamera(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
@@ -423,7 +420,6 @@ TEST_CASE("A scene without a virtual texture compiles no virtual-texture program
     };
     TiledGlobeOptions tiledOptions;
     tiledOptions.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
-    tiledOptions.lighting = false;
     Scene tiled(kEarth);
     tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
     placeCamera(tiled, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);

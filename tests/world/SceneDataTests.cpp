@@ -50,7 +50,7 @@ TEST_CASE("validate reads the files a scene names as rendering would, and places
     folder.write("dot.png", "not a PNG at all");
     folder.write("night.jpg", "\xFF\xD8\xFF but no JPEG after it");
     const fs::path scene = folder.write("scene.json", R"({
-  "version": 1,
+  "version": 2,
   "globe": {"nightTexture": "night.jpg"},
   "layers": [
     {"type": "model", "source": "garbage.glb", "position": {"lon": 0, "lat": 0}},
@@ -77,7 +77,7 @@ TEST_CASE("validate reads the files only once the scene file itself has no fault
 {
     const test::TempDirectory folder;
     fs::copy_file(kSourceDirectory / "tests" / "world" / "scenes" / "garbage.glb", folder.path() / "garbage.glb");
-    const fs::path scene = folder.write("scene.json", R"({"version": 1, "colour": 1,
+    const fs::path scene = folder.write("scene.json", R"({"version": 2, "colour": 1,
   "layers": [{"type": "model", "source": "garbage.glb", "position": {"lon": 0, "lat": 0}}]})");
     const std::vector<std::string> found = texts(validateSceneFile(scene));
     REQUIRE(found.size() == 1);
@@ -89,7 +89,7 @@ TEST_CASE("validate opens a globe's tile sources as rendering would", "[world][v
     const test::TempDirectory folder;
     fs::create_directories(folder.path() / "pyramid");
     folder.write("pyramid/tilemapresource.xml", "<TileMap><TileSets profile=\"geodetic\">");
-    const fs::path scene = folder.write("scene.json", R"({"version": 1,
+    const fs::path scene = folder.write("scene.json", R"({"version": 2,
   "globe": {"imagery": [{"source": "pyramid"}]}})");
     const std::vector<std::string> found = texts(validateSceneFile(scene));
     REQUIRE(found.size() == 1);

@@ -84,7 +84,7 @@ SceneDescription parse(std::string_view text, bool checkFiles = false, const fs:
 /// One layer in an otherwise empty scene.
 std::string withLayer(std::string_view layer)
 {
-    return R"({"version": 1, "layers": [)" + std::string(layer) + "]}";
+    return R"({"version": 2, "layers": [)" + std::string(layer) + "]}";
 }
 
 } // namespace
@@ -101,7 +101,7 @@ TEST_CASE("Every example scene in data/scenes parses, with its files present", "
         }
         INFO(entry.path());
         const SceneDescription scene = parseSceneFile(entry.path());
-        REQUIRE(scene.version == 1);
+        REQUIRE(scene.version == kSceneFileVersion); // written for this build
         parsed.insert(entry.path().stem().string());
     }
     // The examples docs and tests name, every one of them (a new one is added here).
@@ -130,7 +130,7 @@ TEST_CASE("The built-in default scene is data/scenes/default.json", "[world][sce
 
 TEST_CASE("A scene of only a version takes the documented defaults", "[world][scenefile]")
 {
-    const SceneDescription scene = parse(R"({"version": 1})");
+    const SceneDescription scene = parse(R"({"version": 2})");
     REQUIRE(scene.width == 1280);
     REQUIRE(scene.height == 720);
     REQUIRE(scene.background == glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
@@ -157,7 +157,7 @@ TEST_CASE("A scene of only a version takes the documented defaults", "[world][sc
 TEST_CASE("Every key reads into the description, degrees to radians", "[world][scenefile]")
 {
     const SceneDescription scene = parse(R"({
-        "version": 1, "width": 640, "height": 480, "background": "#336699cc",
+        "version": 2, "width": 640, "height": 480, "background": "#336699cc",
         "camera": {"position": {"lon": -10, "lat": 45, "height": 1000}, "target": {"lon": -9, "lat": 46}, "fovY": 60},
         "sun": {"lon": 30, "lat": -20},
         "depth": "complementary",
@@ -243,6 +243,23 @@ TEST_CASE("A GeoJSON layer refuses invalid polygons unless its \"invalid\" says 
                Contains(R"(/layers/0/invalid: )") && Contains(R"("error", "skip")"));
 }
 
+TEST_CASE("A version 1 file's billboards and labels are never depth-tested unless it says so, as it was written", "[world][scenefile]")
+{
+    const std::string layer = R"([{"type": "points", "source": "p.geojson", "label": {"field": "name"}},
+        {"type": "points", "source": "p.geojson", "billboard": {"size": 4}, "label": {"field": "name", "disableDepthTestDistance": 10}}])";
+    for (const int version : {1, 2}) {
+        INFO("version " << version);
+        const SceneDescription scene = parse(R"({"version": )" + std::to_string(version) + R"(, "layers": )" + layer + "}");
+        const double expected = version == 1 ? std::numeric_limits<double>::infinity() : 0.0;
+        const auto& plain = std::get<PointsLayer>(scene.layers[0]);
+        const auto& styled = std::get<PointsLayer>(scene.layers[1]);
+        CHECK(plain.billboard.disableDepthTestDistance == expected); // no "billboard" key at all
+        CHECK(plain.label->disableDepthTestDistance == expected);
+        CHECK(styled.billboard.disableDepthTestDistance == expected);
+        CHECK(styled.label->disableDepthTestDistance == 10.0); // given: the same in both
+    }
+}
+
 TEST_CASE("Billboards take a built-in shape, and billboards and labels a distance within which they are not depth-tested", "[world][scenefile]")
 {
     const auto defaults = std::get<PointsLayer>(
@@ -298,7 +315,7 @@ TEST_CASE("Lines take their granularity in degrees and their curve", "[world][sc
 
 TEST_CASE("The Sun from a time is the core's Sun direction at that time", "[world][scenefile]")
 {
-    const SceneDescription scene = parse(R"({"version": 1, "time": "2026-06-21T12:00:00Z"})");
+    const SceneDescription scene = parse(R"({"version": 2, "time": "2026-06-21T12:00:00Z"})");
     const auto utc = parseUtcTime("2026-06-21T12:00:00Z");
     REQUIRE(scene.sun.source == SunSource::Time);
     REQUIRE(scene.sun.time == utc);
@@ -317,7 +334,7 @@ TEST_CASE("Relative paths resolve against the scene file's folder", "[world][sce
     writeText(folder.path() / "scenes" / "cities.csv", "name,lat,lon\nA,1,2\n");
     writeText(folder.path() / "scenes" / "tiles" / "tilemapresource.xml", "<TileMap/>");
     writeText(folder.path() / "scenes" / "model.gltf", "{}");
-    const std::string text = R"({"version": 1,
+    const std::string text = R"({"version": 2,
         "globe": {"texture": "tiles"},
         "layers": [
           {"type": "geojson", "source": "../data/countries.geojson"},
@@ -365,36 +382,36 @@ TEST_CASE("Unknown keys are errors with their path and a suggestion", "[world][s
 {
     CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0], [1, 1]], "colour": "#ff0000"})")) ==
             R"(test.json:1:79: /layers/0/colour: unknown key "colour" (did you mean "color"?))");
-    CHECK(errorOf(R"({"version": 1, "camera": {"FovY": 30}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"FovY": 30}})") ==
             R"(test.json:1:27: /camera/FovY: unknown key "FovY" (did you mean "fovY"?))");
-    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 0, "hieght": 1}}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"position": {"lon": 0, "lat": 0, "hieght": 1}}})") ==
             R"(test.json:1:60: /camera/position/hieght: unknown key "hieght" (did you mean "height"?))");
     // Nothing close: the keys that are known.
-    CHECK(errorOf(R"({"version": 1, "sun": {"lon": 0, "lat": 0, "elevation": 3}})") ==
+    CHECK(errorOf(R"({"version": 2, "sun": {"lon": 0, "lat": 0, "elevation": 3}})") ==
             R"(test.json:1:44: /sun/elevation: unknown key "elevation"; expected one of "lon", "lat")");
     // A key that belongs to another layer type.
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "positions": []})")) ==
             R"(test.json:1:67: /layers/0/positions: unknown key "positions"; expected one of "type", "source", "stroke", "fill", "granularity", "curve", "heightReference", "invalid")");
     // Keys with "/" and "~" are escaped in the pointer (RFC 6901).
-    CHECK(errorOf(R"({"version": 1, "a/b~c": 0})") ==
+    CHECK(errorOf(R"({"version": 2, "a/b~c": 0})") ==
             R"(test.json:1:16: /a~1b~0c: unknown key "a/b~c"; expected one of "version", "width", "height", "background", "camera", "sun", "time", "depth", "samples", "globe", "layers")");
 }
 
 TEST_CASE("Out-of-range values are errors naming the range", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 95}}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"position": {"lon": 0, "lat": 95}}})") ==
             "test.json:1:57: /camera/position/lat: 95 is out of range [-90, 90]");
-    CHECK(errorOf(R"({"version": 1, "sun": {"lon": -180.5, "lat": 0}})") ==
+    CHECK(errorOf(R"({"version": 2, "sun": {"lon": -180.5, "lat": 0}})") ==
             "test.json:1:31: /sun/lon: -180.5 is out of range [-180, 180]");
-    CHECK(errorOf(R"({"version": 1, "width": 0})") == "test.json:1:25: /width: 0 is out of range [1, 16384]");
-    CHECK(errorOf(R"({"version": 1, "height": 16385})") == "test.json:1:26: /height: 16385 is out of range [1, 16384]");
-    CHECK(errorOf(R"({"version": 1, "height": -720})") == "test.json:1:26: /height: -720 is out of range [1, 16384]");
-    CHECK(errorOf(R"({"version": 1, "width": 18446744073709551615})") ==
+    CHECK(errorOf(R"({"version": 2, "width": 0})") == "test.json:1:25: /width: 0 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 2, "height": 16385})") == "test.json:1:26: /height: 16385 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 2, "height": -720})") == "test.json:1:26: /height: -720 is out of range [1, 16384]");
+    CHECK(errorOf(R"({"version": 2, "width": 18446744073709551615})") ==
             "test.json:1:25: /width: 18446744073709551615 is out of range [1, 16384]");
-    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": 180}})") == "test.json:1:35: /camera/fovY: 180 is out of range (0, 180)");
-    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": 0}})") == "test.json:1:35: /camera/fovY: 0 is out of range (0, 180)");
-    CHECK(errorOf(R"({"version": 1, "camera": {"pitch": -91}})") == "test.json:1:36: /camera/pitch: -91 is out of range [-90, 90]");
-    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 0, "lat": 0, "height": 1e13}}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"fovY": 180}})") == "test.json:1:35: /camera/fovY: 180 is out of range (0, 180)");
+    CHECK(errorOf(R"({"version": 2, "camera": {"fovY": 0}})") == "test.json:1:35: /camera/fovY: 0 is out of range (0, 180)");
+    CHECK(errorOf(R"({"version": 2, "camera": {"pitch": -91}})") == "test.json:1:36: /camera/pitch: -91 is out of range [-90, 90]");
+    CHECK(errorOf(R"({"version": 2, "camera": {"position": {"lon": 0, "lat": 0, "height": 1e13}}})") ==
             "test.json:1:70: /camera/position/height: 10000000000000.0 is out of range [-1000000, 1000000000000]");
     // Negative sizes.
     CHECK(errorOf(withLayer(R"({"type": "geojson", "source": "a.json", "stroke": {"width": -1}})")) ==
@@ -411,19 +428,19 @@ TEST_CASE("Out-of-range values are errors naming the range", "[world][scenefile]
 
 TEST_CASE("Wrong types are errors saying what was expected and what came", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"version": 1, "width": 12.5})") == "test.json:1:25: /width: expected a positive integer, got 12.5");
-    CHECK(errorOf(R"({"version": 1, "camera": []})") == "test.json:1:26: /camera: expected an object, got an empty array");
-    CHECK(errorOf(R"({"version": 1, "camera": {"fovY": "45"}})") ==
+    CHECK(errorOf(R"({"version": 2, "width": 12.5})") == "test.json:1:25: /width: expected a positive integer, got 12.5");
+    CHECK(errorOf(R"({"version": 2, "camera": []})") == "test.json:1:26: /camera: expected an object, got an empty array");
+    CHECK(errorOf(R"({"version": 2, "camera": {"fovY": "45"}})") ==
             R"(test.json:1:35: /camera/fovY: expected a number, got "45")");
-    CHECK(errorOf(R"({"version": 1, "layers": {}})") ==
+    CHECK(errorOf(R"({"version": 2, "layers": {}})") ==
             "test.json:1:26: /layers: expected an array of layers, got an empty object");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "label": {"field": "n", "declutter": 1}})")) ==
           "test.json:1:102: /layers/0/label/declutter: expected true or false, got 1");
-    CHECK(errorOf(R"({"version": 1, "globe": {"grid": "yes"}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"grid": "yes"}})") ==
             R"(test.json:1:34: /globe/grid: expected true or false, got "yes")");
-    CHECK(errorOf(R"({"version": 1, "background": "black"})") ==
+    CHECK(errorOf(R"({"version": 2, "background": "black"})") ==
             R"(test.json:1:30: /background: expected a color "#rrggbb" or "#rrggbbaa", got "black")");
-    CHECK(errorOf(R"({"version": 1, "background": "#12345g"})") ==
+    CHECK(errorOf(R"({"version": 2, "background": "#12345g"})") ==
             R"(test.json:1:30: /background: expected a color "#rrggbb" or "#rrggbbaa", got "#12345g")");
     CHECK(errorOf(withLayer(R"({"type": "polyline", "positions": [[0, 0]]})")) ==
             "test.json:1:61: /layers/0/positions: expected an array of at least two [lon, lat] or [lon, lat, height], "
@@ -432,7 +449,7 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
             "test.json:1:70: /layers/0/positions/1: expected [lon, lat] or [lon, lat, height], got an array of 4 elements");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"offset": [1]}})")) ==
             "test.json:1:89: /layers/0/billboard/offset: expected [x, y] in pixels, got an array of 1 element");
-    CHECK(errorOf(R"({"version": 1, "depth": 3})") ==
+    CHECK(errorOf(R"({"version": 2, "depth": 3})") ==
           R"(test.json:1:25: /depth: expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single", got 3)");
     CHECK(errorOf(withLayer(R"({"type": ["points"]})")) ==
           R"(test.json:1:36: /layers/0/type: expected one of "geojson", "points", "polyline", "model", got an array of 1 element)");
@@ -444,22 +461,22 @@ TEST_CASE("Wrong types are errors saying what was expected and what came", "[wor
             "test.json:1:57: /layers/0/source: expected a path, got an empty string");
     CHECK(errorOf("[1, 2]") == "test.json:1:1: expected a JSON object at the top of the file, got an array of 2 elements");
     // Long strings are cut in messages.
-    CHECK(errorOf(R"({"version": 1, "depth": ")" + std::string(100, 'x') + "\"}") ==
+    CHECK(errorOf(R"({"version": 2, "depth": ")" + std::string(100, 'x') + "\"}") ==
             R"(test.json:1:25: /depth: unknown value ")" + std::string(60, 'x') +
                 R"(..."; expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single")");
     // So is a key of a megabyte, in the JSON pointer as in the quote.
-    const std::string longKey = errorOf(R"({"version": 1, ")" + std::string(1 << 20, 'k') + "\": 1}");
+    const std::string longKey = errorOf(R"({"version": 2, ")" + std::string(1 << 20, 'k') + "\": 1}");
     CHECK_THAT(longKey, Contains("test.json:1:16: /kkkk") && Contains("... (1048577 bytes): unknown key \"kkkk"));
     CHECK(longKey.size() < 1000);
 }
 
 TEST_CASE("Samples per pixel: 1 by default, 1 to 16", "[world][scenefile]")
 {
-    REQUIRE(parse(R"({"version": 1})").samples == 1);
-    REQUIRE(parse(R"({"version": 1, "samples": 4})").samples == 4);
-    CHECK_THAT(errorOf(R"({"version": 1, "samples": 0})"), Contains("/samples:"));
-    CHECK_THAT(errorOf(R"({"version": 1, "samples": 32})"), Contains("/samples:"));
-    CHECK_THAT(errorOf(R"({"version": 1, "samples": 2.5})"), Contains("/samples:"));
+    REQUIRE(parse(R"({"version": 2})").samples == 1);
+    REQUIRE(parse(R"({"version": 2, "samples": 4})").samples == 4);
+    CHECK_THAT(errorOf(R"({"version": 2, "samples": 0})"), Contains("/samples:"));
+    CHECK_THAT(errorOf(R"({"version": 2, "samples": 32})"), Contains("/samples:"));
+    CHECK_THAT(errorOf(R"({"version": 2, "samples": 2.5})"), Contains("/samples:"));
 }
 
 TEST_CASE("The depth strategy reads by the name the statistics print, and by the spelling files had before", "[world][scenefile]")
@@ -468,18 +485,18 @@ TEST_CASE("The depth strategy reads by the name the statistics print, and by the
     for (const DepthStrategy strategy : {DepthStrategy::Automatic, DepthStrategy::MultiFrustum, DepthStrategy::Logarithmic,
                                          DepthStrategy::Complementary, DepthStrategy::Single}) {
         INFO(depthStrategyName(strategy));
-        REQUIRE(parse(R"({"version": 1, "depth": ")" + std::string(depthStrategyName(strategy)) + "\"}").depth == strategy);
+        REQUIRE(parse(R"({"version": 2, "depth": ")" + std::string(depthStrategyName(strategy)) + "\"}").depth == strategy);
     }
-    REQUIRE(parse(R"({"version": 1, "depth": "multifrustum"})").depth == DepthStrategy::MultiFrustum);
+    REQUIRE(parse(R"({"version": 2, "depth": "multifrustum"})").depth == DepthStrategy::MultiFrustum);
 }
 
 TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"version": 1, "depth": "logarithmc"})") ==
+    CHECK(errorOf(R"({"version": 2, "depth": "logarithmc"})") ==
             R"(test.json:1:25: /depth: unknown value "logarithmc" (did you mean "logarithmic"?))");
-    CHECK(errorOf(R"({"version": 1, "depth": "fast"})") ==
+    CHECK(errorOf(R"({"version": 2, "depth": "fast"})") ==
             R"(test.json:1:25: /depth: unknown value "fast"; expected one of "auto", "multi-frustum", "logarithmic", "complementary", "single")");
-    CHECK(errorOf(R"({"version": 1, "globe": {"method": "ray-cast"}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"method": "ray-cast"}})") ==
             R"(test.json:1:36: /globe/method: unknown value "ray-cast" (did you mean "raycast"?))");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "a.csv", "billboard": {"origin": "centre"}})")) ==
             R"(test.json:1:89: /layers/0/billboard/origin: unknown value "centre" (did you mean "center"?))");
@@ -489,11 +506,17 @@ TEST_CASE("Unknown enumeration values are errors with a suggestion", "[world][sc
             R"(test.json:1:27: /layers/0: missing required key "type" (one of "geojson", "points", "polyline", "model"))");
 }
 
-TEST_CASE("The version is required and only version 1 is understood", "[world][scenefile][errors]")
+TEST_CASE("The version is required and only versions 1 and 2 are understood", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"width": 640})") == R"(test.json:1:1: missing required key "version" (this orbis reads version 1))");
-    CHECK(errorOf(R"({"version": 2, "newKey": true})") ==
-            "test.json:1:13: /version: version 2 is newer than this orbis understands (it reads version 1)");
+    CHECK(errorOf(R"({"width": 640})") ==
+          R"(test.json:1:1: missing required key "version" (this orbis reads version 2 and earlier))");
+    CHECK(errorOf(R"({"version": 3, "newKey": true})") ==
+            "test.json:1:13: /version: version 3 is newer than this orbis understands (it reads version 2 and earlier)");
+    CHECK(parse(R"({"version": 1})").version == 1);
+    CHECK(parse(R"({"version": 2})").version == 2);
+    // Camera paths have versions of their own.
+    CHECK_THROWS_WITH(parseCameraPathText(R"({"version": 2, "keyframes": []})", "path.json"),
+                      Contains("version 2 is newer than this orbis understands (it reads version 1)"));
     CHECK(errorOf(R"({"version": 0})") == "test.json:1:13: /version: 0 is not a version; versions start at 1");
     CHECK(errorOf(R"({"version": "1"})") == R"(test.json:1:13: /version: expected an integer, got "1")");
     CHECK(errorOf(R"({"version": 1.0})") == "test.json:1:13: /version: expected an integer, got 1.0");
@@ -501,7 +524,7 @@ TEST_CASE("The version is required and only version 1 is understood", "[world][s
 
 TEST_CASE("Missing required keys are errors naming the key", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 10}}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"position": {"lon": 10}}})") ==
             R"(test.json:1:39: /camera/position: missing required key "lat")");
     CHECK(errorOf(withLayer(R"({"type": "geojson"})")) == R"(test.json:1:27: /layers/0: missing required key "source")");
     CHECK(errorOf(withLayer(R"({"type": "polyline"})")) == R"(test.json:1:27: /layers/0: missing required key "positions")");
@@ -513,13 +536,13 @@ TEST_CASE("Missing required keys are errors naming the key", "[world][scenefile]
 
 TEST_CASE("Keys that contradict each other are errors", "[world][scenefile][errors]")
 {
-    CHECK(errorOf(R"({"version": 1, "camera": {"target": {"lon": 0, "lat": 0}, "pitch": -30}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"target": {"lon": 0, "lat": 0}, "pitch": -30}})") ==
             R"(test.json:1:59: /camera/pitch: "target" and "heading"/"pitch"/"roll" both aim the camera; give one or the other)");
-    CHECK(errorOf(R"({"version": 1, "sun": {"lon": 0, "lat": 0}, "time": "2026-06-21T12:00:00Z"})") ==
+    CHECK(errorOf(R"({"version": 2, "sun": {"lon": 0, "lat": 0}, "time": "2026-06-21T12:00:00Z"})") ==
             R"(test.json:1:45: /time: "sun" and "time" both place the Sun; give one or the other)");
-    CHECK(errorOf(R"({"version": 1, "camera": {"position": {"lon": 5, "lat": 5, "height": 10}, "target": {"lon": 5, "lat": 5, "height": 10}}})") ==
+    CHECK(errorOf(R"({"version": 2, "camera": {"position": {"lon": 5, "lat": 5, "height": 10}, "target": {"lon": 5, "lat": 5, "height": 10}}})") ==
             "test.json:1:85: /camera/target: the target is the camera's position; the camera would look nowhere");
-    CHECK(errorOf(R"({"version": 1, "time": "2026-02-30T12:00:00Z"})") ==
+    CHECK(errorOf(R"({"version": 2, "time": "2026-02-30T12:00:00Z"})") ==
             R"(test.json:1:24: /time: expected a UTC time "YYYY-MM-DDTHH:MM:SSZ", got "2026-02-30T12:00:00Z")");
 }
 
@@ -529,10 +552,10 @@ TEST_CASE("Invalid JSON is an error at the line and column where it fails", "[wo
     CHECK(errorOf("{\"version\": 1,\n \"width\": NaN}") ==
             "test.json:2:11: invalid JSON: syntax error while parsing value - invalid literal; last read: "
             "'\"width\": N' (JSON has no NaN or Infinity; write a finite number)");
-    CHECK(errorOf(R"({"version": 1, "sun": {"lon": -Infinity, "lat": 0}})") ==
+    CHECK(errorOf(R"({"version": 2, "sun": {"lon": -Infinity, "lat": 0}})") ==
             "test.json:1:32: invalid JSON: syntax error while parsing value - invalid number; expected digit after "
             "'-'; last read: '-I' (JSON has no NaN or Infinity; write a finite number)");
-    CHECK(errorOf(R"({"version": 1, "width": 1e999})") == "test.json:1:25: invalid JSON: 1e999 is too large for a double");
+    CHECK(errorOf(R"({"version": 2, "width": 1e999})") == "test.json:1:25: invalid JSON: 1e999 is too large for a double");
     CHECK(errorOf("{\"version\": 1, // one\n}") ==
             "test.json:1:16: invalid JSON: syntax error while parsing object key - invalid literal; last read: "
             "'1, /'; expected string literal (JSON has no comments)");
@@ -568,11 +591,11 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
     const std::string missing = errorOf(withLayer(R"({"type": "geojson", "source": "countries.geojson"})"), true, base);
     REQUIRE(missing == "test.json:1:57: /layers/0/source: file \"countries.geojson\" not found (looked for \"" +
                            (base / "countries.geojson").string() + "\")");
-    CHECK(errorOf(R"({"version": 1, "globe": {"nightTexture": "/nonexistent/night.jpg"}})", true, base) ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"nightTexture": "/nonexistent/night.jpg"}})", true, base) ==
             R"(test.json:1:42: /globe/nightTexture: file "/nonexistent/night.jpg" not found)");
-    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "empty"}})", true, base) ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"texture": "empty"}})", true, base) ==
             R"(test.json:1:37: /globe/texture: the folder "empty" is not a TMS tile set: it has no tilemapresource.xml)");
-    CHECK(errorOf(R"({"version": 1, "globe": {"nightTexture": "empty"}})", true, base) ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"nightTexture": "empty"}})", true, base) ==
             R"(test.json:1:42: /globe/nightTexture: "empty" is a folder; expected a file)");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "cities.txt"})"), true, base) ==
             R"(test.json:1:56: /layers/0/source: expected a .csv, .geojson or .json file, got "cities.txt")");
@@ -583,7 +606,7 @@ TEST_CASE("Missing and unsuitable files are errors naming the key and the file",
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "wide.csv"})"), true, base) ==
           "test.json:1:56: /layers/0/source: " + (base / "wide.csv").string() +
               ":1: has a first line longer than 64 KiB; expected a header row");
-    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "/dev/null"}})", true, base) ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"texture": "/dev/null"}})", true, base) ==
           R"(test.json:1:37: /globe/texture: "/dev/null" is not a regular file)");
     CHECK(errorOf(withLayer(R"({"type": "points", "source": "blank.csv"})"), true, base) ==
             "test.json:1:56: /layers/0/source: " + (base / "blank.csv").string() + ": has no header row");
@@ -672,13 +695,13 @@ TEST_CASE("Collecting faults of text that is not JSON gives the one syntax fault
 
 TEST_CASE("An imagery layer's virtualTexture reads every key, and the defaults without them", "[world][scenefile]")
 {
-    const SceneDescription defaults = parse(R"({"version": 1, "globe": {"imagery": [
+    const SceneDescription defaults = parse(R"({"version": 2, "globe": {"imagery": [
         {"source": "tiles", "virtualTexture": {}}]}})");
     REQUIRE(defaults.globe->imagery.front().virtualTexture);
     CHECK(*defaults.globe->imagery.front().virtualTexture == VirtualTextureDescription{});
-    CHECK_FALSE(parse(R"({"version": 1, "globe": {"imagery": [{"source": "tiles"}]}})").globe->imagery.front().virtualTexture);
+    CHECK_FALSE(parse(R"({"version": 2, "globe": {"imagery": [{"source": "tiles"}]}})").globe->imagery.front().virtualTexture);
 
-    const SceneDescription all = parse(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {
+    const SceneDescription all = parse(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {
         "pageSize": 128, "border": 2, "physicalPages": 1024, "feedbackDivisor": 2, "feedbackLatencyFrames": 3,
         "priorities": false, "trilinear": false, "maximumAnisotropy": 4, "lodBias": 0.5, "dynamicLodBias": false,
         "uploadMegabytesPerFrame": 8}}]}})");
@@ -699,7 +722,7 @@ TEST_CASE("An imagery layer's virtualTexture reads every key, and the defaults w
 TEST_CASE("virtualTexture values out of range are errors naming the key", "[world][scenefile][errors]")
 {
     auto errorWith = [](const std::string& keys) {
-        return errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {)" + keys + "}}]}}");
+        return errorOf(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {)" + keys + "}}]}}");
     };
     using Catch::Matchers::Contains;
     CHECK_THAT(errorWith(R"("pageSize": 100)"), Contains("/globe/imagery/0/virtualTexture/pageSize: 100 is not a power of two"));
@@ -709,13 +732,13 @@ TEST_CASE("virtualTexture values out of range are errors naming the key", "[worl
     CHECK_THAT(errorWith(R"("feedbackDivisor": 0)"), Contains("/virtualTexture/feedbackDivisor"));
     CHECK_THAT(errorWith(R"("border": 1, "maximumAnisotropy": 4)"), Contains("/virtualTexture/maximumAnisotropy: 4 is out of range [1, 2]"));
     CHECK_THAT(errorWith(R"("pagesize": 256)"), Contains("unknown key \"pagesize\" (did you mean \"pageSize\"?)"));
-    CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {},
+    CHECK_THAT(errorOf(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {},
         "rectangle": {"west": 0, "south": 0, "east": 10, "north": 10}}]}})"),
                Contains("a virtual texture covers the whole globe"));
-    CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles"},
+    CHECK_THAT(errorOf(R"({"version": 2, "globe": {"imagery": [{"source": "tiles"},
         {"source": "tiles", "virtualTexture": {}}]}})"),
                Contains("/globe/imagery/1/virtualTexture: a virtual texture must be the globe's only imagery layer"));
-    CHECK_THAT(errorOf(R"({"version": 1, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {}}],
+    CHECK_THAT(errorOf(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {}}],
         "terrain": {"source": "t"}}})"),
                Contains("/globe/terrain: a virtual texture is drawn on the ellipsoid's surface"));
 }
@@ -750,7 +773,7 @@ TEST_CASE("A camera path whose eye meets its target, at a keyframe or between tw
 TEST_CASE("Layers take a height reference: absolute by default, clampToGround or relativeToGround, nothing else",
           "[world][scenefile][terrain]")
 {
-    const SceneDescription scene = parse(R"({"version": 1, "layers": [
+    const SceneDescription scene = parse(R"({"version": 2, "layers": [
         {"type": "polyline", "positions": [[0, 0], [1, 1]]},
         {"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "clampToGround"},
         {"type": "model", "source": "m.glb", "position": {"lon": 0, "lat": 0}, "heightReference": "relativeToGround"},
@@ -764,13 +787,13 @@ TEST_CASE("Layers take a height reference: absolute by default, clampToGround or
     CHECK(std::get<PointsLayer>(scene.layers[3]).heightReference == HeightReference::Absolute);
     CHECK(std::get<GeoJsonLayer>(scene.layers[4]).heightReference == HeightReference::ClampToGround);
     CHECK(std::get<GeoJsonLayer>(scene.layers[5]).heightReference == HeightReference::RelativeToGround);
-    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "ground"}]})")
+    CHECK(errorOf(R"({"version": 2, "layers": [{"type": "polyline", "positions": [[0, 0], [1, 1]], "heightReference": "ground"}]})")
               .find("/layers/0/heightReference: unknown value \"ground\"; expected one of \"absolute\", \"clampToGround\", \"relativeToGround\"") != std::string::npos);
     // GeoJSON (and TopoJSON) layers are refused a bad value as the others are, the file and the key named.
-    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.geojson", "heightReference": "draped"}]})")
+    CHECK(errorOf(R"({"version": 2, "layers": [{"type": "geojson", "source": "a.geojson", "heightReference": "draped"}]})")
               .find("test.json:1:89: /layers/0/heightReference: unknown value \"draped\"; expected one of \"absolute\", "
                     "\"clampToGround\", \"relativeToGround\"") != std::string::npos);
-    CHECK(errorOf(R"({"version": 1, "layers": [{"type": "geojson", "source": "a.json", "heightReference": true}]})")
+    CHECK(errorOf(R"({"version": 2, "layers": [{"type": "geojson", "source": "a.json", "heightReference": true}]})")
               .find("/layers/0/heightReference") != std::string::npos);
 }
 
@@ -778,13 +801,13 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
           "[world][scenefile][terrain]")
 {
     const TerrainShadingDescription none =
-        parse(R"({"version": 1, "globe": {"terrain": {"source": "t"}}})", false).globe->terrain->shading;
+        parse(R"({"version": 2, "globe": {"terrain": {"source": "t"}}})", false).globe->terrain->shading;
     CHECK(none.color == TerrainShadingDescription::Color::Base);
     CHECK(none.contourInterval == 0.0);
     CHECK_FALSE(none.hillshade);
     CHECK_FALSE(none.water);
 
-    const TerrainShadingDescription all = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
+    const TerrainShadingDescription all = parse(R"({"version": 2, "globe": {"terrain": {"source": "t", "shading": {
         "color": "height", "heightRange": [-8000, 6000], "contours": {"interval": 250, "color": "#ff0000", "width": 2},
         "hillshade": {"azimuth": 270, "altitude": 30}, "water": true}}}})", false).globe->terrain->shading;
     CHECK(all.color == TerrainShadingDescription::Color::Height);
@@ -799,7 +822,7 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
     CHECK(all.water);
 
     // Documented defaults: white contours 1 px wide; the hillshade's light from the north-west, 45 degrees up.
-    const TerrainShadingDescription defaults = parse(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": {
+    const TerrainShadingDescription defaults = parse(R"({"version": 2, "globe": {"terrain": {"source": "t", "shading": {
         "color": "slope", "contours": {"interval": 100}, "hillshade": true}}}})", false).globe->terrain->shading;
     CHECK(defaults.color == TerrainShadingDescription::Color::Slope);
     CHECK(defaults.contourColor == glm::vec4(1.0f));
@@ -808,7 +831,7 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
     CHECK(defaults.hillshadeAltitude == 45.0);
 
     const auto shadingError = [](const std::string& shading) {
-        return errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "shading": )" + shading + "}}}");
+        return errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "shading": )" + shading + "}}}");
     };
     CHECK(shadingError(R"({"color": "aspect"})").find("/globe/terrain/shading/color: unknown value \"aspect\"; expected one of \"base\", \"height\", \"slope\"") != std::string::npos);
     CHECK(shadingError(R"({"heightRange": [100, 100]})").find("/globe/terrain/shading/heightRange: the lowest height must be below the highest") != std::string::npos);
@@ -824,7 +847,7 @@ TEST_CASE("Terrain shading: colour ramps, contours and hillshade read with their
 TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cache folder, each checked",
           "[world][scenefile][terrain]")
 {
-    const SceneDescription scene = parse(R"({"version": 1, "globe": {
+    const SceneDescription scene = parse(R"({"version": 2, "globe": {
         "imagery": [{"source": "../imagery/BlueMarble"}],
         "terrain": {"source": "../terrain/etopo5", "format": "png16", "exaggeration": 2.5, "cacheFolder": "cache"}}})");
     REQUIRE(scene.globe);
@@ -836,47 +859,47 @@ TEST_CASE("Terrain under a tiled globe: its source, format, exaggeration and cac
     CHECK(terrain.cacheFolder == (kScenes / "cache").lexically_normal());
     // A URL stays as it is; terrain alone makes a tiled globe too.
     const SceneDescription remote =
-        parse(R"({"version": 1, "globe": {"terrain": {"source": "https://example.org/terrain/layer.json"}}})");
+        parse(R"({"version": 2, "globe": {"terrain": {"source": "https://example.org/terrain/layer.json"}}})");
     CHECK(remote.globe->terrain->source == "https://example.org/terrain/layer.json");
     CHECK(remote.globe->terrain->exaggeration == 1.0);
 
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "format": "geotiff"}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "format": "geotiff"}}})") ==
           R"(test.json:1:63: /globe/terrain/format: "geotiff" is not a terrain format (quantized-mesh, heightmap, png16, terrain-rgb, terrarium, hgt, gdal))");
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "exaggeration": -1}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "exaggeration": -1}}})") ==
           "test.json:1:69: /globe/terrain/exaggeration: -1 is out of range [0, 100]");
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"sourc": "t"}}})").find("unknown key \"sourc\"") != std::string::npos);
-    CHECK(errorOf(R"({"version": 1, "globe": {"texture": "a.jpg", "terrain": {"source": "t"}}})")
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"sourc": "t"}}})").find("unknown key \"sourc\"") != std::string::npos);
+    CHECK(errorOf(R"({"version": 2, "globe": {"texture": "a.jpg", "terrain": {"source": "t"}}})")
               .find("a globe with terrain has no \"texture\"") != std::string::npos);
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "no-such-folder"}}})", true)
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "no-such-folder"}}})", true)
               .find("/globe/terrain/source") != std::string::npos);
 }
 
 TEST_CASE("Terrain morphing: the frames a refined tile takes from its parent's surface to its own, checked; none by default",
           "[world][scenefile][terrain]")
 {
-    CHECK(parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5"}}})").globe->terrain->morphFrames == 0);
-    CHECK(parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5", "morphFrames": 12}}})")
+    CHECK(parse(R"({"version": 2, "globe": {"terrain": {"source": "../terrain/etopo5"}}})").globe->terrain->morphFrames == 0);
+    CHECK(parse(R"({"version": 2, "globe": {"terrain": {"source": "../terrain/etopo5", "morphFrames": 12}}})")
               .globe->terrain->morphFrames == 12);
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "morphFrames": -1}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "morphFrames": -1}}})") ==
           "test.json:1:68: /globe/terrain/morphFrames: -1 is out of range [0, 600]");
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "morphFrames": 2.5}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "morphFrames": 2.5}}})") ==
           "test.json:1:68: /globe/terrain/morphFrames: expected a number of frames, got 2.5");
 }
 
 TEST_CASE("Terrain drawn as clipmaps: the method and the posts, each checked; the quadtree stays the default",
           "[world][scenefile][terrain][clipmap]")
 {
-    const SceneDescription quadtree = parse(R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5"}}})");
+    const SceneDescription quadtree = parse(R"({"version": 2, "globe": {"terrain": {"source": "../terrain/etopo5"}}})");
     CHECK(quadtree.globe->terrain->method == TerrainMethod::Quadtree);
     CHECK(quadtree.globe->terrain->posts == 255);
     const SceneDescription clipmap = parse(
-        R"({"version": 1, "globe": {"terrain": {"source": "../terrain/etopo5", "method": "clipmap", "posts": 127}}})");
+        R"({"version": 2, "globe": {"terrain": {"source": "../terrain/etopo5", "method": "clipmap", "posts": 127}}})");
     CHECK(clipmap.globe->terrain->method == TerrainMethod::Clipmap);
     CHECK(clipmap.globe->terrain->posts == 127);
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "method": "geoclipmap"}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "method": "geoclipmap"}}})") ==
           R"(test.json:1:63: /globe/terrain/method: unknown value "geoclipmap"; expected one of "quadtree", "clipmap")");
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "method": "clipmap", "posts": 256}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "method": "clipmap", "posts": 256}}})") ==
           "test.json:1:83: /globe/terrain/posts: 256 is not 2^k - 1 (15, 31, 63, 127, 255, 511, 1023)");
-    CHECK(errorOf(R"({"version": 1, "globe": {"terrain": {"source": "t", "posts": 7}}})") ==
+    CHECK(errorOf(R"({"version": 2, "globe": {"terrain": {"source": "t", "posts": 7}}})") ==
           "test.json:1:62: /globe/terrain/posts: 7 is out of range [15, 1023]");
 }

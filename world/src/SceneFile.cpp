@@ -249,7 +249,8 @@ public:
         }
         SceneDescription scene;
         // Each part read on its own, so that when faults are collected one does not hide the next.
-        attempt([&] { scene.version = readVersion(root); });
+        attempt([&] { scene.version = readVersion(root, kSceneFileVersion); });
+        _version = scene.version;
         checkKeys(root, "", kRootKeys);
         if (const Json* width = member(root, "width")) {
             attempt([&] { scene.width = readInteger(*width, "/width", 1, 16384, "a positive integer"); });
@@ -295,7 +296,7 @@ public:
         if (!root.is_object()) {
             fail("", "expected a JSON object at the top of the file, got " + describeJson(root));
         }
-        readVersion(root);
+        readVersion(root, kCameraPathVersion);
         checkKeys(root, "", kCameraPathKeys);
         const Json& keyframes = required(root, "", "keyframes");
         if (!keyframes.is_array() || keyframes.size() < 2) {
@@ -409,17 +410,18 @@ private:
         }
     }
 
-    int readVersion(const Json& root) const
+    int readVersion(const Json& root, int newest) const
     {
-        const Json& version = required(root, "", "version", " (this orbis reads version 1)");
+        const std::string reads =
+            newest == 1 ? std::string("version 1") : "version " + std::to_string(newest) + " and earlier";
+        const Json& version = required(root, "", "version", " (this orbis reads " + reads + ")");
         if (!version.is_number_integer()) {
             fail("/version", "expected an integer, got " + describeJson(version));
         }
-        constexpr auto kNewest = static_cast<std::int64_t>(kSceneFileVersion);
-        if (version.is_number_unsigned() ? version.get<std::uint64_t>() > static_cast<std::uint64_t>(kNewest)
-                                         : version.get<std::int64_t>() > kNewest) {
-            fail("/version", "version " + describeJson(version) + " is newer than this orbis understands (it reads version " +
-                                 std::to_string(kSceneFileVersion) + ")");
+        if (version.is_number_unsigned() ? version.get<std::uint64_t>() > static_cast<std::uint64_t>(newest)
+                                         : version.get<std::int64_t>() > newest) {
+            fail("/version", "version " + describeJson(version) + " is newer than this orbis understands (it reads " +
+                                 reads + ")");
         }
         if (version.get<std::int64_t>() < 1) {
             fail("/version", describeJson(version) + " is not a version; versions start at 1");
@@ -1099,6 +1101,7 @@ private:
         layer.format = lowercase(layer.source.extension().string()) == ".csv" ? PointsLayer::Format::Csv
                                                                                : PointsLayer::Format::GeoJson;
         requireFile(source, sourcePointer, layer.source);
+        layer.billboard.disableDepthTestDistance = defaultDepthTestDistance();
         if (const Json* billboard = member(value, "billboard")) {
             attempt([&] { layer.billboard = readBillboard(*billboard, pointer + "/billboard"); });
         }
@@ -1168,6 +1171,7 @@ private:
         if (const Json* offset = member(value, "offset")) {
             billboard.offsetPixels = readPixelOffset(*offset, pointer + "/offset");
         }
+        billboard.disableDepthTestDistance = defaultDepthTestDistance();
         if (const Json* distance = member(value, "disableDepthTestDistance")) {
             billboard.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
         }
@@ -1198,10 +1202,17 @@ private:
         if (const Json* declutter = member(value, "declutter")) {
             label.declutter = readBoolean(*declutter, pointer + "/declutter");
         }
+        label.disableDepthTestDistance = defaultDepthTestDistance();
         if (const Json* distance = member(value, "disableDepthTestDistance")) {
             label.disableDepthTestDistance = readDepthTestDistance(*distance, pointer + "/disableDepthTestDistance");
         }
         return label;
+    }
+
+    /// Version 1 files were written when markers and labels were never depth-tested.
+    double defaultDepthTestDistance() const
+    {
+        return _version >= 2 ? 0.0 : std::numeric_limits<double>::infinity();
     }
 
     /// Metres (>= 0), or "always": never depth-tested.
@@ -1302,6 +1313,7 @@ private:
     std::string _origin;
     fs::path _baseDirectory;
     SceneParseOptions _options;
+    mutable int _version = kSceneFileVersion; // the file's, once read: some defaults depend on it
 };
 
 fs::path absoluteDirectory(const fs::path& directory)

@@ -49,7 +49,10 @@ struct ClipmapTerrainOptions {
     world::TileLoaderOptions loader;
     /// Terrain and imagery tiles kept on the CPU, bytes.
     std::size_t cacheBytes = std::size_t{128} << 20;
-    bool lighting = true;
+    /// Lit by the scene's Sun (Scene::setSunDirection). Off by default, as in a scene file that
+    /// places no Sun and as CesiumJS's globe: the colours as they are, no lighting computed (no
+    /// "lighting" effect in the statistics).
+    bool lighting = false;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
     /// Each level in its own colour (a palette of eight), as the book's figure 13.3.
     bool colorByLevel = false;

@@ -37,7 +37,10 @@ struct GlobeOptions {
     std::filesystem::path dayTexture;
     /// City lights shown on the night side; empty: none (and no night-lights shader variant).
     std::filesystem::path nightTexture;
-    bool lighting = true;
+    /// Lit by the scene's Sun (Scene::setSunDirection). Off by default, as in a scene file that
+    /// places no Sun and as CesiumJS's globe: the colours as they are, no lighting computed (no
+    /// "lighting" effect in the statistics).
+    bool lighting = false;
     bool grid = false;                   ///< latitude-longitude lines, spaced by the viewer's distance
     glm::vec4 color{0.2f, 0.35f, 0.6f, 1.0f};
     glm::vec4 gridColor{1.0f, 1.0f, 1.0f, 0.7f};

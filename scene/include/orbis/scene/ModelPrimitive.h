@@ -35,8 +35,9 @@ struct ModelPlacement {
 /// How a model is drawn, beyond what its file and placement say.
 struct ModelOptions {
     /// Lit by the Sun (og_sunDirectionEye): base colour x (0.3 + 0.7 x the cosine to the Sun).
-    /// false: the base colours as they are, and no lighting computed (no "lighting" effect).
-    bool lighting = true;
+    /// false, the default (as for globes, and as in a scene file that places no Sun): the base
+    /// colours as they are, and no lighting computed (no "lighting" effect).
+    bool lighting = false;
 };
 
 /// glTF's axes to the local east-north-up axes a model starts from before heading, pitch and roll

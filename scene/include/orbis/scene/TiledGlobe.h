@@ -70,7 +70,10 @@ struct TiledGlobeOptions {
     /// (its ancestor, or finer tiles) moves from the surface they drew to its own (book 14.4,
     /// morphing over time); 0: it pops at once.
     int morphFrames = 0;
-    bool lighting = true;
+    /// Lit by the scene's Sun (Scene::setSunDirection). Off by default, as in a scene file that
+    /// places no Sun and as CesiumJS's globe: the colours as they are, no lighting computed (no
+    /// "lighting" effect in the statistics).
+    bool lighting = false;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
     /// Each tile's base colour from its level (a palette of eight), to show the levels of detail
     /// the selection chose (book chapter 12's figures); imagery layers are blended over it.

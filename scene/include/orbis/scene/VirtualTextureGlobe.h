@@ -76,7 +76,10 @@ struct VirtualTextureGlobeOptions {
     world::TileLoaderOptions loader;
     /// Surface tiles' meshes kept on the GPU at most (bytes); the least recently drawn go first.
     std::size_t meshCacheBytes = std::size_t{32} << 20;
-    bool lighting = true;
+    /// Lit by the scene's Sun (Scene::setSunDirection). Off by default, as in a scene file that
+    /// places no Sun and as CesiumJS's globe: the colours as they are, no lighting computed (no
+    /// "lighting" effect in the statistics).
+    bool lighting = false;
     glm::vec4 baseColor{0.2f, 0.35f, 0.6f, 1.0f};
     /// Receives each warning once (a page that failed); empty: they go to the standard error.
     std::function<void(const std::string&)> onWarning;

@@ -14,8 +14,13 @@
 
 namespace orbis::world {
 
-/// The scene-file version this build reads; files with a higher "version" are refused.
-inline constexpr int kSceneFileVersion = 1;
+/// The newest scene-file version this build reads (it reads every one before too); files with a
+/// higher "version" are refused. Version 2 (this build) depth-tests billboards and labels by
+/// default; a version 1 file is read as it was written: they are never depth-tested unless it says
+/// otherwise (docs/scene-format.md, "Versions").
+inline constexpr int kSceneFileVersion = 2;
+/// The newest camera-path file version this build reads.
+inline constexpr int kCameraPathVersion = 1;
 
 /// A scene file that cannot be read, is not JSON, or says something invalid. what() is
 /// "origin:line:column: /json/pointer: reason", line and column omitted when unknown (0) and the
