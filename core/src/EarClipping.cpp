@@ -532,8 +532,7 @@ private:
             } else if (v.y <= t.y && orient2d(u, v, t) < 0) {
                 step = -1;
             }
-            const bool boundary = std::min(u.x, v.x) <= t.x && t.x <= std::max(u.x, v.x) && std::min(u.y, v.y) <= t.y &&
-                                  t.y <= std::max(u.y, v.y) && onSegment(u, v, t);
+            const bool boundary = onSegment(u, v, t);
             if (step == 0 && !boundary) {
                 return;
             }

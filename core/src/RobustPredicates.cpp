@@ -97,8 +97,9 @@ int exactOrient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c)
 
 bool onSegment(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) noexcept
 {
-    return orient2d(a, b, p) == 0 && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) &&
-           std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
+    // The box first: it rejects most points without the orientation test.
+    return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+           p.y <= std::max(a.y, b.y) && orient2d(a, b, p) == 0;
 }
 
 bool segmentsIntersect(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, const glm::dvec2& d) noexcept

@@ -84,9 +84,7 @@ public:
         const glm::dvec2& p = a[along] <= b[along] ? a : b;
         const glm::dvec2& q = a[along] <= b[along] ? b : a;
         const double slope = q[along] > p[along] ? (q[across] - p[across]) / (q[along] - p[along]) : 0.0;
-        // Rounding moves u and v (below) by a few units in the last place of the coordinates, and
-        // along the slab's edges by as much (the slope is at most 1).
-        const double margin = 1e-9 * (std::abs(p[across]) + std::abs(q[across]) + std::abs(p[along]) + std::abs(q[along]));
+        const double margin = roundingMargin(p, q);
         const std::int64_t first = cellOn(along, p[along]);
         const std::int64_t last = cellOn(along, q[along]);
         for (std::int64_t slab = first; slab <= last; ++slab) {
@@ -120,7 +118,7 @@ public:
     template <typename Emit, typename Stop>
     void cellsTowardsPlusX(const glm::dvec2& p, double xEnd, Emit&& emit, Stop&& stop) const
     {
-        const double margin = 1e-9 * (2.0 * std::abs(p.y) + std::abs(p.x) + std::abs(xEnd));
+        const double margin = roundingMargin(p, glm::dvec2(xEnd, p.y));
         const std::int64_t y0 = cellOn(1, p.y - margin);
         const std::int64_t y1 = cellOn(1, p.y + margin);
         for (std::int64_t x = cellOn(0, p.x); x <= cellOn(0, xEnd); ++x) {
@@ -134,6 +132,14 @@ public:
     }
 
 private:
+    /// How far across a segment a -> b to look for the cells it passes: rounding moves the points
+    /// computed along it by a few units in the last place of the coordinates, and along the cells'
+    /// edges by as much (the slope across is at most 1).
+    static double roundingMargin(const glm::dvec2& a, const glm::dvec2& b) noexcept
+    {
+        return 1e-9 * (std::abs(a.x) + std::abs(a.y) + std::abs(b.x) + std::abs(b.y));
+    }
+
     std::int64_t cellOn(int axis, double value) const noexcept
     {
         const double scaled = std::floor((value - _lo[axis]) * _scale);
