@@ -43,6 +43,7 @@ PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> 
     for (const int id : present) {
         _key[static_cast<std::size_t>(id)] = key(points[static_cast<std::size_t>(id)]);
         _present[static_cast<std::size_t>(id)] = 1;
+        ++_presentCount;
         order.push_back((std::uint64_t{_key[static_cast<std::size_t>(id)]} << 32) | static_cast<std::uint32_t>(id));
     }
     std::sort(order.begin(), order.end());
@@ -74,6 +75,7 @@ void PointIndex::remove(int id) noexcept
         return;
     }
     _present[i] = 0;
+    --_presentCount;
     if (_tree) {
         _tree->remove(id);
     }

@@ -16,9 +16,9 @@ namespace orbis::detail {
 /// bounding box), linked so that removal is O(1). A point of a box has a key between those of the
 /// box's corners, so walking from a point near the box, both ways along the order, finds every
 /// point of the box; that is a few steps for a small box, but can be most of the set for a box
-/// across a major boundary of the order, so a walk longer than a few dozen steps gives way to a
-/// k-d tree (built the first time one is needed, from the points then present), whose query takes
-/// O(sqrt(n) + k) whatever the box.
+/// across a major boundary of the order, so walks longer than about a hundred steps give way to a
+/// k-d tree (built, from the points then present, once they have been long often enough to pay for
+/// it), whose query takes O(sqrt(n) + k) whatever the box.
 class PointIndex {
 public:
     /// Indexes points[id] for each id in present (ids index points, which must outlive the index).
@@ -40,7 +40,7 @@ public:
         const std::uint32_t high = key(hi);
         int steps = 0;
         for (int i = near; i >= 0 && _key[static_cast<std::size_t>(i)] >= low; i = _previous[static_cast<std::size_t>(i)]) {
-            if (++steps > kWalkLimit) {
+            if (++steps > kWalkLimit && walkTooLong()) {
                 return findInTree(lo, hi, visit);
             }
             if (inBox(i, lo, hi) && visit(i)) {
@@ -49,7 +49,7 @@ public:
         }
         for (int i = _next[static_cast<std::size_t>(near)]; i >= 0 && _key[static_cast<std::size_t>(i)] <= high;
              i = _next[static_cast<std::size_t>(i)]) {
-            if (++steps > 2 * kWalkLimit) {
+            if (++steps > kWalkLimit && walkTooLong()) {
                 return findInTree(lo, hi, visit);
             }
             if (inBox(i, lo, hi) && visit(i)) {
@@ -60,7 +60,14 @@ public:
     }
 
 private:
-    static constexpr int kWalkLimit = 48;
+    static constexpr int kWalkLimit = 96;
+    // The tree is built once the walks' steps beyond kWalkLimit add up to this many per point
+    // present, about what building it costs: never for sets whose walks stay short on the whole
+    // (a convex ring), soon for those whose walks are mostly long (a star).
+    static constexpr std::size_t kTreeStepsPerPoint = 16;
+
+    // For each step of a walk beyond kWalkLimit: whether to go on in the tree instead.
+    bool walkTooLong() noexcept { return _tree || ++_stepsBeyondLimit > kTreeStepsPerPoint * _presentCount; }
 
     /// A static k-d tree over points, with removal; see findIn.
     class Tree {
@@ -152,6 +159,8 @@ private:
     std::vector<int> _previous;      // by id: the point before in Z order, -1 for none
     std::vector<int> _next;
     std::vector<std::uint8_t> _present; // by id
+    std::size_t _presentCount = 0;
+    std::size_t _stepsBeyondLimit = 0; // by all walks
     std::unique_ptr<Tree> _tree;
 };
 

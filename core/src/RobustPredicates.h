@@ -15,7 +15,7 @@ namespace orbis::detail {
 int exactOrient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept;
 
 /// +1 when c lies to the left of the directed line a->b, -1 to the right, 0 when exactly collinear.
-inline int orient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
+[[gnu::always_inline]] inline int orient2d(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
 {
     const double left = (a.x - c.x) * (b.y - c.y);
     const double right = (a.y - c.y) * (b.x - c.x);

@@ -191,23 +191,27 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
     for (std::size_t bucket = 1; bucket <= bucketCount; ++bucket) {
         start[bucket] += start[bucket - 1];
     }
+    // Each bucket's segments in increasing order, and where each segment stands in its buckets.
     std::vector<std::uint32_t> segments(buckets.size());
+    std::vector<std::uint32_t> placed(buckets.size()); // per entry of buckets
     {
         std::vector<std::uint32_t> filled(start.begin(), start.end() - 1);
         for (std::size_t k = 0; k < count; ++k) {
             for (std::uint32_t b = bucketsStart[k]; b < bucketsStart[k + 1]; ++b) {
-                segments[filled[buckets[b]]++] = static_cast<std::uint32_t>(k);
+                placed[b] = filled[buckets[b]]++;
+                segments[placed[b]] = static_cast<std::uint32_t>(k);
             }
         }
     }
 
-    // Each pair once: the last segment i that met j is remembered.
+    // Each pair once: segment i meets those after it in its buckets, and the last i that met j is
+    // remembered.
     std::vector<std::size_t> metLast(count, static_cast<std::size_t>(-1));
     for (std::size_t i = 0; i < count; ++i) {
         const glm::dvec2 lo = glm::min(from[i], to[i]);
         const glm::dvec2 hi = glm::max(from[i], to[i]);
         for (std::uint32_t b = bucketsStart[i]; b < bucketsStart[i + 1]; ++b) {
-            for (std::uint32_t s = start[buckets[b]]; s < start[buckets[b] + 1]; ++s) {
+            for (std::uint32_t s = placed[b] + 1; s < start[buckets[b] + 1]; ++s) {
                 const std::size_t j = segments[s];
                 if (j <= i || metLast[j] == i) {
                     continue;
