@@ -42,12 +42,14 @@ TerrainSampler::TerrainSampler(std::shared_ptr<const TerrainTileData> data)
         const glm::dvec3 b(vertices[_data->indices[3 * t + 1]]);
         const glm::dvec3 c(vertices[_data->indices[3 * t + 2]]);
         const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        const std::array<float, 3> heights{static_cast<float>(a.z), static_cast<float>(b.z), static_cast<float>(c.z)};
         if (area == 0.0) {
-            _weightPlanes[t] = {};
+            _weightPlanes[t] = {{}, {}, heights};
             continue;
         }
         _weightPlanes[t] = {{(b.y - c.y) / area, (c.x - b.x) / area, (b.x * c.y - c.x * b.y) / area},
-                            {(c.y - a.y) / area, (a.x - c.x) / area, (c.x * a.y - a.x * c.y) / area}};
+                            {(c.y - a.y) / area, (a.x - c.x) / area, (c.x * a.y - a.x * c.y) / area},
+                            heights};
     }
     // Counted first, then filled: one array for all the buckets.
     _bucketStart.assign(static_cast<std::size_t>(_buckets) * static_cast<std::size_t>(_buckets) + 1, 0);
@@ -86,9 +88,32 @@ double TerrainSampler::height(double u, double v) const noexcept
     return heightOf(weightsAt(u, v));
 }
 
+namespace {
+constexpr double kInsideTriangle = 1e-9; // how far outside a triangle a point may be and count as in it
+}
+
 double TerrainSampler::height(double u, double v, std::array<std::uint32_t, 2>& hints) const noexcept
 {
-    return heightOf(_data->isMesh() ? meshWeights(u, v, &hints) : gridWeights(u, v));
+    if (!_data->isMesh()) {
+        return heightOf(gridWeights(u, v));
+    }
+    // The hinted triangles from their planes and corner heights alone; the same arithmetic, in the
+    // same order, as triangleWeights and heightOf, so the height does not depend on the hints.
+    const std::size_t triangles = _weightPlanes.size();
+    std::array<double, 3> w{};
+    for (const std::uint32_t t : hints) {
+        if (t < triangles && _weightPlanes[t].weights(u, v, w) && std::min({w[0], w[1], w[2]}) >= -kInsideTriangle) {
+            hints[0] = t;
+            const std::array<float, 3>& h = _weightPlanes[t].heights;
+            return 0.0 + w[0] * static_cast<double>(h[0]) + w[1] * static_cast<double>(h[1]) + w[2] * static_cast<double>(h[2]);
+        }
+    }
+    const std::uint32_t t = triangleAt(u, v);
+    const Weights weights = t == ~0u ? Weights{} : triangleWeights(t, u, v);
+    if (weights.count > 0 && weights.outside <= kInsideTriangle) {
+        hints[0] = t;
+    }
+    return heightOf(weights);
 }
 
 std::optional<double> TerrainSampler::heightOnTriangles(double u, double v) const noexcept
@@ -129,55 +154,44 @@ TerrainSampler::Weights TerrainSampler::gridWeights(double u, double v) const no
 
 TerrainSampler::Weights TerrainSampler::triangleWeights(std::uint32_t t, double u, double v) const noexcept
 {
-    const WeightPlanes& planes = _weightPlanes[t];
     Weights weights;
-    if (planes.first[0] == 0.0 && planes.first[1] == 0.0 && planes.first[2] == 0.0) {
+    std::array<double, 3> w{};
+    if (!_weightPlanes[t].weights(u, v, w)) {
         return weights; // degenerate
     }
-    const double wa = planes.first[0] * u + planes.first[1] * v + planes.first[2];
-    const double wb = planes.second[0] * u + planes.second[1] * v + planes.second[2];
-    const double wc = 1.0 - wa - wb;
     weights.count = 3;
     weights.index = {_data->indices[3 * t], _data->indices[3 * t + 1], _data->indices[3 * t + 2], 0};
-    weights.weight = {wa, wb, wc, 0.0};
-    weights.outside = std::max(-std::min({wa, wb, wc}), 0.0);
+    weights.weight = {w[0], w[1], w[2], 0.0};
+    weights.outside = std::max(-std::min({w[0], w[1], w[2]}), 0.0);
     return weights;
 }
 
-TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v, std::array<std::uint32_t, 2>* hints) const noexcept
+TerrainSampler::Weights TerrainSampler::meshWeights(double u, double v) const noexcept
 {
-    constexpr double kInside = 1e-9;
-    for (std::size_t k = 0; hints && k < hints->size(); ++k) {
-        const std::uint32_t t = (*hints)[k];
-        if (t < _data->indices.size() / 3) {
-            const Weights weights = triangleWeights(t, u, v);
-            if (weights.count > 0 && weights.outside <= kInside) {
-                (*hints)[0] = t;
-                return weights;
-            }
-        }
-    }
+    const std::uint32_t t = triangleAt(u, v);
+    return t == ~0u ? Weights{} : triangleWeights(t, u, v);
+}
+
+std::uint32_t TerrainSampler::triangleAt(double u, double v) const noexcept
+{
     const int x = std::clamp(static_cast<int>(u * _buckets), 0, _buckets - 1);
     const int y = std::clamp(static_cast<int>(v * _buckets), 0, _buckets - 1);
-    Weights nearest;
+    std::uint32_t nearest = ~0u;
     double nearestOutside = std::numeric_limits<double>::infinity();
     const std::size_t bucket = static_cast<std::size_t>(y * _buckets + x);
+    std::array<double, 3> w{};
     for (std::uint32_t i = _bucketStart[bucket]; i < _bucketStart[bucket + 1]; ++i) {
         const std::uint32_t t = _bucketTriangles[i];
-        const Weights weights = triangleWeights(t, u, v);
-        if (weights.count == 0) {
+        if (!_weightPlanes[t].weights(u, v, w)) {
             continue;
         }
-        if (weights.outside <= kInside) {
-            if (hints) {
-                (*hints)[0] = t;
-            }
-            return weights;
+        const double outside = std::max(-std::min({w[0], w[1], w[2]}), 0.0);
+        if (outside <= kInsideTriangle) {
+            return t;
         }
-        // A point in no triangle (rounding at an edge): the nearest triangle's plane.
-        if (weights.outside < nearestOutside) {
-            nearestOutside = weights.outside;
-            nearest = weights;
+        if (outside < nearestOutside) {
+            nearestOutside = outside;
+            nearest = t;
         }
     }
     return nearest;

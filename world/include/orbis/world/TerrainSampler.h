@@ -68,7 +68,10 @@ private:
     double heightOf(const Weights& weights) const noexcept;
     Weights weightsAt(double u, double v) const noexcept;
     Weights gridWeights(double u, double v) const noexcept;
-    Weights meshWeights(double u, double v, std::array<std::uint32_t, 2>* hints = nullptr) const noexcept;
+    Weights meshWeights(double u, double v) const noexcept;
+    /// Through the buckets: the triangle holding (u, v), or for a point in none (a rounding at an
+    /// edge) the nearest; ~0u when the bucket has no triangle that is not degenerate.
+    std::uint32_t triangleAt(double u, double v) const noexcept;
     /// Triangle t's weights at (u, v); count 0 for a degenerate triangle.
     Weights triangleWeights(std::uint32_t t, double u, double v) const noexcept;
     /// The lattice's u (west to east) and v (north to south) coordinates within the data tile.
@@ -82,9 +85,23 @@ private:
     std::vector<std::uint32_t> _bucketTriangles;
     /// Meshes: each triangle's first two barycentric weights as planes in (u, v), w = a u + b v + c
     /// (the third is 1 minus both): a point's weights without a division (clipmap posts ask for
-    /// many). A degenerate triangle's are all zero.
+    /// many). A degenerate triangle's are all zero. With its corners' heights, so that a height in
+    /// a hinted triangle reads one cache line.
     struct WeightPlanes {
         std::array<double, 3> first, second;
+        std::array<float, 3> heights;
+
+        /// The three weights at (u, v); false for a degenerate triangle.
+        bool weights(double u, double v, std::array<double, 3>& w) const noexcept
+        {
+            if (first[0] == 0.0 && first[1] == 0.0 && first[2] == 0.0) {
+                return false;
+            }
+            w[0] = first[0] * u + first[1] * v + first[2];
+            w[1] = second[0] * u + second[1] * v + second[2];
+            w[2] = 1.0 - w[0] - w[1];
+            return true;
+        }
     };
     std::vector<WeightPlanes> _weightPlanes;
 };
