@@ -99,13 +99,17 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
 // The coarsest level of detail the pages there allow (course 6.1.2's LOD clamp): never finer than
 // the finest page's resident levels reach (the red channel), so every level blended is resident;
 // and around a page the view asks for that is not resident yet (the green channel, far below zero
-// elsewhere), a ramp of u_layout.x or 8 levels a page falling away from it, so that the coarser
-// look of a region waiting for its pages blends into its resident neighbours instead of ending
-// at a seam. The ramps are steep enough that no page beyond the eight neighbours can reach in.
-// u_waiting is false when nothing waits anywhere: then only the page's own clamp counts.
+// elsewhere), a ramp falling away from it, so that the coarser look of a region waiting for its
+// pages blends into its resident neighbours instead of ending at a seam. The ramp falls a level
+// over kRampPixels pixels (from the level of detail lod: a page of the finest level spans
+// P / 2^lod pixels), so that it hides the seam without showing coarser texels far into pages that
+// are resident; and at least u_layout.x or 8 levels a page, so that no page beyond the eight
+// neighbours can reach in. u_waiting is false when nothing waits anywhere: then only the page's
+// own clamp counts.
 uniform bool u_waiting;
+const float kRampPixels = 4.0;
 
-float vtLodClamp(vec2 tileCoordinates)
+float vtLodClamp(vec2 tileCoordinates, float lod)
 {
     PagePosition finest = vtPagePosition(u_layout.x, tileCoordinates);
     vec2 own = texelFetch(og_texture2, finest.page, 0).rg;
@@ -115,7 +119,7 @@ float vtLodClamp(vec2 tileCoordinates)
     }
     ivec2 size = textureSize(og_texture2, 0);
     vec2 f = clamp(finest.inPage, 0.0, 1.0);
-    float slope = float(max(8, u_layout.x));
+    float slope = max(float(max(8, u_layout.x)), float(u_layout.y) * exp2(-lod) / kRampPixels);
     for (int dy = -1; dy <= 1; ++dy) {
         int y = finest.page.y + dy;
         if (y < 0 || y >= size.y) {
@@ -148,7 +152,7 @@ struct LevelChoice {
 LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
 {
     float finest = float(u_layout.x);
-    float allowed = vtLodClamp(tileCoordinates);
+    float allowed = vtLodClamp(tileCoordinates, lod);
 #ifdef VT_TRILINEAR
     float asked = clamp(floor(lod), 0.0, finest);
     float shown = clamp(max(lod, allowed), 0.0, finest);
