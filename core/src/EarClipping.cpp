@@ -55,7 +55,7 @@ std::string describeEdge(const Node& from, const Node& to)
 
 // Vertices queued by a class of priority (0 first), first in first out within a class: pushing
 // and popping take constant time, where a binary heap of all the candidate ears took a quarter of
-// the time of triangulating a ring.
+// the time of triangulating a ring. A polygon uses few of the classes: buckets are made for those.
 class ClassQueue {
 public:
     static constexpr std::size_t kClasses = 4096;
@@ -64,7 +64,12 @@ public:
 
     void push(std::uint32_t priorityClass, int id)
     {
-        Bucket& bucket = _buckets[priorityClass];
+        std::uint16_t& number = _bucketOf[priorityClass];
+        if (number == 0) {
+            _buckets.emplace_back();
+            number = static_cast<std::uint16_t>(_buckets.size());
+        }
+        Bucket& bucket = _buckets[number - 1u];
         if (bucket.ids.size() == bucket.read) {
             _nonEmpty[priorityClass / 64] |= std::uint64_t{1} << (priorityClass % 64);
         }
@@ -80,7 +85,7 @@ public:
             ++word;
         }
         const auto priorityClass = static_cast<std::uint32_t>(64 * word + static_cast<std::size_t>(std::countr_zero(_nonEmpty[word])));
-        Bucket& bucket = _buckets[priorityClass];
+        Bucket& bucket = _buckets[_bucketOf[priorityClass] - 1u];
         const int id = bucket.ids[bucket.read++];
         if (bucket.read == bucket.ids.size()) {
             bucket.ids.clear();
@@ -96,7 +101,8 @@ private:
         std::vector<int> ids;
         std::size_t read = 0;
     };
-    std::vector<Bucket> _buckets = std::vector<Bucket>(kClasses);
+    std::vector<Bucket> _buckets;
+    std::array<std::uint16_t, kClasses> _bucketOf{}; // per class: its bucket's number from 1, 0 for none yet
     std::array<std::uint64_t, kClasses / 64> _nonEmpty{};
     std::size_t _size = 0;
 };
@@ -270,11 +276,20 @@ private:
     // Throws on crossings it cannot undo.
     Split splitTouchingEdges()
     {
+        std::size_t count = 0;
+        for (const int cycle : _cycles) {
+            forEachInCycle(cycle, [&](int) { ++count; });
+        }
         std::vector<int> edges; // by the node each starts at
         std::vector<int> edgeEnds;
         std::vector<std::size_t> edgeCycles;
         std::vector<glm::dvec2> starts;
         std::vector<glm::dvec2> ends;
+        edges.reserve(count);
+        edgeEnds.reserve(count);
+        edgeCycles.reserve(count);
+        starts.reserve(count);
+        ends.reserve(count);
         for (std::size_t k = 0; k < _cycles.size(); ++k) {
             forEachInCycle(_cycles[k], [&](int i) {
                 edges.push_back(i);
@@ -1131,8 +1146,10 @@ private:
     void clip(std::vector<std::uint32_t>& indices)
     {
         std::vector<int> all;
+        all.reserve(_nodes.size());
         forEachInCycle(_start, [&](int i) { all.push_back(i); });
         _positions.clear();
+        _positions.reserve(_nodes.size());
         for (const Node& n : _nodes) {
             _positions.push_back(n.p);
         }

@@ -167,6 +167,25 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
     if (count < 2) {
         return false;
     }
+    // Whether segment j's bounding box meets the box lo..hi.
+    auto meets = [&](const glm::dvec2& lo, const glm::dvec2& hi, std::size_t j) {
+        const glm::dvec2 otherLo = glm::min(from[j], to[j]);
+        const glm::dvec2 otherHi = glm::max(from[j], to[j]);
+        return otherLo.x <= hi.x && otherHi.x >= lo.x && otherLo.y <= hi.y && otherHi.y >= lo.y;
+    };
+    if (count <= 32) {
+        // Few segments (a building's ring): every pair costs less than making the grid.
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec2 lo = glm::min(from[i], to[i]);
+            const glm::dvec2 hi = glm::max(from[i], to[i]);
+            for (std::size_t j = i + 1; j < count; ++j) {
+                if (meets(lo, hi, j) && visit(i, j)) {
+                    return true;
+                }
+            }
+        }
+        return false;
+    }
     const SegmentGrid grid(from, to);
     // Segments by cell, through a hash of the cell into 2^k buckets (a bucket may hold several
     // cells: only more pairs to look at), counted and placed; and each segment's buckets.
@@ -217,9 +236,7 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
                     continue;
                 }
                 metLast[j] = i;
-                const glm::dvec2 otherLo = glm::min(from[j], to[j]);
-                const glm::dvec2 otherHi = glm::max(from[j], to[j]);
-                if (otherLo.x <= hi.x && otherHi.x >= lo.x && otherLo.y <= hi.y && otherHi.y >= lo.y && visit(i, j)) {
+                if (meets(lo, hi, j) && visit(i, j)) {
                     return true;
                 }
             }
