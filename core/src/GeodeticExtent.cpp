@@ -56,4 +56,22 @@ bool GeodeticExtent::contains(const Geodetic2D& g) const noexcept
     return containsLongitude(*this, longitude);
 }
 
+bool GeodeticExtent::intersects(const GeodeticExtent& other) const noexcept
+{
+    if (!(south <= other.north && other.south <= north)) {
+        return false;
+    }
+    // A pole is one point, whatever the longitudes.
+    if ((north == kHalfPi && other.north == kHalfPi) || (south == -kHalfPi && other.south == -kHalfPi)) {
+        return true;
+    }
+    // On the circle of longitudes one interval meets the other exactly when one's start lies in
+    // the other: measured eastwards from each start.
+    const auto eastwards = [](double from, double to) {
+        const double d = std::remainder(to - from, kTwoPi);
+        return d < 0.0 ? d + kTwoPi : d;
+    };
+    return eastwards(west, other.west) <= width() || eastwards(other.west, west) <= other.width();
+}
+
 } // namespace orbis

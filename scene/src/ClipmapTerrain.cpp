@@ -2,6 +2,7 @@
 
 #include "ClipmapTiles.h"
 #include "DepthPrograms.h"
+#include "VectorSupport.h"
 
 #include "orbis/scene/Effect.h"
 
@@ -168,6 +169,7 @@ struct ClipmapTerrain::Impl {
         std::uint32_t terrainLevel = 0, imageryLevel = 0;
         std::vector<TileKey> terrainKeys, imageryKeys;
         bool tilesChosen = false, built = false;
+        double lowest = 0.0, highest = 0.0; ///< of its vertices, exaggeration included
         renderer::VertexBuffer positions, texels;
         renderer::IndexBuffer indices;
         std::optional<renderer::VertexArray> vertexArray;
@@ -518,6 +520,8 @@ struct ClipmapTerrain::Impl {
                 if (const auto* grid = terrain ? terrainFinder.find(g, backdrop.terrainLevel, uv) : nullptr) {
                     height = (*grid)->height(uv.x, uv.y);
                 }
+                backdrop.lowest = std::min(backdrop.lowest, options.exaggeration * height);
+                backdrop.highest = std::max(backdrop.highest, options.exaggeration * height);
                 const glm::vec3 p(surfacePoint(Ellipsoid::geodeticSurfaceNormal(g), options.exaggeration * height));
                 positions.insert(positions.end(), {p.x, p.y, p.z});
                 texels.insert(texels.end(), {static_cast<float>(i) / columns, static_cast<float>(j) / rows, static_cast<float>(height)});
@@ -1364,6 +1368,88 @@ std::optional<double> ClipmapTerrain::groundHeight(const Geodetic2D& position) c
         return _options.exaggeration * height;
     }
     return std::nullopt;
+}
+
+std::optional<HeightInterval> ClipmapTerrain::drawnHeights(const GeodeticExtent& extent) const
+{
+    const Impl& impl = *_impl;
+    const int n = _options.posts;
+    const int c = impl.centerPost();
+    const int L = static_cast<int>(impl.levels.size());
+    const int finestDrawn = impl.drawnFinest;
+    if (finestDrawn >= L && !_statistics.backdropDrawn) {
+        return std::nullopt;
+    }
+    // The extent as a cap of unit normals (its farthest points from its centre are corners), and
+    // the cap's half widths in the grid's angles: latitude by its radius, longitude by the widest
+    // it gets, asin(sin r / cos latitude), or all round when it holds the grid's pole.
+    const glm::dvec3 centre = Ellipsoid::geodeticSurfaceNormal(extent.centre());
+    double radius = 0.0;
+    for (const double longitude : {extent.west, extent.east}) {
+        for (const double latitude : {extent.south, extent.north}) {
+            radius = std::max(radius, detail::centralAngle(centre, Ellipsoid::geodeticSurfaceNormal(Geodetic2D{longitude, latitude})));
+        }
+    }
+    const glm::dvec3 u = toFrame(impl.frame, centre);
+    const double gridLatitude = std::asin(std::clamp(u.z, -1.0, 1.0));
+    const double gridLongitude = std::atan2(u.y, u.x);
+    const double halfLongitude = std::abs(gridLatitude) + radius < kHalfPi
+                                     ? std::asin(std::min(1.0, std::sin(radius) / std::cos(gridLatitude)))
+                                     : kPi;
+    // The cap's box in level l's global post numbers: columns aligned with its window by turns.
+    struct Box {
+        double x0, x1, y0, y1;
+    };
+    auto boxIn = [&](int l) {
+        const double s = impl.levelSpacing(l);
+        const double turn = kTwoPi / s;
+        double x = gridLongitude / s;
+        x += std::round((static_cast<double>(impl.originX(l) + c) - x) / turn) * turn;
+        return Box{x - halfLongitude / s, x + halfLongitude / s, (gridLatitude - radius) / s, (gridLatitude + radius) / s};
+    };
+    auto inside = [](const Box& box, double x0, double y0, double x1, double y1) {
+        return box.x0 >= x0 && box.x1 <= x1 && box.y0 >= y0 && box.y1 <= y1;
+    };
+    const double exaggeration = _options.exaggeration;
+    std::optional<HeightInterval> heights;
+    auto add = [&heights](double lowest, double highest) {
+        heights = heights ? HeightInterval{std::min(heights->lowest, lowest), std::max(heights->highest, highest)}
+                          : HeightInterval{lowest, highest};
+    };
+    for (int l = finestDrawn; l < L; ++l) {
+        const Box box = boxIn(l);
+        const auto x0 = static_cast<double>(impl.originX(l)), y0 = static_cast<double>(impl.originY(l));
+        if (box.x1 < x0 || box.x0 > x0 + n - 1 || box.y1 < y0 || box.y0 > y0 + n - 1) {
+            continue; // beyond its window
+        }
+        if (l > finestDrawn) {
+            // Within the finer level's window, less a post: drawn by that level, not this one.
+            const double fx = static_cast<double>(impl.originX(l - 1)) / 2.0, fy = static_cast<double>(impl.originY(l - 1)) / 2.0;
+            const double half = (n - 1) / 2.0;
+            if (inside(box, fx + 1.0, fy + 1.0, fx + half - 1.0, fy + half - 1.0)) {
+                continue;
+            }
+        }
+        // Its posts, blended over its outer band towards the coarser level's (heights the levels
+        // have held since placed), less what its flat cells sag.
+        const Impl::Level& level = impl.levels[static_cast<std::size_t>(l)];
+        double lowest = level.minimumHeight, highest = level.maximumHeight;
+        if (l + 1 < L) {
+            const Impl::Level& coarser = impl.levels[static_cast<std::size_t>(l) + 1];
+            lowest = std::min(lowest, coarser.minimumHeight);
+            highest = std::max(highest, coarser.maximumHeight);
+        }
+        add(exaggeration * lowest - detail::triangleSagBound(impl.ellipsoid, 2.0 * impl.levelSpacing(l)), exaggeration * highest);
+    }
+    if (_statistics.backdropDrawn) {
+        // Drawn where no level is: beyond the coarsest level's window less its outer two posts.
+        const int coarsest = L - 1;
+        const auto x0 = static_cast<double>(impl.originX(coarsest)), y0 = static_cast<double>(impl.originY(coarsest));
+        if (finestDrawn >= L || !inside(boxIn(coarsest), x0 + 2.0, y0 + 2.0, x0 + n - 3.0, y0 + n - 3.0)) {
+            add(impl.backdrop.lowest - detail::triangleSagBound(impl.ellipsoid, toRadians(2.0)), impl.backdrop.highest);
+        }
+    }
+    return heights;
 }
 
 void ClipmapTerrain::forEachDrawnTriangle(bool withDegenerates,

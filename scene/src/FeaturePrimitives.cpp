@@ -81,7 +81,7 @@ private:
             PolygonCollectionOptions options;
             options.granularityRadians = _style.granularityRadians;
             options.encoding = _style.encoding;
-            options.groundHeights = _style.fillGroundHeights;
+            options.draped = _style.drapeFills;
             _out.fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
         }
         // A feature's name is data: cut, so that a hostile one cannot make a message megabytes long.

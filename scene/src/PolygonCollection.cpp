@@ -8,8 +8,13 @@
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <array>
 #include <cassert>
+#include <cmath>
+#include <limits>
 #include <unordered_set>
 
 namespace orbis::scene {
@@ -23,20 +28,21 @@ constexpr double kFillDepthFraction = 1e-5;
 
 bool isOpaque(const glm::vec4& color) noexcept { return color.a >= 1.0f; }
 
-/// The closed volume over a polygon's triangles on the surface, from `bottom` to `top` metres
-/// above it along the geodetic normals: the triangles at the top, reversed at the bottom, and a
-/// wall under each edge of the outline (an edge of one triangle only: the subdivision shares its
-/// inner edges), every face counter-clockwise seen from outside, as the stencil count needs.
-Mesh shadowVolume(const Ellipsoid& ellipsoid, const Mesh& surface, double bottom, double top)
+/// Metres a draped volume reaches beyond the ground's heights, for their rounding (floats).
+constexpr double kDrapeMarginMeters = 1.0;
+
+/// The closed volume over a polygon's triangles on the surface: their vertices twice, the first
+/// copy its bottom's and the second its top's (the vertex shader moves each along its normal to the
+/// frame's heights), the triangles at the top, reversed at the bottom, and a wall under each edge
+/// of the outline (an edge of one triangle only: the subdivision shares its inner edges), every
+/// face counter-clockwise seen from outside, as the stencil count needs.
+Mesh shadowVolume(const Mesh& surface)
 {
     const std::size_t n = surface.positions.size();
     Mesh volume;
     volume.positions.reserve(2 * n);
-    for (const double height : {bottom, top}) {
-        for (const glm::dvec3& position : surface.positions) {
-            volume.positions.push_back(position + height * ellipsoid.geodeticSurfaceNormal(position));
-        }
-    }
+    volume.positions.insert(volume.positions.end(), surface.positions.begin(), surface.positions.end());
+    volume.positions.insert(volume.positions.end(), surface.positions.begin(), surface.positions.end());
     const auto up = [n](std::uint32_t i) { return static_cast<std::uint32_t>(i + n); };
     const auto edgeKey = [](std::uint32_t from, std::uint32_t to) { return (std::uint64_t{from} << 32) | to; };
     const std::vector<std::uint32_t>& t = surface.indices;
@@ -59,6 +65,77 @@ Mesh shadowVolume(const Ellipsoid& ellipsoid, const Mesh& surface, double bottom
         }
     }
     return volume;
+}
+
+/// The geodetic extent of a polygon's triangles on the surface (edges at most widestEdge radians
+/// at the centre): the latitudes of their corners, widened by what an edge bulges poleward between
+/// its ends (at most widestEdge^2 / 8), and the shortest run of longitudes holding every edge (a
+/// flat triangle clear of the axis spans no longitude beyond its corners'); every longitude, to the
+/// pole, where a triangle holds a pole.
+GeodeticExtent footprintOf(const Ellipsoid& ellipsoid, const Mesh& surface, double widestEdge)
+{
+    GeodeticExtent extent{-kPi, kHalfPi, kPi, -kHalfPi};
+    std::vector<double> longitudes;
+    longitudes.reserve(surface.positions.size());
+    for (const glm::dvec3& position : surface.positions) {
+        const Geodetic2D g = ellipsoid.toGeodetic2D(position);
+        extent.south = std::min(extent.south, g.latitude);
+        extent.north = std::max(extent.north, g.latitude);
+        longitudes.push_back(position.x == 0.0 && position.y == 0.0 ? std::numeric_limits<double>::quiet_NaN() : g.longitude);
+    }
+    const double bulge = 0.25 * widestEdge * widestEdge + 1e-9;
+    extent.south = std::max(extent.south - bulge, -kHalfPi);
+    extent.north = std::min(extent.north + bulge, kHalfPi);
+    // Each edge's run of longitudes, eastwards from its start; edges at a pole run along one meridian.
+    std::vector<std::pair<double, double>> runs;
+    const std::vector<std::uint32_t>& t = surface.indices;
+    bool pole = false;
+    for (std::size_t i = 0; i + 2 < t.size(); i += 3) {
+        const glm::dvec3& a = surface.positions[t[i]];
+        const glm::dvec3& b = surface.positions[t[i + 1]];
+        const glm::dvec3& c = surface.positions[t[i + 2]];
+        for (const double z : {1.0, -1.0}) {
+            const glm::dvec3 axis(0.0, 0.0, z);
+            if (glm::dot(glm::cross(a, b), axis) >= 0.0 && glm::dot(glm::cross(b, c), axis) >= 0.0 &&
+                glm::dot(glm::cross(c, a), axis) >= 0.0) {
+                (z > 0.0 ? extent.north : extent.south) = z * kHalfPi;
+                pole = true;
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            const double from = longitudes[t[i + static_cast<std::size_t>(k)]];
+            const double to = longitudes[t[i + static_cast<std::size_t>((k + 1) % 3)]];
+            const double across = std::remainder(to - from, kTwoPi);
+            if (std::isfinite(across)) {
+                runs.emplace_back(across >= 0.0 ? from : to, std::abs(across));
+            }
+        }
+    }
+    if (pole || runs.empty()) {
+        return extent;
+    }
+    // The widest gap between the runs, on the circle, is what the extent leaves out.
+    std::sort(runs.begin(), runs.end());
+    double reach = runs.front().first + runs.front().second; // east end of the runs so far
+    double gapWidth = 0.0;
+    double gapStart = 0.0;
+    for (std::size_t i = 1; i < runs.size(); ++i) {
+        if (runs[i].first > reach && runs[i].first - reach > gapWidth) {
+            gapWidth = runs[i].first - reach;
+            gapStart = reach;
+        }
+        reach = std::max(reach, runs[i].first + runs[i].second);
+    }
+    const double around = runs.front().first + kTwoPi - reach;
+    if (around > gapWidth) {
+        gapWidth = around;
+        gapStart = reach;
+    }
+    if (gapWidth > 0.0) {
+        extent.west = std::remainder(gapStart + gapWidth, kTwoPi);
+        extent.east = std::remainder(gapStart, kTwoPi);
+    }
+    return extent;
 }
 
 /// A draped polygon's volume drawn twice for the z-fail stencil count (docs/terrain.md): the first
@@ -105,9 +182,13 @@ void appendDrapedDraws(SceneCommand volume, CommandList& commands)
 struct PolygonCollection::Item {
     Mesh mesh; ///< drawn: lifted positions (or a draped polygon's volume), no normals
     double lift = 0.0;
-    double maxHeight = 0.0; ///< of the drawn positions above the ellipsoid
+    double maxHeight = 0.0; ///< of the drawn positions above the ellipsoid (draped: of its surface)
     glm::vec4 color{1.0f};
     BoundingSphere sphere;
+    // Draped only:
+    GeodeticExtent footprint;
+    double sag = 0.0; ///< how far its flat triangles dip below their corners
+    std::optional<HeightInterval> drapedHeights; ///< the last frame's
 };
 
 PolygonCollection::PolygonCollection(const Ellipsoid& ellipsoid, const PolygonCollectionOptions& options)
@@ -159,9 +240,9 @@ std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> ring
         }
         const double sag = detail::triangleSagBound(_ellipsoid, widest);
         if (draped()) {
-            const HeightInterval ground = _options.groundHeights(item.mesh);
-            item.maxHeight = ground.highest + sag;
-            item.mesh = shadowVolume(_ellipsoid, item.mesh, ground.lowest, item.maxHeight);
+            item.sag = sag;
+            item.footprint = footprintOf(_ellipsoid, item.mesh, widest);
+            item.mesh = shadowVolume(item.mesh);
         } else {
             item.lift = sag;
             item.maxHeight = sag;
@@ -204,6 +285,18 @@ const Mesh& PolygonCollection::mesh(std::size_t index) const
     return _polygons[index].mesh;
 }
 
+std::optional<HeightInterval> PolygonCollection::drapedHeights(std::size_t index) const
+{
+    assert(index < _polygons.size());
+    return _polygons[index].drapedHeights;
+}
+
+const GeodeticExtent& PolygonCollection::footprint(std::size_t index) const
+{
+    assert(index < _polygons.size());
+    return _polygons[index].footprint;
+}
+
 double PolygonCollection::liftMeters(std::size_t index) const
 {
     assert(index < _polygons.size());
@@ -218,22 +311,55 @@ void PolygonCollection::build(FrameState& frameState)
     for (const Item& item : _polygons) {
         items.push_back({item.mesh.positions, item.sphere, item.maxHeight});
     }
-    batch.build(frameState, items, 4, [&](std::size_t index, std::vector<std::byte>& out) { writeColor(index, out); });
+    // A colour per vertex, and for a draped volume its normal and side (kDrapeLocation).
+    const std::size_t bytesPerVertex = draped() ? 4 + 4 * sizeof(float) : 4;
+    batch.build(frameState, items, bytesPerVertex,
+                [&](std::size_t index, std::vector<std::byte>& out) { writeAttributes(index, out); });
     batch.vertexArray().setAttribute(renderer::VertexAttributeLocation::Color, batch.attributes(),
-                                     {renderer::ComponentType::UnsignedByte, 4, true});
+                                     {renderer::ComponentType::UnsignedByte, 4, true, false, bytesPerVertex, 0});
+    if (draped()) {
+        batch.vertexArray().setAttribute(detail::kDrapeLocation, batch.attributes(),
+                                         {renderer::ComponentType::Float, 4, false, false, bytesPerVertex, 4});
+    }
     _geometryDirty = false;
     _colorDirty.clear();
     buildIndices(frameState.device);
 }
 
-void PolygonCollection::writeColor(std::size_t index, std::vector<std::byte>& out) const
+void PolygonCollection::writeAttributes(std::size_t index, std::vector<std::byte>& out) const
 {
     const Item& item = _polygons[index];
     const auto color = detail::packColor(item.color);
     const auto bytes = std::as_bytes(std::span(color));
-    for (std::size_t i = 0; i < item.mesh.positions.size(); ++i) {
+    const std::size_t count = item.mesh.positions.size();
+    for (std::size_t i = 0; i < count; ++i) {
         out.insert(out.end(), bytes.begin(), bytes.end());
+        if (draped()) {
+            const glm::vec3 normal(_ellipsoid.geodeticSurfaceNormal(item.mesh.positions[i]));
+            const std::array<float, 4> drape{normal.x, normal.y, normal.z, i < count / 2 ? 0.0f : 1.0f};
+            const auto drapeBytes = std::as_bytes(std::span(drape));
+            out.insert(out.end(), drapeBytes.begin(), drapeBytes.end());
+        }
     }
+}
+
+bool PolygonCollection::finishDrapedCommand(const FrameState& frameState, std::size_t index, SceneCommand& command)
+{
+    Item& item = _polygons[index];
+    item.drapedHeights = frameState.groundHeights(item.footprint);
+    if (!item.drapedHeights) {
+        return false; // no ground drawn under it: nothing to colour
+    }
+    HeightInterval& heights = *item.drapedHeights;
+    heights.lowest -= kDrapeMarginMeters;
+    heights.highest += item.sag + kDrapeMarginMeters;
+    command.draw.uniforms.set("u_drapeHeights", glm::vec2(static_cast<float>(heights.lowest), static_cast<float>(heights.highest)));
+    command.boundingSphere = {item.sphere.centre,
+                              item.sphere.radius + std::max(std::abs(heights.lowest), std::abs(heights.highest))};
+    command.horizonOcclusionPoint.reset(); // the ground it needs is drawn, so not all below the horizon
+    const glm::dvec3 eye = frameState.camera.eye();
+    detail::boundDepth(command, _ellipsoid, eye, _ellipsoid.toGeodetic3D(eye).height, heights.highest);
+    return true;
 }
 
 void PolygonCollection::buildIndices(renderer::Device& device)
@@ -257,13 +383,13 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
     }
     if (!_batch) {
         _batch = std::make_unique<detail::VectorBatch>(_ellipsoid, detail::VectorShape::Polygons,
-                                                       _options.encoding == VertexEncoding::RelativeToEye);
+                                                       _options.encoding == VertexEncoding::RelativeToEye, draped());
     }
     if (_geometryDirty) {
         build(frameState);
     } else {
         _batch->rewriteAttributes(_colorDirty,
-                                  [&](std::size_t index, std::vector<std::byte>& out) { writeColor(index, out); });
+                                  [&](std::size_t index, std::vector<std::byte>& out) { writeAttributes(index, out); });
         if (_indicesDirty) {
             buildIndices(frameState.device);
         }
@@ -276,7 +402,12 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
         return;
     }
     CommandList volumes;
-    _batch->appendCommands(frameState, depthOffset, volumes);
+    for (Item& item : _polygons) {
+        item.drapedHeights.reset();
+    }
+    _batch->appendCommands(frameState, depthOffset, volumes, [&](std::size_t index, SceneCommand& command) {
+        return finishDrapedCommand(frameState, index, command);
+    });
     for (SceneCommand& volume : volumes) {
         appendDrapedDraws(std::move(volume), commands);
     }

@@ -52,6 +52,19 @@ double FrameState::metersPerPixel(double distance) const noexcept
     return 2.0 * distance * std::tan(0.5 * camera.fieldOfViewY()) / std::max(height, 1);
 }
 
+std::optional<HeightInterval> FrameState::groundHeights(const GeodeticExtent& extent) const
+{
+    std::optional<HeightInterval> heights;
+    for (const Primitive* primitive : ground) {
+        if (const std::optional<HeightInterval> drawn = primitive->drawnHeights(extent)) {
+            heights = heights ? HeightInterval{std::min(heights->lowest, drawn->lowest),
+                                               std::max(heights->highest, drawn->highest)}
+                              : *drawn;
+        }
+    }
+    return heights;
+}
+
 Scene::Scene(const Ellipsoid& ellipsoid, const SceneOptions& options)
     : _ellipsoid(ellipsoid)
     , _options(options)
@@ -262,6 +275,10 @@ Scene::SurvivorDepth Scene::cullPrimitives(const FrameView& frame, FrameStatisti
         depth.farthest = std::max(depth.farthest, sphere ? centre + sphere->radius : limits.farLimit);
         depth.logarithmicAvailable = depth.logarithmicAvailable && primitive->supportsLogarithmicDepth();
     }
+    // The ground first, in the order added: what stands on it asks for the ground drawn this frame.
+    _groundSurvivors = static_cast<std::size_t>(
+        std::stable_partition(_survivors.begin(), _survivors.end(), [](const Primitive* p) { return p->drawsGround(); }) -
+        _survivors.begin());
     return depth;
 }
 
@@ -308,6 +325,7 @@ detail::DepthPlan Scene::updateAndBin(FrameState& frameState, DepthStrategy stra
     // float depth texture of its own under complementary depth).
     const bool depthToCopy = frame.target && (plan.needsFloatDepth || frame.target->depthAttachment());
     frameState.sceneDepth = depthToCopy ? _sceneDepth.get() : nullptr;
+    frameState.ground = std::span<const Primitive* const>(_survivors.data(), _groundSurvivors);
     auto start = std::chrono::steady_clock::now();
     _commands.clear();
     for (Primitive* primitive : _survivors) {

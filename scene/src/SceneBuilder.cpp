@@ -77,43 +77,6 @@ public:
 
     bool hasTerrain() const noexcept { return _terrain != nullptr; }
 
-    /// Heights that bracket the ground drawn under a polygon's triangles on the ellipsoid, for a
-    /// draped fill's volume: the most detailed heights sampled about as finely as the terrain's
-    /// posts (at most kSamples in all), widened each way by a quarter of their spread and 50 m,
-    /// for peaks between the samples and for coarser levels drawn while tiles load (their
-    /// triangles across the outline take heights from outside it).
-    HeightInterval heightsUnder(const Mesh& surface, const Ellipsoid& ellipsoid)
-    {
-        constexpr double kSamples = 65536.0;
-        const std::vector<glm::dvec3>& p = surface.positions;
-        const std::vector<std::uint32_t>& t = surface.indices;
-        const double triangles = static_cast<double>(t.size() / 3);
-        const double most = std::max(1.0, std::floor(std::sqrt(2.0 * kSamples / std::max(triangles, 1.0))));
-        double lowest = std::numeric_limits<double>::infinity();
-        double highest = -lowest;
-        for (std::size_t i = 0; i + 2 < t.size(); i += 3) {
-            const glm::dvec3& a = p[t[i]];
-            const glm::dvec3& b = p[t[i + 1]];
-            const glm::dvec3& c = p[t[i + 2]];
-            const double widest = std::max({detail::centralAngle(a, b), detail::centralAngle(b, c),
-                                            detail::centralAngle(c, a)});
-            const int steps = static_cast<int>(std::clamp(std::ceil(widest / sampleSpacingRadians()), 1.0, most));
-            for (int u = 0; u <= steps; ++u) {
-                for (int v = 0; u + v <= steps; ++v) {
-                    const glm::dvec3 point = a + (b - a) * (double(u) / steps) + (c - a) * (double(v) / steps);
-                    const double height = heightAt(ellipsoid.toGeodetic2D(point));
-                    lowest = std::min(lowest, height);
-                    highest = std::max(highest, height);
-                }
-            }
-        }
-        if (lowest > highest) {
-            return {};
-        }
-        const double margin = 50.0 + 0.25 * (highest - lowest);
-        return {lowest - margin, highest + margin};
-    }
-
     /// A position with its height made absolute.
     Geodetic3D place(Geodetic3D position, world::HeightReference reference)
     {
@@ -151,9 +114,7 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Gro
         if (ground->hasTerrain()) {
             style.groundHeight = [ground](const Geodetic2D& position) { return ground->heightAt(position); };
             style.groundSpacingRadians = ground->sampleSpacingRadians();
-            style.fillGroundHeights = [ground, ellipsoid = scene.ellipsoid()](const Mesh& surface) {
-                return ground->heightsUnder(surface, ellipsoid);
-            };
+            style.drapeFills = true;
         }
     }
     style.skipInvalidPolygons = layer.skipInvalid;

@@ -6,6 +6,7 @@
 #include "orbis/scene/MercatorReprojection.h"
 
 #include "TileMorph.h"
+#include "VectorSupport.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
@@ -34,6 +35,7 @@
 #include <cstring>
 #include <deque>
 #include <iostream>
+#include <limits>
 #include <list>
 #include <map>
 #include <mutex>
@@ -196,6 +198,9 @@ struct SurfaceTile final : TileData {
     {
         return morph ? morph->height(v, heights, morphFactor) : static_cast<double>(heights[v]);
     }
+    /// The lowest and highest heights of its grid's vertices as drawn, and the meshVersion they
+    /// were read from (TiledGlobe::drawnHeights reads them when asked).
+    mutable std::optional<std::pair<std::uint32_t, std::pair<float, float>>> drawnVertexHeights;
     bool heightsKnown = false;     ///< region bounds from its own heights
     std::uint32_t boundsFromLevel = ~0u; ///< the level of the ancestor whose heights bound it meanwhile
     std::vector<std::vector<TileKey>> imagery; ///< per layer, at the level the tile's error asks for
@@ -1840,6 +1845,59 @@ std::optional<double> TiledGlobe::groundHeight(const Geodetic2D& position) const
         }
     }
     return impl.meshHeightAt(*tile, position);
+}
+
+std::optional<HeightInterval> TiledGlobe::drawnHeights(const GeodeticExtent& extent) const
+{
+    const Impl& impl = *_impl;
+    const TilingScheme& scheme = impl.quadtree.scheme();
+    std::optional<HeightInterval> heights;
+    std::vector<const QuadtreeTile*> stack;
+    for (const auto& root : impl.quadtree.roots()) {
+        stack.push_back(root.get());
+    }
+    while (!stack.empty()) {
+        const QuadtreeTile& tile = *stack.back();
+        stack.pop_back();
+        const GeodeticExtent tileExtent = scheme.tileExtent(tile.key);
+        if (!tileExtent.intersects(extent)) {
+            continue;
+        }
+        if (!impl.drawnTiles.contains(tile.key)) {
+            if (tile.hasChildren()) {
+                for (const auto& child : tile.children) {
+                    stack.push_back(child.get());
+                }
+            }
+            continue;
+        }
+        const SurfaceTile& surface = surfaceOf(tile);
+        const TileMesh& mesh = surface.drawnMesh;
+        if (!surface.drawnVertexHeights || surface.drawnVertexHeights->first != surface.meshVersion) {
+            // The grid's vertices only: a skirt hangs where no crack lets it show.
+            const std::size_t count = static_cast<std::size_t>(mesh.size()) * static_cast<std::size_t>(mesh.size());
+            float lowest = std::numeric_limits<float>::infinity();
+            float highest = -lowest;
+            for (std::size_t v = 0; v < count; ++v) {
+                const float height = mesh.vertices[v * TileMesh::kFloatsPerVertex + 8];
+                lowest = std::min(lowest, height);
+                highest = std::max(highest, height);
+            }
+            surface.drawnVertexHeights = {surface.meshVersion, {lowest, highest}};
+        }
+        // Between its vertices a flat triangle sags below them, by what its widest edge allows: a
+        // cell's diagonal, or beside a coarser neighbour a zipped triangle 2^c cells long, whose
+        // edge vertices lie on that neighbour's chords (sagging as much again, at most).
+        const EdgeCoarsening coarsening = surface.coarsening.value_or(EdgeCoarsening{});
+        const int coarser = std::max({coarsening.north, coarsening.east, coarsening.south, coarsening.west});
+        const double cell = (tileExtent.width() + tileExtent.height()) / (mesh.size() - 1);
+        const double sag = detail::triangleSagBound(impl.ellipsoid, coarser > 0 ? std::ldexp(cell, std::min(coarser + 1, 30)) : cell);
+        const auto [lowest, highest] = surface.drawnVertexHeights->second;
+        const HeightInterval drawn{static_cast<double>(lowest) - sag, static_cast<double>(highest)};
+        heights = heights ? HeightInterval{std::min(heights->lowest, drawn.lowest), std::max(heights->highest, drawn.highest)}
+                          : drawn;
+    }
+    return heights;
 }
 
 std::vector<TiledGlobe::DrawnTile> TiledGlobe::drawnTiles() const

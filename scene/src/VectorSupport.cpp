@@ -160,7 +160,8 @@ renderer::RenderState vectorRenderState(Pass pass, bool cullBackFaces, bool blen
     return state;
 }
 
-renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy)
+renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, bool draped,
+                                                            DepthStrategy strategy)
 {
     renderer::ShaderProgramDescription description;
     description.vertex = renderer::ShaderSource::embedded("scene/vector/vector.vert.glsl");
@@ -175,6 +176,10 @@ renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, b
             description.geometry = renderer::ShaderSource::embedded("scene/vector/polygon.geom.glsl");
         }
         description.fragment = renderer::ShaderSource::embedded("scene/vector/polygon.frag.glsl");
+        if (draped) {
+            description.name = "draped polygons";
+            description.defines.push_back({"DRAPED"});
+        }
     }
     if (description.geometry) {
         description.defines.push_back({"DEPTH_IN_GEOMETRY_SHADER"});
@@ -185,12 +190,12 @@ renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, b
     return description;
 }
 
-VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye)
+VectorBatch::VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye, bool draped)
     : _ellipsoid(ellipsoid)
     , _shape(shape)
     , _relativeToEye(relativeToEye)
-    , _programs([shape, relativeToEye](DepthStrategy strategy, Pass) {
-        return vectorProgramDescription(shape, relativeToEye, strategy);
+    , _programs([shape, relativeToEye, draped](DepthStrategy strategy, Pass) {
+        return vectorProgramDescription(shape, relativeToEye, draped, strategy);
     })
 {
 }
@@ -290,7 +295,7 @@ void VectorBatch::buildIndices(renderer::Device& device, const std::function<boo
                 if ((pass == Pass::Opaque) == opaque(index)) {
                     writeIndices(index, static_cast<std::uint32_t>(_firstVertex[index]), indices);
                     if (rangePerItem && indices.size() > first) {
-                        _ranges.push_back({g, pass, first, indices.size() - first});
+                        _ranges.push_back({g, pass, first, indices.size() - first, index});
                         first = indices.size();
                     }
                 }
@@ -308,7 +313,8 @@ void VectorBatch::buildIndices(renderer::Device& device, const std::function<boo
     }
 }
 
-void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands)
+void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands,
+                                 const ItemCommand& finishItem)
 {
     const bool lines = _shape == VectorShape::Polylines;
     const glm::dvec3 eye = frameState.camera.eye();
@@ -336,6 +342,9 @@ void VectorBatch::appendCommands(FrameState& frameState, const glm::vec4& depthO
         command.boundingSphere = group.bounds.sphere;
         command.horizonOcclusionPoint = group.bounds.occlusionPoint;
         boundDepth(command, _ellipsoid, eye, eyeHeight, group.maxHeight);
+        if (range.item != kNotDrawn && finishItem && !finishItem(range.item, command)) {
+            continue;
+        }
         commands.push_back(std::move(command));
     }
 }

@@ -99,11 +99,17 @@ struct VectorItem {
 enum class VectorShape : std::uint8_t { Polylines, Polygons };
 
 /// The program a VectorBatch draws with under a depth strategy (before its depth defines):
-/// shaders/scene/vector with the shape's stages and the encoding's define. Depth is applied in a
+/// shaders/scene/vector with the shape's stages and the encoding's define, and for draped
+/// polygons' volumes DRAPED (their vertices moved to the frame's heights). Depth is applied in a
 /// geometry shader where there is one (DEPTH_IN_GEOMETRY_SHADER): the polylines' always, and for
 /// polygons a pass-through one under LogarithmicVertex, which keeps each triangle's interpolated
 /// logarithm from falling behind its true depth (og_depthPrimitiveVertex).
-renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, DepthStrategy strategy);
+renderer::ShaderProgramDescription vectorProgramDescription(VectorShape shape, bool relativeToEye, bool draped,
+                                                            DepthStrategy strategy);
+
+/// Where a draped polygon's vertices find their geodetic normal and side of the volume (0 bottom,
+/// 1 top): shaders/scene/vector/vector.vert.glsl's "drape".
+inline constexpr int kDrapeLocation = 6;
 
 /// The GPU side PolylineCollection and PolygonCollection share: their items in groups by region
 /// (groupByRegion), the items' positions in one vertex buffer laid out group by group (relative to
@@ -116,11 +122,15 @@ public:
     using AttributeWriter = std::function<void(std::size_t item, std::vector<std::byte>& out)>;
     /// Appends an item's indices, its vertices numbered from firstVertex.
     using IndexWriter = std::function<void(std::size_t item, std::uint32_t firstVertex, std::vector<std::uint32_t>& out)>;
+    /// Finishes the command of an item drawn by itself (buildIndices' rangePerItem): its bounds
+    /// and uniforms; false leaves it out of the frame.
+    using ItemCommand = std::function<bool(std::size_t item, SceneCommand& command)>;
 
     /// Index value that separates the lines of a Polylines batch.
     static constexpr std::uint32_t kRestartIndex = 0xFFFFFFFFu;
 
-    VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye);
+    /// With `draped`, Polygons batches draw shadow volumes (vectorProgramDescription's DRAPED).
+    VectorBatch(const Ellipsoid& ellipsoid, VectorShape shape, bool relativeToEye, bool draped = false);
 
     /// Groups the items that have positions, uploads their positions and attributes (a new vertex
     /// array reads the positions; attach the attributes from attributes()), and forgets the
@@ -135,8 +145,10 @@ public:
     void buildIndices(renderer::Device& device, const std::function<bool(std::size_t item)>& opaque,
                       const IndexWriter& writeIndices, bool rangePerItem = false);
     /// Appends one command per range, tagged with the shape's effect, drawn with the program for
-    /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform).
-    void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands);
+    /// the frame's depth strategy and the range's pass, u_depthOffset set (depthOffsetUniform);
+    /// a range of one item's (rangePerItem) goes through finishItem when given.
+    void appendCommands(FrameState& frameState, const glm::vec4& depthOffset, CommandList& commands,
+                        const ItemCommand& finishItem = {});
 
     renderer::VertexArray& vertexArray() noexcept { return _vertexArray; }
     const renderer::VertexBuffer& attributes() const noexcept { return _attributes; }
@@ -147,13 +159,14 @@ private:
         double maxHeight = 0.0;
         std::vector<std::size_t> items;
     };
+    static constexpr std::size_t kNotDrawn = static_cast<std::size_t>(-1);
     struct Range {
         std::size_t group = 0;
         Pass pass = Pass::Opaque;
         std::size_t first = 0;
         std::size_t count = 0;
+        std::size_t item = kNotDrawn; ///< the one item it draws (rangePerItem)
     };
-    static constexpr std::size_t kNotDrawn = static_cast<std::size_t>(-1);
 
     Ellipsoid _ellipsoid;
     VectorShape _shape;

@@ -102,3 +102,32 @@ TEST_CASE("GeodeticExtent at the poles and for the whole globe", "[core][geometr
     REQUIRE(contains(meridian, 30.0, 0.0));
     REQUIRE_FALSE(contains(meridian, 30.001, 0.0));
 }
+
+TEST_CASE("GeodeticExtent intersects: boundaries, the antimeridian and the poles", "[core][geometry][extent][hard]")
+{
+    const GeodeticExtent a = GeodeticExtent::fromDegrees(10.0, 20.0, 30.0, 40.0);
+    CHECK(a.intersects(a));
+    CHECK(a.intersects(GeodeticExtent::fromDegrees(25.0, 35.0, 50.0, 60.0)));
+    CHECK(a.intersects(GeodeticExtent::fromDegrees(15.0, 25.0, 20.0, 30.0))); // inside
+    CHECK(a.intersects(GeodeticExtent::fromDegrees(0.0, 0.0, 50.0, 60.0)));   // around it
+    CHECK(a.intersects(GeodeticExtent::fromDegrees(30.0, 40.0, 31.0, 41.0))); // a shared corner
+    CHECK_FALSE(a.intersects(GeodeticExtent::fromDegrees(30.001, 20.0, 40.0, 40.0)));
+    CHECK_FALSE(a.intersects(GeodeticExtent::fromDegrees(10.0, 40.001, 30.0, 50.0)));
+    CHECK(a.intersects(GeodeticExtent::maximum()));
+
+    // Across the antimeridian, from either side and from both.
+    const GeodeticExtent across = GeodeticExtent::fromDegrees(170.0, -10.0, -170.0, 10.0);
+    CHECK(across.intersects(GeodeticExtent::fromDegrees(175.0, 0.0, 180.0, 5.0)));
+    CHECK(across.intersects(GeodeticExtent::fromDegrees(-180.0, 0.0, -175.0, 5.0)));
+    CHECK(across.intersects(GeodeticExtent::fromDegrees(-175.0, -5.0, 175.0, 5.0))); // nearly the whole globe
+    CHECK(across.intersects(GeodeticExtent::fromDegrees(179.0, 0.0, -179.0, 1.0)));
+    CHECK_FALSE(across.intersects(GeodeticExtent::fromDegrees(-169.0, 0.0, 169.0, 5.0)));
+    CHECK_FALSE(across.intersects(a));
+    // -180 and 180 are one meridian.
+    CHECK(GeodeticExtent::fromDegrees(170.0, 0.0, 180.0, 5.0).intersects(GeodeticExtent::fromDegrees(-180.0, 0.0, -170.0, 5.0)));
+
+    // Two extents reaching a pole share it, whatever their longitudes.
+    CHECK(GeodeticExtent::fromDegrees(0.0, 80.0, 10.0, 90.0).intersects(GeodeticExtent::fromDegrees(100.0, 85.0, 110.0, 90.0)));
+    CHECK(GeodeticExtent::fromDegrees(0.0, -90.0, 10.0, -80.0).intersects(GeodeticExtent::fromDegrees(-100.0, -90.0, -90.0, -85.0)));
+    CHECK_FALSE(GeodeticExtent::fromDegrees(0.0, 80.0, 10.0, 89.0).intersects(GeodeticExtent::fromDegrees(100.0, 85.0, 110.0, 90.0)));
+}

@@ -900,28 +900,31 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     }
     REQUIRE(fills->draped());
     REQUIRE(fills->size() == 1);
-    const std::vector<glm::dvec3>& volume = fills->mesh(0).positions;
-    double bottomHeight = -1e9; // the highest of the bottom's vertices (the first half)
-    double topHeight = 1e9;     // the lowest of the top's
-    for (std::size_t i = 0; i < volume.size(); ++i) {
-        if (i < volume.size() / 2) {
-            bottomHeight = std::max(bottomHeight, heightOf(volume[i]));
-        } else {
-            topHeight = std::min(topHeight, heightOf(volume[i]));
-        }
+    // Its volume reaches from below to above the ground drawn under it: once the view over it has
+    // converged, every height of the drawn surface over its footprint lies between its bottom and top.
+    placeCamera(scene, Geodetic3D::fromDegrees(-84.25, 36.58, 30000.0), 0.0, -90.0);
+    bool converged = false;
+    for (int frame = 0; frame < 300 && !converged; ++frame) {
+        const FrameStatistics statistics = renderFrame(scene, 64, 48).statistics;
+        converged = statistics.tiles ? statistics.tiles->converged : statistics.clipmap->converged;
     }
+    REQUIRE(converged);
+    const std::optional<HeightInterval> volume = fills->drapedHeights(0);
+    REQUIRE(volume);
     double lowest = 1e9;
     double highest = -1e9;
-    for (double lon = -84.31; lon <= -84.20; lon += 0.0025) {
-        for (double lat = 36.53; lat <= 36.63; lat += 0.0025) {
-            const glm::dvec3 point = kEarth.toCartesian(Geodetic2D::fromDegrees(lon, lat));
-            lowest = std::min(lowest, ground(point));
-            highest = std::max(highest, ground(point));
+    for (double lon = -84.32; lon <= -84.19; lon += 0.001) {
+        for (double lat = 36.52; lat <= 36.64; lat += 0.001) {
+            const Geodetic2D point = Geodetic2D::fromDegrees(lon, lat);
+            if (fills->footprint(0).contains(point)) {
+                lowest = std::min(lowest, scene.groundHeight(point));
+                highest = std::max(highest, scene.groundHeight(point));
+            }
         }
     }
-    CHECK(highest - lowest > 200.0);
-    CHECK(bottomHeight < lowest); // an extent around the polygon: every ground height under it
-    CHECK(topHeight > highest);
+    CHECK(highest - lowest > 200.0); // the ground it covers is far from flat
+    CHECK(volume->lowest < lowest);
+    CHECK(volume->highest > highest);
 
     // Without terrain the same layer lies on the ellipsoid, as it always has: nothing draped.
     const std::filesystem::path flat = directory.write("flat.json", R"({"version": 2, "layers": [
@@ -967,19 +970,27 @@ bool insideDrapedQuadrilateral(const glm::dvec3& point)
     return true;
 }
 
-/// Renders the terrain scene until it converges and compares every pixel with the ground picked
-/// under it: red exactly where that ground is inside the quadrilateral, except within a pixel of
-/// its outline; blue nowhere. Returns the frame.
-RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
+/// What a frame shows of the draped quadrilateral, pixel by pixel against the ground picked under
+/// each (the surface the frame drew): red expected exactly where that ground is inside, except
+/// within a pixel of its outline; blue (the absolute copy at 0 m) nowhere.
+struct DrapedCoverage {
+    int wrong = 0;         ///< red outside, or not red inside, off the outline
+    int blue = 0;
+    int insidePixels = 0;
+    int outsidePixels = 0;
+    double lowest = std::numeric_limits<double>::infinity(); ///< of the ground inside
+    double highest = -std::numeric_limits<double>::infinity();
+};
+
+DrapedCoverage drapedCoverage(TerrainScene& terrain, const Image& image)
 {
-    const RenderedFrame frame = terrain.converge(width, height);
-    REQUIRE(frame.statistics.tiles->converged);
+    const int width = image.width;
+    const int height = image.height;
     const auto isRed = [](const std::uint8_t* p) { return p[0] > 200 && p[1] < 80 && p[2] < 80; };
     const auto isBlue = [](const std::uint8_t* p) { return p[2] > 200 && p[0] < 80 && p[1] < 80; };
+    DrapedCoverage coverage;
     // Whether the ground under each pixel's centre is inside; -1 where the pixel sees no ground.
     std::vector<int> expected(static_cast<std::size_t>(width * height), -1);
-    double lowest = std::numeric_limits<double>::infinity();
-    double highest = -lowest;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const std::optional<glm::dvec3> ground = terrain.scene.pickGround({x + 0.5, y + 0.5}, width, height);
@@ -990,8 +1001,8 @@ RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
             expected[static_cast<std::size_t>(y * width + x)] = inside ? 1 : 0;
             if (inside) {
                 const double groundHeight = kEarth.toGeodetic3D(*ground).height;
-                lowest = std::min(lowest, groundHeight);
-                highest = std::max(highest, groundHeight);
+                coverage.lowest = std::min(coverage.lowest, groundHeight);
+                coverage.highest = std::max(coverage.highest, groundHeight);
             }
         }
     }
@@ -1008,28 +1019,34 @@ RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
         }
         return false;
     };
-    int insidePixels = 0;
-    int outsidePixels = 0;
-    int wrong = 0;
-    int blue = 0;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             const int want = expected[static_cast<std::size_t>(y * width + x)];
-            const bool red = isRed(frame.image.pixel(x, y));
-            blue += isBlue(frame.image.pixel(x, y));
-            (want == 1 ? insidePixels : outsidePixels) += 1;
+            const bool red = isRed(image.pixel(x, y));
+            coverage.blue += isBlue(image.pixel(x, y));
+            (want == 1 ? coverage.insidePixels : coverage.outsidePixels) += 1;
             if (red != (want == 1) && !onOutline(x, y)) {
                 UNSCOPED_INFO("pixel " << x << ", " << y << (red ? " red outside" : " not red inside"));
-                ++wrong;
+                ++coverage.wrong;
             }
         }
     }
-    CHECK(wrong == 0);
-    CHECK(blue == 0); // the absolute polygon at 0 m is under the ground everywhere
-    CHECK(insidePixels > width * height / 10);
-    CHECK(outsidePixels > width * height / 10);
-    CHECK(highest - lowest > 300.0); // the ground it covers is far from flat
-    CHECK(lowest > 0.0);             // and above the absolute polygon everywhere
+    return coverage;
+}
+
+/// Renders the terrain scene until it converges and checks its drapedCoverage: no pixel wrong,
+/// none blue, the ground inside far from flat and above 0 m. Returns the frame.
+RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
+{
+    const RenderedFrame frame = terrain.converge(width, height);
+    REQUIRE(frame.statistics.tiles->converged);
+    const DrapedCoverage coverage = drapedCoverage(terrain, frame.image);
+    CHECK(coverage.wrong == 0);
+    CHECK(coverage.blue == 0); // the absolute polygon at 0 m is under the ground everywhere
+    CHECK(coverage.insidePixels > width * height / 10);
+    CHECK(coverage.outsidePixels > width * height / 10);
+    CHECK(coverage.highest - coverage.lowest > 300.0); // the ground it covers is far from flat
+    CHECK(coverage.lowest > 0.0);                      // and above the absolute polygon everywhere
     CHECK(hasEffect(frame.statistics.effects, Effect::DrapedPolygons));
     return frame;
 }
@@ -1038,8 +1055,7 @@ RenderedFrame checkDrapedCoverage(TerrainScene& terrain, int width, int height)
 void addDrapedAndAbsolute(Scene& scene)
 {
     PolygonCollectionOptions drape;
-    // The ridges lie between -100 m and 3,100 m.
-    drape.groundHeights = [](const Mesh&) { return HeightInterval{-200.0, 3200.0}; };
+    drape.draped = true;
     auto draped = std::make_shared<PolygonCollection>(kEarth, drape);
     draped->add(drapedQuadrilateral(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f), "draped");
     auto absolute = std::make_shared<PolygonCollection>(kEarth);
@@ -1087,6 +1103,51 @@ TEST_CASE("A draped polygon covers exactly the terrain's pixels inside it, seen 
         terrain.look(Geodetic3D::fromDegrees(10.03, 45.78, 20000.0), 0.0, -45.0);
         checkDrapedCoverage(terrain, width, height);
     }
+}
+
+TEST_CASE("A draped polygon covers the ground drawn under it in every frame while tiles stream, coarse levels included",
+          "[scene][terrain][polygons][gl]")
+{
+    // Hills of 300 m, each level 300 m below the one before: the levels drawn while the finer tiles
+    // load, and the level the view settles on, stand hundreds of metres to kilometres above the
+    // finest level's surface, which a volume sized from the finest heights alone would miss.
+    constexpr double kLevelOffset = -300.0;
+    const auto hills = [](double longitude, double latitude) { return 0.1 * ridges(longitude, latitude); };
+    // A few loads a frame, each a frame late: many frames draw coarser levels over the polygon.
+    TerrainScene terrain(syntheticTerrain(hills, kLevelOffset), 1.0, [](TiledGlobeOptions& options) {
+        options.loader.latencyFrames = 1;
+        options.loader.maximumStartsPerFrame = 4;
+    });
+    PolygonCollectionOptions drape;
+    drape.draped = true;
+    auto draped = std::make_shared<PolygonCollection>(kEarth, drape);
+    draped->add(drapedQuadrilateral(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f), "draped");
+    terrain.scene.add(draped);
+    const int width = 96;
+    const int height = 72;
+    // Descending from 100 km to 20 km, then waiting for the tiles: every frame draws levels coarser
+    // than the view asks for somewhere over the polygon.
+    int streamingFrames = 0;
+    std::uint32_t deepestFirst = ~0u;
+    for (int frame = 0; frame < 100; ++frame) {
+        const double descent = std::min(frame, 12) / 12.0;
+        terrain.look(Geodetic3D::fromDegrees(10.03, 45.95 - 0.17 * descent, 100000.0 - 80000.0 * descent), 0.0,
+                     -90.0 + 45.0 * descent);
+        const RenderedFrame rendered = renderFrame(terrain.scene, width, height);
+        const TileStatistics& tiles = *rendered.statistics.tiles;
+        deepestFirst = std::min(deepestFirst, tiles.deepestLevelDrawn);
+        const DrapedCoverage coverage = drapedCoverage(terrain, rendered.image);
+        INFO("frame " << frame << ", deepest level drawn " << tiles.deepestLevelDrawn << ", stand-ins " << tiles.standIns);
+        CHECK(coverage.wrong == 0);
+        CHECK(coverage.insidePixels > width * height / 50);
+        if (frame >= 12 && tiles.converged) {
+            CHECK(tiles.deepestLevelDrawn > deepestFirst + 3);
+            CHECK(coverage.highest - coverage.lowest > 100.0);
+            break;
+        }
+        streamingFrames += tiles.standIns > 0;
+    }
+    CHECK(streamingFrames >= 5);
 }
 
 TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",

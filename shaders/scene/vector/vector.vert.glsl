@@ -36,6 +36,10 @@
 // near plane of the frustum being drawn, where it would be clipped. The scene also culls whole
 // groups below the horizon.
 //
+// DRAPED: a draped polygon's closed volume (PolygonCollection, docs/terrain.md): its vertices lie on
+// the ellipsoid, each moved along its geodetic normal to the volume's bottom or top, heights the
+// polygon takes each frame from the ground drawn under it. It is drawn without the offset.
+//
 // Since the offset differs between multi-frustums, blended draws (OG_DEPTH_OWNED_RANGE) pass the
 // eye depth before it on to og_depthFragment, which decides by it which frustum owns a fragment.
 // Where a geometry shader follows (DEPTH_IN_GEOMETRY_SHADER) it applies og_depthVertex, once the
@@ -59,6 +63,10 @@ layout(location = 6) in vec4 outlineColor;
 layout(location = 7) in vec2 widths; // line width, outline width on each side: pixels
 out vec4 v_outlineColor;
 out vec2 v_widths;
+#endif
+#ifdef DRAPED
+layout(location = 6) in vec4 drape; // the geodetic normal; 0 at the volume's bottom, 1 at its top
+uniform vec2 u_drapeHeights;        // the bottom's and the top's heights above the ellipsoid, metres
 #endif
 #ifdef OG_DEPTH_OWNED_RANGE
 out float v_eyeDepthBeforeOffset;
@@ -87,11 +95,17 @@ float depthStep(float z)
 
 void main()
 {
+#ifdef DRAPED
+    vec3 lift = drape.xyz * mix(u_drapeHeights.x, u_drapeHeights.y, drape.w);
+#else
+    const vec3 lift = vec3(0.0);
+#endif
 #ifdef RELATIVE_TO_CENTER
-    vec3 positionEye = (og_modelViewMatrix * vec4(position, 1.0)).xyz;
+    // The model matrix only translates: the lift adds in world axes.
+    vec3 positionEye = (og_modelViewMatrix * vec4(position + lift, 1.0)).xyz;
 #else
     vec3 relativeToEye = og_emulatedDoubleSubtract(positionHigh, positionLow, og_cameraEyeHigh, og_cameraEyeLow);
-    vec3 positionEye = (og_modelViewMatrixRelativeToEye * vec4(relativeToEye, 1.0)).xyz;
+    vec3 positionEye = (og_modelViewMatrixRelativeToEye * vec4(relativeToEye + lift, 1.0)).xyz;
 #endif
 #ifdef OG_DEPTH_OWNED_RANGE
     v_eyeDepthBeforeOffset = -positionEye.z;

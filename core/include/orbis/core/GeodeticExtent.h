@@ -34,6 +34,9 @@ struct GeodeticExtent {
     /// it is not finite). At a pole every longitude names the same point: a pole is inside an
     /// extent that reaches it, whatever its longitude.
     bool contains(const Geodetic2D& g) const noexcept;
+    /// True when the two extents share a point, boundaries included (either may cross the
+    /// antimeridian; -pi and pi are one meridian; two extents reaching the same pole meet there).
+    bool intersects(const GeodeticExtent& other) const noexcept;
 
     friend constexpr bool operator==(const GeodeticExtent&, const GeodeticExtent&) = default;
 };

@@ -114,6 +114,11 @@ public:
     /// triangle drawn sags below that by (cell / 2)^2 / (2 x radius) at most, centimetres on the
     /// finest levels); empty before the first frame and outside every level drawn.
     std::optional<double> groundHeight(const Geodetic2D& position) const override;
+    bool drawsGround() const override { return true; }
+    /// Over the levels drawn in this frame's update whose part of the grid meets the extent (a cap
+    /// around it, in the grid's angles): the heights each has held, and the coarser level's it
+    /// blends towards, the lowest less what its cells sag; and the backdrop's where it is drawn.
+    std::optional<HeightInterval> drawnHeights(const GeodeticExtent& extent) const override;
 
     /// Every level written from the finest data there is, nothing pending.
     bool converged() const noexcept { return _statistics.converged; }

@@ -41,8 +41,9 @@ struct FeatureStyle {
     std::function<double(const Geodetic2D&)> groundHeight;
     double groundSpacingRadians = std::numeric_limits<double>::infinity();
     bool clampLinesToGround = false;
-    /// Fills draped over the ground (PolygonCollectionOptions::groundHeights); null: on the ellipsoid.
-    std::function<HeightInterval(const Mesh& surface)> fillGroundHeights;
+    /// Fills draped over the ground the scene draws (PolygonCollectionOptions::draped); false: on
+    /// the ellipsoid.
+    bool drapeFills = false;
 };
 
 /// What buildFeaturePrimitives made: null for what there was nothing of.

@@ -8,10 +8,12 @@
 #include <orbis/core/EllipsoidalOccluder.h>
 #include <orbis/core/Frustum.h>
 #include <orbis/core/Geodetic.h>
+#include <orbis/core/GeodeticExtent.h>
 #include <orbis/core/Ray.h>
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace orbis::renderer {
@@ -25,6 +27,13 @@ namespace orbis::scene {
 struct TileStatistics;
 struct VirtualTextureStatistics;
 struct ClipmapStatistics;
+class Primitive;
+
+/// Heights above the ellipsoid (metres), lowest <= highest.
+struct HeightInterval {
+    double lowest = 0.0;
+    double highest = 0.0;
+};
 
 /// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {
@@ -45,9 +54,15 @@ struct FrameState {
     /// pixels): the depth the opaque commands of the frustum being drawn wrote, in the frame's
     /// convention. Null when the frame's target has no depth texture to copy (a window's).
     const renderer::Texture2D* sceneDepth = nullptr;
+    /// The primitives that draw the ground (Primitive::drawsGround) this frame, already updated:
+    /// the scene updates them before the others, so that those can ask what ground they stand on.
+    std::span<const Primitive* const> ground = {};
 
     /// Size in metres of one pixel at a distance from the eye (vertical field of view).
     double metersPerPixel(double distance) const noexcept;
+    /// The heights of the ground drawn this frame over an extent: the union of the ground
+    /// primitives' drawnHeights; empty where none draws any.
+    std::optional<HeightInterval> groundHeights(const GeodeticExtent& extent) const;
 };
 
 /// The commands primitives append to during Scene::render.
@@ -93,6 +108,14 @@ public:
     /// exaggeration included) of the surface it drew in the last frame at a point; empty where it
     /// drew none, and for every other primitive.
     virtual std::optional<double> groundHeight(const Geodetic2D&) const { return std::nullopt; }
+    /// True for a primitive that is the ground: the scene updates it before the others in each
+    /// frame, so that they see this frame's drawnHeights (FrameState::groundHeights).
+    virtual bool drawsGround() const { return false; }
+    /// For a primitive that is the ground, once updated in this frame: the lowest and highest
+    /// heights above the ellipsoid (metres, exaggeration included) of every point of the surface
+    /// it draws over an extent, as drawn (its triangles are flat: their sag below their corners is
+    /// in the lowest); empty where it draws nothing there, and for every other primitive.
+    virtual std::optional<HeightInterval> drawnHeights(const GeodeticExtent&) const { return std::nullopt; }
 };
 
 } // namespace orbis::scene

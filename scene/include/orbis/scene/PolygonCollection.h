@@ -12,12 +12,6 @@
 
 namespace orbis::scene {
 
-/// Heights above the ellipsoid (metres), lowest <= highest.
-struct HeightInterval {
-    double lowest = 0.0;
-    double highest = 0.0;
-};
-
 struct PolygonCollectionOptions {
     /// Largest angle at the centre subtended by a triangle's edge (triangulatePolygon's
     /// subdivision), clamped to at least 1e-6.
@@ -26,14 +20,14 @@ struct PolygonCollectionOptions {
     /// The z-fighting technique of shaders/scene/vector/vector.vert.glsl. Off only to show what it
     /// prevents.
     bool depthOffset = true;
-    /// When set, the fills are draped over the ground the globe draws (docs/terrain.md, "Draped
-    /// polygons"): each polygon is a closed shadow volume from below to above the ground under it,
-    /// between the heights this gives for the polygon's triangles on the ellipsoid (the volume's
-    /// top is raised further by what its flat triangles sag), and colours the pixels of the ground
-    /// inside it by a z-fail stencil count: two draws a polygon, in Pass::Draped, so the frame
-    /// needs a stencil buffer. The interval must hold every height of the ground drawn under the
-    /// polygon, coarser levels included; depthOffset does not apply.
-    std::function<HeightInterval(const Mesh& surface)> groundHeights;
+    /// Draped over the ground the scene draws (docs/terrain.md, "Draped polygons"): each polygon is
+    /// a closed shadow volume over its triangles on the ellipsoid, which each frame reaches from
+    /// below to above the ground drawn under it (FrameState::groundHeights; the top raised further
+    /// by what the volume's own flat triangles sag), and colours the pixels of that ground inside
+    /// it by a z-fail stencil count: two draws a polygon, in Pass::Draped, so the frame needs a
+    /// stencil buffer. A polygon with no ground drawn under it is not drawn; depthOffset does not
+    /// apply.
+    bool draped = false;
 };
 
 /// Filled polygons on the ellipsoid, book chapter 8: each polygon (an outer ring and holes) is ear
@@ -47,7 +41,7 @@ struct PolygonCollectionOptions {
 /// shaders/scene/vector/vector.vert.glsl). Triangulation happens in add(), so bad polygons throw
 /// there; nothing is allocated on the GPU before the first update(); setColor() later rewrites only
 /// that polygon's vertices. Drawn in groups by region like PolylineCollection; draped polygons
-/// (PolygonCollectionOptions::groundHeights) instead each by itself, lying on the terrain.
+/// (PolygonCollectionOptions::draped) instead each by itself, lying on the terrain.
 ///
 /// ```
 /// auto fills = std::make_shared<PolygonCollection>(Ellipsoid::wgs84());
@@ -88,18 +82,25 @@ public:
     void setColor(std::size_t index, const glm::vec4& color);
 
     /// The triangles drawn for polygon `index`: world positions lifted above the surface, indices
-    /// counter-clockwise seen from outside. Draped: its closed volume, the positions at its bottom
-    /// (the surface triangles' vertices moved down to the lowest height), then the same at its top.
+    /// counter-clockwise seen from outside. Draped: its closed volume with its surface triangles'
+    /// vertices on the ellipsoid twice, first as its bottom's and then as its top's (the vertex
+    /// shader moves them to drapedHeights).
     const Mesh& mesh(std::size_t index) const;
+    /// The heights of a draped polygon's bottom and top in the last frame, from the ground drawn
+    /// under it; empty when it was not drawn, and for polygons that are not draped.
+    std::optional<HeightInterval> drapedHeights(std::size_t index) const;
+    /// The extent a draped polygon asks the ground's heights over (its triangles on the surface).
+    const GeodeticExtent& footprint(std::size_t index) const;
     /// How far polygon `index` is lifted along the surface normal (metres); 0 when draped.
     double liftMeters(std::size_t index) const;
-    bool draped() const noexcept { return static_cast<bool>(_options.groundHeights); }
+    bool draped() const noexcept { return _options.draped; }
 
     std::size_t vertexCount() const noexcept { return _vertexCount; }
     std::size_t triangleCount() const noexcept { return _triangleCount; }
 
-    /// The sphere around every drawn position; none while no polygon has triangles.
-    std::optional<BoundingSphere> boundingSphere() const override { return _boundingSphere; }
+    /// The sphere around every drawn position; none while no polygon has triangles, and when
+    /// draped (its heights come with each frame's ground: each polygon is culled by itself).
+    std::optional<BoundingSphere> boundingSphere() const override { return draped() ? std::nullopt : _boundingSphere; }
     void update(FrameState& frameState, CommandList& commands) override;
     /// Its fills write every DepthStrategy's depth, with their depth offset scaled to it (draped
     /// ones test against it).
@@ -109,7 +110,8 @@ private:
     struct Item;
     void build(FrameState& frameState);
     void buildIndices(renderer::Device& device);
-    void writeColor(std::size_t index, std::vector<std::byte>& out) const;
+    void writeAttributes(std::size_t index, std::vector<std::byte>& out) const;
+    bool finishDrapedCommand(const FrameState& frameState, std::size_t index, SceneCommand& command);
 
     Ellipsoid _ellipsoid;
     PolygonCollectionOptions _options;

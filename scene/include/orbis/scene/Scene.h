@@ -150,7 +150,8 @@ private:
     std::uint64_t _frameNumber = 0;
     CommandBinner _binner;
     CommandList _commands; ///< reused across frames
-    std::vector<Primitive*> _survivors; ///< reused across frames
+    std::vector<Primitive*> _survivors; ///< reused across frames, those that draw the ground first
+    std::size_t _groundSurvivors = 0;   ///< how many survivors draw the ground
     std::optional<DepthStrategy> _lastAutomaticDepth; ///< Automatic's choice last frame
     std::shared_ptr<renderer::Framebuffer> _floatDepthTarget;
     std::shared_ptr<renderer::Texture2D> _floatDepth;

@@ -135,6 +135,10 @@ public:
     std::optional<double> pickGround(const Ray& ray) const override;
     /// heightAt times the exaggeration: the drawn surface's height above the ellipsoid.
     std::optional<double> groundHeight(const Geodetic2D& position) const override;
+    bool drawsGround() const override { return true; }
+    /// Over the tiles drawn in this frame's update that meet the extent: their vertices' heights as
+    /// drawn (stitched, morphing), the lowest less what the flat triangles sag; skirts left out.
+    std::optional<HeightInterval> drawnHeights(const GeodeticExtent& extent) const override;
 
     /// A tile drawn in the last frame and the region that bounds it (its oriented box is what the
     /// frustum culls, its horizon point what the horizon culls), for showing the selection.
