@@ -1150,6 +1150,37 @@ TEST_CASE("A draped polygon covers the ground drawn under it in every frame whil
     CHECK(streamingFrames >= 5);
 }
 
+TEST_CASE("Each draped polygon is culled by its own volume, and one with no ground drawn under it is not drawn",
+          "[scene][terrain][polygons][gl]")
+{
+    TerrainScene terrain(syntheticTerrain(ridges, 0.0));
+    terrain.look(Geodetic3D::fromDegrees(10.03, 46.04, 45000.0), 0.0, -90.0);
+    const FrameStatistics plain = terrain.converge(64, 48).statistics;
+    // One polygon in view, the same shape a degree east (out of view, over a tile drawn partly in
+    // view, in the first one's group of the collection) and 180 degrees east (beyond the horizon: no ground is
+    // drawn there).
+    PolygonCollectionOptions drape;
+    drape.draped = true;
+    auto draped = std::make_shared<PolygonCollection>(kEarth, drape);
+    for (const double east : {0.0, 1.0, 180.0}) {
+        world::Polygon polygon = drapedQuadrilateral();
+        for (Geodetic3D& corner : polygon.rings[0]) {
+            corner.longitude += toRadians(east);
+        }
+        draped->add(polygon, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f), "draped");
+    }
+    terrain.scene.add(draped);
+    const FrameStatistics statistics = terrain.converge(64, 48).statistics;
+    CHECK(draped->drapedHeights(0).has_value());
+    CHECK(draped->drapedHeights(1).has_value());
+    CHECK_FALSE(draped->drapedHeights(2).has_value());
+    // Two draws each for the first two, of which the second's are culled by the frustum (by the
+    // collection's sphere, around the first too, they would not be).
+    CHECK(statistics.commandsSubmitted == plain.commandsSubmitted + 4);
+    CHECK(statistics.commandsCulledByFrustum == plain.commandsCulledByFrustum + 2);
+    CHECK(hasEffect(statistics.effects, Effect::DrapedPolygons));
+}
+
 TEST_CASE("A pick finds the terrain drawn under the pixel, and the camera is kept above the ground",
           "[scene][tiles][terrain][gl]")
 {
