@@ -1157,8 +1157,8 @@ TEST_CASE("Each draped polygon is culled by its own volume, and one with no grou
     terrain.look(Geodetic3D::fromDegrees(10.03, 46.04, 45000.0), 0.0, -90.0);
     const FrameStatistics plain = terrain.converge(64, 48).statistics;
     // One polygon in view, the same shape a degree east (out of view, over a tile drawn partly in
-    // view, in the first one's group of the collection) and 180 degrees east (beyond the horizon: no ground is
-    // drawn there).
+    // view, in the first one's group of the collection) and 180 degrees east (beyond the horizon:
+    // no ground is drawn there).
     PolygonCollectionOptions drape;
     drape.draped = true;
     auto draped = std::make_shared<PolygonCollection>(kEarth, drape);
