@@ -17,9 +17,10 @@ double centralAngle(const glm::dvec3& a, const glm::dvec3& b) noexcept
 }
 
 Mesh subdivideOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> positions,
-                          std::span<const std::uint32_t> indices, double granularityRadians)
+                          std::span<const std::uint32_t> indices, double granularityRadians, std::vector<double>* values)
 {
     assert(indices.size() % 3 == 0);
+    assert(!values || values->size() == positions.size());
     const double granularity = std::max(granularityRadians, 1e-6);
     Mesh mesh;
     mesh.primitiveType = PrimitiveType::Triangles;
@@ -35,6 +36,9 @@ Mesh subdivideOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const glm::dvec3
             const glm::dvec3& pb = mesh.positions[b];
             it->second = static_cast<std::uint32_t>(mesh.positions.size());
             mesh.positions.push_back(ellipsoid.scaleToGeocentricSurface(0.5 * pa + 0.5 * pb));
+            if (values) {
+                values->push_back(0.5 * ((*values)[a] + (*values)[b]));
+            }
         }
         return it->second;
     };

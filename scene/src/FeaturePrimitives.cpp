@@ -77,12 +77,23 @@ private:
         if (!_style.fill) {
             return;
         }
-        if (!_out.fills) {
+        const bool raised = _style.drapeFills && _style.raiseFillsByHeight && _style.groundHeight &&
+                            std::any_of(polygon.rings.begin(), polygon.rings.end(), [](const world::LinearRing& ring) {
+                                return std::any_of(ring.begin(), ring.end(),
+                                                   [](const Geodetic3D& position) { return position.height != 0.0; });
+                            });
+        std::shared_ptr<PolygonCollection>& fills = raised ? _out.raisedFills : _out.fills;
+        if (!fills) {
             PolygonCollectionOptions options;
             options.granularityRadians = _style.granularityRadians;
             options.encoding = _style.encoding;
-            options.draped = _style.drapeFills;
-            _out.fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
+            if (raised) {
+                options.groundHeight = _style.groundHeight;
+                options.granularityRadians = std::min(options.granularityRadians, _style.groundSpacingRadians);
+            } else {
+                options.draped = _style.drapeFills;
+            }
+            fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
         }
         // A feature's name is data: cut, so that a hostile one cannot make a message megabytes long.
         std::string name = world::cutForMessage(_feature->stringProperty("name").value_or("feature"), 80);
@@ -91,7 +102,7 @@ private:
         const glm::vec4 color = _style.fillColorOf ? _style.fillColorOf(*_feature) : _style.fillColor;
         std::vector<LeftOutHole> leftOut;
         try {
-            _out.fills->add(polygon, color, name, _style.skipInvalidPolygons ? &leftOut : nullptr);
+            fills->add(polygon, color, name, _style.skipInvalidPolygons ? &leftOut : nullptr);
         } catch (const Error& error) {
             if (!_style.skipInvalidPolygons) {
                 throw;
@@ -183,6 +194,7 @@ private:
 void FeaturePrimitives::addTo(Scene& scene) const
 {
     scene.add(fills);
+    scene.add(raisedFills);
     scene.add(borders);
 }
 

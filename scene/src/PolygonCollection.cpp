@@ -5,6 +5,7 @@
 #include "orbis/scene/Effect.h"
 
 #include <orbis/core/EllipsoidPolygon.h>
+#include <orbis/core/TriangleMeshSubdivision.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
 
@@ -15,6 +16,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <unordered_set>
 
 namespace orbis::scene {
@@ -217,15 +219,61 @@ std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec
             cartesian.push_back(_ellipsoid.toCartesian(Geodetic2D{position.longitude, position.latitude}));
         }
     }
-    return add(rings, color, name, leftOutHoles);
+    if (!_options.groundHeight || draped()) {
+        return add(rings, color, name, leftOutHoles);
+    }
+    // Its heights above the ground, linear over the triangles of the ear clipping, which are made
+    // of the positions given (as the triangulation puts them on the surface); a vertex the
+    // triangulation makes (where a polygon too large for one plane is cut) takes their mean.
+    std::map<std::array<double, 3>, double> heightAt;
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+        for (std::size_t i = 0; i < rings[r].size(); ++i) {
+            const glm::dvec3 surface = _ellipsoid.scaleToGeodeticSurface(rings[r][i]);
+            const double height = polygon.rings[r][i].height;
+            heightAt[{surface.x, surface.y, surface.z}] = height;
+            sum += height;
+            ++count;
+        }
+    }
+    const Mesh clipped = triangulatePolygon(_ellipsoid, rings, kPi, name, leftOutHoles);
+    std::vector<double> heights;
+    heights.reserve(clipped.positions.size());
+    for (const glm::dvec3& position : clipped.positions) {
+        const auto found = heightAt.find({position.x, position.y, position.z});
+        heights.push_back(found != heightAt.end() ? found->second : sum / static_cast<double>(std::max<std::size_t>(count, 1)));
+    }
+    Mesh mesh = subdivideOnEllipsoid(_ellipsoid, clipped.positions, clipped.indices, groundGranularity(clipped), &heights);
+    return addMesh(std::move(mesh), color, heights);
 }
 
 std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
                                    std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
 {
+    if (!_options.groundHeight || draped()) {
+        return addMesh(triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name, leftOutHoles), color, {});
+    }
+    const Mesh clipped = triangulatePolygon(_ellipsoid, rings, kPi, name, leftOutHoles);
+    return addMesh(subdivideOnEllipsoid(_ellipsoid, clipped.positions, clipped.indices, groundGranularity(clipped)), color, {});
+}
+
+double PolygonCollection::groundGranularity(const Mesh& clipped) const
+{
+    // No finer than 1/512 of the polygon's width: a drawn vertex per terrain sample could be
+    // millions for a large polygon.
+    if (clipped.positions.empty()) {
+        return _options.granularityRadians;
+    }
+    const double width = 2.0 * BoundingSphere::fromPoints(clipped.positions).radius / _ellipsoid.minimumRadius();
+    return std::max(_options.granularityRadians, width / 512.0);
+}
+
+std::size_t PolygonCollection::addMesh(Mesh mesh, const glm::vec4& color, std::span<const double> heightsAboveGround)
+{
     Item item;
     item.color = color;
-    item.mesh = triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name, leftOutHoles);
+    item.mesh = std::move(mesh);
     item.mesh.normals.clear();
     item.mesh.normals.shrink_to_fit();
     if (!item.mesh.indices.empty()) {
@@ -246,8 +294,15 @@ std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> ring
         } else {
             item.lift = sag;
             item.maxHeight = sag;
-            for (glm::dvec3& position : item.mesh.positions) {
-                position += item.lift * _ellipsoid.geodeticSurfaceNormal(position);
+            for (std::size_t v = 0; v < item.mesh.positions.size(); ++v) {
+                glm::dvec3& position = item.mesh.positions[v];
+                double height = item.lift;
+                if (_options.groundHeight) {
+                    height += _options.groundHeight(_ellipsoid.toGeodetic2D(position)) +
+                              (heightsAboveGround.empty() ? 0.0 : heightsAboveGround[v]);
+                    item.maxHeight = std::max(item.maxHeight, height);
+                }
+                position += height * _ellipsoid.geodeticSurfaceNormal(position);
             }
         }
         item.sphere = BoundingSphere::fromPoints(item.mesh.positions);

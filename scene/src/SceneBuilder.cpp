@@ -115,6 +115,7 @@ void addGeoJsonLayer(const world::GeoJsonLayer& layer, const std::shared_ptr<Gro
             style.groundHeight = [ground](const Geodetic2D& position) { return ground->heightAt(position); };
             style.groundSpacingRadians = ground->sampleSpacingRadians();
             style.drapeFills = true;
+            style.raiseFillsByHeight = layer.heightReference == world::HeightReference::RelativeToGround;
         }
     }
     style.skipInvalidPolygons = layer.skipInvalid;

@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -418,6 +419,36 @@ TEST_CASE("subdivideOnEllipsoid refines to the granularity without cracks and ke
         requireCrackFree(mesh, {corners}, "octant");
     }
     REQUIRE(subdivideOnEllipsoid(sphere, corners, {}, 0.1).indices.empty());
+}
+
+TEST_CASE("subdivideOnEllipsoid carries values along, linearly over each triangle", "[polygon][subdivision]")
+{
+    // The three corners' barycentric coordinates carried into the subdivided octant: at every
+    // vertex each lies in [0, 1] and they sum to 1, a corner's is 0 on the edge facing it, and a
+    // constant stays exactly itself.
+    const Ellipsoid sphere = Ellipsoid::unitSphere();
+    const std::vector<glm::dvec3> corners = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const std::vector<std::uint32_t> triangle = {0, 1, 2};
+    std::array<std::vector<double>, 3> barycentric;
+    for (std::size_t k = 0; k < 3; ++k) {
+        barycentric[k] = {0.0, 0.0, 0.0};
+        barycentric[k][k] = 1.0;
+        const Mesh mesh = subdivideOnEllipsoid(sphere, corners, triangle, toRadians(10.0), &barycentric[k]);
+        REQUIRE(barycentric[k].size() == mesh.positions.size());
+        for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+            CHECK(barycentric[k][v] >= 0.0);
+            CHECK(barycentric[k][v] <= 1.0);
+            if (mesh.positions[v][static_cast<glm::length_t>(k)] == 0.0) {
+                CHECK(barycentric[k][v] == 0.0);
+            }
+        }
+    }
+    for (std::size_t v = 0; v < barycentric[0].size(); ++v) {
+        CHECK_THAT(barycentric[0][v] + barycentric[1][v] + barycentric[2][v], WithinAbs(1.0, 1e-15));
+    }
+    std::vector<double> constant(3, 37.25);
+    subdivideOnEllipsoid(sphere, corners, triangle, toRadians(10.0), &constant);
+    CHECK(std::all_of(constant.begin(), constant.end(), [](double value) { return value == 37.25; }));
 }
 
 TEST_CASE("Polygons on the ellipsoid report bad input with the polygon's name", "[polygon]")

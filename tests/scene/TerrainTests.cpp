@@ -938,6 +938,69 @@ TEST_CASE("Layers stand on the terrain: clampToGround and relativeToGround for p
     CHECK(ellipsoidFills->liftMeters(0) >= 0.0);
 }
 
+TEST_CASE("relativeToGround fills stand at their heights above the ground, following it; at 0 m they are draped",
+          "[scene][terrain][scenefile][polygons]")
+{
+    const TempDirectory directory;
+    // Three polygons: at 0 m (draped), 300 m everywhere, and 200 m rising to 800 m at one corner.
+    directory.write("areas.geojson", R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "flat"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[-84.40, 36.45], [-84.33, 36.45], [-84.33, 36.50], [-84.40, 36.45]]]}},
+        {"type": "Feature", "properties": {"name": "level"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[-84.30, 36.53, 300], [-84.20, 36.55, 300], [-84.22, 36.63, 300], [-84.30, 36.53, 300]]]}},
+        {"type": "Feature", "properties": {"name": "sloping"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[-84.18, 36.50, 200], [-84.10, 36.50, 200], [-84.10, 36.58, 800], [-84.18, 36.58, 200],
+                          [-84.18, 36.50, 200]]]}}]})");
+    const std::string dem = dataPath("terrain/cumberland/jacksboro_fault.vrt");
+    const std::filesystem::path file = directory.write("scene.json", R"({"version": 2,
+        "globe": {"terrain": {"source": ")" + dem + R"(", "exaggeration": 2}},
+        "layers": [{"type": "geojson", "source": "areas.geojson", "fill": {"color": "#ff000080"},
+                    "heightReference": "relativeToGround"}]})");
+    Scene scene(kEarth);
+    populateScene(world::parseSceneFile(file), scene);
+    REQUIRE(scene.primitives().size() == 3); // globe, draped fills, raised fills (no stroke: no borders)
+    const auto* draped = dynamic_cast<const PolygonCollection*>(scene.primitives()[1].get());
+    const auto* raised = dynamic_cast<const PolygonCollection*>(scene.primitives()[2].get());
+    REQUIRE((draped && raised));
+    CHECK(draped->draped());
+    CHECK(draped->size() == 1);
+    CHECK_FALSE(raised->draped());
+    REQUIRE(raised->size() == 2);
+
+    const auto source = world::openTerrainSource(dem);
+    world::TerrainHeightQuery query(*source);
+    // Each drawn vertex's height above the ground, less the lift that keeps flat triangles up.
+    const auto aboveGround = [&](std::size_t polygon, const glm::dvec3& position) {
+        const Geodetic3D g = kEarth.toGeodetic3D(position);
+        return g.height - raised->liftMeters(polygon) - 2.0 * query.at(Geodetic2D(g.longitude, g.latitude))->height;
+    };
+    double lowestGround = 1e9;
+    double highestGround = -1e9;
+    const std::vector<glm::dvec3>& level = raised->mesh(0).positions;
+    REQUIRE(level.size() > 100); // a drawn vertex about every terrain sample
+    for (const glm::dvec3& position : level) {
+        CHECK(std::abs(aboveGround(0, position) - 300.0) < 1e-3);
+        const double ground = kEarth.toGeodetic3D(position).height - raised->liftMeters(0) - 300.0;
+        lowestGround = std::min(lowestGround, ground);
+        highestGround = std::max(highestGround, ground);
+    }
+    CHECK(highestGround - lowestGround > 200.0); // it follows ground that is far from flat
+    // The sloping one: 200 m at three corners, 800 m at the fourth, linear in between.
+    const Geodetic2D high = Geodetic2D::fromDegrees(-84.10, 36.58);
+    bool sawHigh = false;
+    for (const glm::dvec3& position : raised->mesh(1).positions) {
+        const double height = aboveGround(1, position);
+        CHECK(height >= 200.0 - 1e-3);
+        CHECK(height <= 800.0 + 1e-3);
+        const Geodetic3D g = kEarth.toGeodetic3D(position);
+        if (std::abs(g.longitude - high.longitude) < 1e-9 && std::abs(g.latitude - high.latitude) < 1e-9) {
+            CHECK(std::abs(height - 800.0) < 1e-3);
+            sawHigh = true;
+        }
+    }
+    CHECK(sawHigh);
+}
+
 namespace {
 
 /// The corners of a convex quadrilateral over the ridges, counter-clockwise seen from above.

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace orbis {
 
@@ -21,8 +22,13 @@ namespace orbis {
 /// Returns the input positions followed by the midpoints, geodetic surface normals for all, and the
 /// indices. granularityRadians is clamped to at least 1e-6 (6 m on the Earth) so that the output
 /// stays bounded; every index must be less than positions.size() (asserted).
+///
+/// With `values` (one per input position), a value is carried along: each midpoint gets the mean
+/// of its edge's two, so that on return `values` holds one per output position, interpolated
+/// linearly over each input triangle.
 Mesh subdivideOnEllipsoid(const Ellipsoid& ellipsoid, std::span<const glm::dvec3> positions,
-                          std::span<const std::uint32_t> indices, double granularityRadians);
+                          std::span<const std::uint32_t> indices, double granularityRadians,
+                          std::vector<double>* values = nullptr);
 
 /// The angle between a and b seen from the centre, in [0, pi]; 0 when either is the centre.
 double centralAngle(const glm::dvec3& a, const glm::dvec3& b) noexcept;

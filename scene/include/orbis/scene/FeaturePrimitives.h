@@ -44,15 +44,22 @@ struct FeatureStyle {
     /// Fills draped over the ground the scene draws (PolygonCollectionOptions::draped); false: on
     /// the ellipsoid.
     bool drapeFills = false;
+    /// With drapeFills and groundHeight: a polygon one of whose positions has a height other than
+    /// 0 stands at its heights above the ground instead, following it with a drawn vertex every
+    /// groundSpacingRadians (PolygonCollectionOptions::groundHeight, in FeaturePrimitives::
+    /// raisedFills); one at 0 m is draped.
+    bool raiseFillsByHeight = false;
 };
 
 /// What buildFeaturePrimitives made: null for what there was nothing of.
 struct FeaturePrimitives {
     std::shared_ptr<PolygonCollection> fills;
+    std::shared_ptr<PolygonCollection> raisedFills; ///< FeatureStyle::raiseFillsByHeight's
     std::shared_ptr<PolylineCollection> borders;
     std::vector<std::string> warnings; ///< one line per polygon or hole left out
 
-    /// Adds the fills, then the borders (so borders draw over the fills).
+    /// Adds the fills (draped or on the ellipsoid, then raised), then the borders (so borders draw
+    /// over the fills).
     void addTo(Scene& scene) const;
 };
 

@@ -28,6 +28,12 @@ struct PolygonCollectionOptions {
     /// stencil buffer. A polygon with no ground drawn under it is not drawn; depthOffset does not
     /// apply.
     bool draped = false;
+    /// When set (and not draped), the fills stand on the ground: each drawn vertex lifted by the
+    /// ground's height under it (metres above the ellipsoid) and by its polygon's height above
+    /// the ground there (a GeoJSON polygon's positions' heights, linear over the triangles of its
+    /// ear clipping; 0 for the other add), then as on the ellipsoid. Polygons are subdivided to
+    /// the granularity (give the terrain's sample spacing), but no finer than 1/512 of their width.
+    std::function<double(const Geodetic2D&)> groundHeight;
 };
 
 /// Filled polygons on the ellipsoid, book chapter 8: each polygon (an outer ring and holes) is ear
@@ -68,7 +74,8 @@ public:
     /// there instead (triangulatePolygon's leftOutHoles).
     std::size_t add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
                     std::string_view name = "polygon", std::vector<LeftOutHole>* leftOutHoles = nullptr);
-    /// The same for a GeoJSON polygon (radians; heights ignored).
+    /// The same for a GeoJSON polygon (radians; heights ignored, but for PolygonCollectionOptions::
+    /// groundHeight).
     std::size_t add(const world::Polygon& polygon, const glm::vec4& color, std::string_view name = "polygon",
                     std::vector<LeftOutHole>* leftOutHoles = nullptr);
 
@@ -91,7 +98,8 @@ public:
     std::optional<HeightInterval> drapedHeights(std::size_t index) const;
     /// The extent a draped polygon asks the ground's heights over (its triangles on the surface).
     const GeodeticExtent& footprint(std::size_t index) const;
-    /// How far polygon `index` is lifted along the surface normal (metres); 0 when draped.
+    /// How far polygon `index` is lifted along the surface normal (metres), above the ground and
+    /// its height there with PolygonCollectionOptions::groundHeight; 0 when draped.
     double liftMeters(std::size_t index) const;
     bool draped() const noexcept { return _options.draped; }
 
@@ -108,6 +116,8 @@ public:
 
 private:
     struct Item;
+    std::size_t addMesh(Mesh mesh, const glm::vec4& color, std::span<const double> heightsAboveGround);
+    double groundGranularity(const Mesh& clipped) const;
     void build(FrameState& frameState);
     void buildIndices(renderer::Device& device);
     void writeAttributes(std::size_t index, std::vector<std::byte>& out) const;
