@@ -96,7 +96,7 @@ private:
             fills = std::make_shared<PolygonCollection>(_ellipsoid, options);
         }
         // A feature's name is data: cut, so that a hostile one cannot make a message megabytes long.
-        std::string name = world::cutForMessage(_feature->stringProperty("name").value_or("feature"), 80);
+        std::string name = world::cutForMessage(_feature->name().value_or("feature"), 80);
         name.append(" (feature ").append(std::to_string(_feature->index));
         name.append(", polygon ").append(std::to_string(part)).append(")");
         const glm::vec4 color = _style.fillColorOf ? _style.fillColorOf(*_feature) : _style.fillColor;

@@ -336,6 +336,27 @@ TEST_CASE("Bad polygons throw naming their feature, or are left out with a warni
     REQUIRE(primitives.borders->size() == 1); // the ring is still drawn
 }
 
+TEST_CASE("A polygon's messages name it by the property its dataset names features with, or by its id",
+          "[polygon][features]")
+{
+    // @geo-maps carries only a country code (A3); other files only an id.
+    const std::string bowtie = R"({"type": "Polygon", "coordinates": [[[0, 0], [10, 10], [10, 0], [0, 10], [0, 0]]]})";
+    const FeatureCollection features = parseGeoJson(R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"A3": "BRA", "ADMIN": ""}, "geometry": )" + bowtie + R"(},
+        {"type": "Feature", "id": 76, "properties": {"pop": 3}, "geometry": )" + bowtie + R"(},
+        {"type": "Feature", "properties": {"NAME": "Chile", "A3": "CHL"}, "geometry": )" + bowtie + R"(},
+        {"type": "Feature", "properties": null, "geometry": )" + bowtie + R"(}]})",
+                                                    "codes.geojson");
+    FeatureStyle style;
+    style.skipInvalidPolygons = true;
+    const FeaturePrimitives primitives = buildFeaturePrimitives(kEarth, features, style);
+    REQUIRE(primitives.warnings.size() == 4);
+    CHECK_THAT(primitives.warnings[0], Catch::Matchers::Contains("'BRA (feature 0, polygon 0)'"));
+    CHECK_THAT(primitives.warnings[1], Catch::Matchers::Contains("'76 (feature 1, polygon 0)'"));
+    CHECK_THAT(primitives.warnings[2], Catch::Matchers::Contains("'Chile (feature 2, polygon 0)'"));
+    CHECK_THAT(primitives.warnings[3], Catch::Matchers::Contains("'feature (feature 3, polygon 0)'"));
+}
+
 TEST_CASE("Rings cut at the antimeridian fill without a seam and leave the cut out of their borders", "[polygon][features][antimeridian]")
 {
     // One square 20 degrees wide centred on the antimeridian, stored as two polygons cut along it.

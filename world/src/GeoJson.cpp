@@ -38,6 +38,27 @@ std::optional<std::string> Feature::stringProperty(std::string_view name) const
     return std::nullopt;
 }
 
+std::optional<std::pair<std::string_view, std::string>> Feature::nameProperty() const
+{
+    // What common datasets call a feature: Natural Earth's and OpenStreetMap's keys, then the
+    // country codes of datasets that carry only those (@geo-maps: A3).
+    for (const std::string_view key : {"name", "NAME", "Name", "name_en", "NAME_EN", "admin", "ADMIN", "NAME_LONG", "title",
+                                       "A3", "ISO_A3", "iso_a3", "ADM0_A3"}) {
+        if (std::optional<std::string> text = stringProperty(key); text && !text->empty()) {
+            return std::pair{key, std::move(*text)};
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> Feature::name() const
+{
+    if (auto named = nameProperty()) {
+        return std::move(named->second);
+    }
+    return id;
+}
+
 std::optional<double> Feature::numberProperty(std::string_view name) const
 {
     const PropertyValue* value = property(name);
@@ -428,12 +449,8 @@ private:
     static std::string featureName(const Feature& feature)
     {
         const std::string text = "feature " + std::to_string(feature.index);
-        static constexpr std::string_view kNameKeys[] = {"name", "NAME", "Name", "name_en", "NAME_EN",
-                                                         "admin", "ADMIN", "title"};
-        for (std::string_view key : kNameKeys) {
-            if (auto name = feature.stringProperty(key)) {
-                return text + " (" + std::string(key) + " " + quote(*name) + ")";
-            }
+        if (const auto named = feature.nameProperty()) {
+            return text + " (" + std::string(named->first) + " " + quote(named->second) + ")";
         }
         if (feature.id) {
             return text + " (id " + quote(*feature.id) + ")";

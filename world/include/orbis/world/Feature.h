@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -80,6 +81,12 @@ struct Feature {
     const PropertyValue* property(std::string_view name) const;
     /// The property when it is a string, otherwise empty (absent, null, number or bool).
     std::optional<std::string> stringProperty(std::string_view name) const;
+    /// The property that names the feature, for messages, and its value: the first non-empty
+    /// string among "name", "NAME", "Name", "name_en", "NAME_EN", "admin", "ADMIN", "NAME_LONG",
+    /// "title", "A3", "ISO_A3", "iso_a3" and "ADM0_A3"; empty when it has none of them.
+    std::optional<std::pair<std::string_view, std::string>> nameProperty() const;
+    /// What the feature is called, for messages: nameProperty's value, else its id.
+    std::optional<std::string> name() const;
     /// The property when it is a number, otherwise empty.
     std::optional<double> numberProperty(std::string_view name) const;
 };
