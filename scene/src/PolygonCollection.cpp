@@ -70,10 +70,10 @@ Mesh shadowVolume(const Mesh& surface)
 }
 
 /// The geodetic extent of a polygon's triangles on the surface (edges at most widestEdge radians
-/// at the centre): the latitudes of their corners, widened by what an edge bulges poleward between
-/// its ends (at most widestEdge^2 / 8), and the shortest run of longitudes holding every edge (a
-/// flat triangle clear of the axis spans no longitude beyond its corners'); every longitude, to the
-/// pole, where a triangle holds a pole.
+/// at the centre): the latitudes of their corners, widened for what an edge bulges poleward between
+/// its ends (under widestEdge^2 / 8; widened by twice that), and the shortest run of longitudes
+/// holding every edge (a flat triangle clear of the axis spans no longitude beyond its corners');
+/// every longitude, to the pole, where a triangle holds a pole.
 GeodeticExtent footprintOf(const Ellipsoid& ellipsoid, const Mesh& surface, double widestEdge)
 {
     GeodeticExtent extent{-kPi, kHalfPi, kPi, -kHalfPi};

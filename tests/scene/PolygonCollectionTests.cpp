@@ -395,3 +395,44 @@ TEST_CASE("Rings cut at the antimeridian fill without a seam and leave the cut o
         }
     }
 }
+
+TEST_CASE("A draped polygon's footprint holds its triangles across the antimeridian and around a pole",
+          "[polygon][draped][antimeridian][poles]")
+{
+    PolygonCollectionOptions options;
+    options.draped = true;
+    PolygonCollection fills(kEarth, options);
+    const auto ring = [](std::initializer_list<std::pair<double, double>> degrees) {
+        LinearRing positions;
+        for (const auto& [lon, lat] : degrees) {
+            positions.push_back(Geodetic3D::fromDegrees(lon, lat, 0.0));
+        }
+        positions.push_back(positions.front());
+        return Polygon{{positions}};
+    };
+    fills.add(ring({{10, 45}, {12, 45}, {12, 47}, {10, 47}}), glm::vec4(1.0f), "ordinary");
+    fills.add(ring({{175, -20}, {-175, -20}, {-175, -15}, {175, -15}}), glm::vec4(1.0f), "across");
+    fills.add(ring({{0, 80}, {90, 80}, {180, 80}, {-90, 80}}), glm::vec4(1.0f), "around the pole");
+
+    // Every drawn vertex inside its footprint; the ordinary one tight around its corners.
+    for (std::size_t i = 0; i < fills.size(); ++i) {
+        for (const glm::dvec3& position : fills.mesh(i).positions) {
+            CHECK(fills.footprint(i).contains(kEarth.toGeodetic2D(position)));
+        }
+    }
+    const GeodeticExtent ordinary = fills.footprint(0);
+    CHECK_THAT(toDegrees(ordinary.west), WithinAbs(10.0, 1e-9));
+    CHECK_THAT(toDegrees(ordinary.east), WithinAbs(12.0, 1e-9));
+    CHECK(toDegrees(ordinary.north) > 47.0);
+    CHECK(toDegrees(ordinary.north) < 47.05); // the edges' poleward bulge, widened
+    // Across the antimeridian: 10 degrees wide, not 350.
+    const GeodeticExtent across = fills.footprint(1);
+    CHECK(across.east < across.west);
+    CHECK_THAT(toDegrees(across.width()), WithinAbs(10.0, 1e-9));
+    // Around the pole: to the pole, every longitude.
+    const GeodeticExtent cap = fills.footprint(2);
+    CHECK(cap.north == kHalfPi);
+    CHECK(cap.width() == kTwoPi);
+    CHECK(toDegrees(cap.south) < 80.0);
+    CHECK(toDegrees(cap.south) > 79.0);
+}
