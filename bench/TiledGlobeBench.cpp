@@ -5,6 +5,7 @@
 
 #include "GlMeasurements.h"
 #include "Report.h"
+#include "SyntheticImagery.h"
 
 #include <orbis/core/Error.h>
 #include <orbis/core/ImageMipmaps.h>
@@ -50,41 +51,6 @@ namespace {
 
 const Ellipsoid kEarth = Ellipsoid::wgs84();
 const std::filesystem::path kBlueMarble = std::filesystem::path(ORBIS_SOURCE_DIR) / "data/imagery/BlueMarble";
-
-/// One real JPEG (the Blue Marble's level-4 tile over the Alps) served for every tile of a
-/// geographic pyramid `maximumLevel` deep: the fetches and decodes are real work, and the data does
-/// not run out above level 4 as the shipped pyramid does. Counts what was asked of it.
-class SyntheticImagery final : public world::TileSource {
-public:
-    explicit SyntheticImagery(std::uint32_t maximumLevel)
-        : _bytes(world::readFileBytes(kBlueMarble / "4/17/12.jpg", "tile"))
-    {
-        _info.name = "synthetic imagery";
-        _info.maximumLevel = maximumLevel;
-        _info.format = "jpg";
-    }
-    const world::TileSourceInfo& info() const noexcept override { return _info; }
-    world::TileFetch fetch(const TileKey&) override
-    {
-        ++fetches;
-        bytesRead += _bytes.size();
-        world::TileFetch fetched;
-        fetched.status = world::TileFetch::Status::Ok;
-        fetched.bytes = _bytes;
-        return fetched;
-    }
-    std::string locate(const TileKey& key) const override
-    {
-        return "synthetic/" + std::to_string(key.level) + "/" + std::to_string(key.x) + "/" + std::to_string(key.y);
-    }
-
-    std::atomic<std::size_t> fetches{0};
-    std::atomic<std::size_t> bytesRead{0};
-
-private:
-    world::TileSourceInfo _info;
-    std::vector<std::uint8_t> _bytes;
-};
 
 struct View {
     Geodetic3D position;
