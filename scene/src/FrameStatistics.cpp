@@ -69,6 +69,7 @@ void VirtualTextureStatistics::add(const VirtualTextureStatistics& other) noexce
     lodBias = std::max(lodBias, other.lodBias);
     lodBiasRaised = lodBiasRaised || other.lodBiasRaised;
     gpuBytes += other.gpuBytes;
+    tilesWithMipTail += other.tilesWithMipTail;
     converged = converged && other.converged;
 }
 
@@ -156,7 +157,8 @@ std::string FrameStatistics::toText() const
             << v.feedbackLatencyFrames << " frames late; LOD bias " << number(v.lodBias)
             << (v.lodBiasRaised ? " (raised: the view needs more pages than fit)" : "") << "\n"
             << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
-            << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << (v.converged ? "converged" : "not converged") << "\n";
+            << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << v.tilesWithMipTail
+            << " tiles with the mip tail; " << (v.converged ? "converged" : "not converged") << "\n";
     }
     if (clipmap) {
         const ClipmapStatistics& c = *clipmap;
@@ -237,7 +239,8 @@ std::string FrameStatistics::toJson() const
             << ", \"feedbackLatencyFrames\": " << v.feedbackLatencyFrames << ", \"feedbackWidth\": " << v.feedbackWidth
             << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
             << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
-            << ", \"gpuBytes\": " << v.gpuBytes << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
+            << ", \"gpuBytes\": " << v.gpuBytes << ", \"tilesWithMipTail\": " << v.tilesWithMipTail
+            << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
     }
     if (clipmap) {
         const ClipmapStatistics& c = *clipmap;

@@ -1,6 +1,7 @@
 #include "orbis/scene/VirtualTextureGlobe.h"
 
 #include "TileGeometry.h"
+#include "VectorSupport.h"
 
 #include "orbis/scene/DepthStrategy.h"
 #include "orbis/scene/Effect.h"
@@ -9,6 +10,7 @@
 #include "orbis/scene/TileQuadtree.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/IntersectionTests.h>
 #include <orbis/core/TileMesh.h>
 #include <orbis/renderer/Context.h>
 #include <orbis/renderer/Device.h>
@@ -170,7 +172,15 @@ struct VirtualTextureGlobe::Impl {
     void requestPages();
     void drawFeedback(FrameState& frameState, const FeedbackView& view);
     void ensureMeshes(FrameState& frameState);
-    renderer::ShaderProgram& program(FrameState& frameState, bool feedback);
+    /// The program of a pass; with `mipTail`, the mip tail for the pixels coarser than level 0;
+    /// with the LOD clamp's ramp while a page the view asks for is loading. Variants rather than
+    /// branches: llvmpipe runs both sides of every branch for every pixel.
+    renderer::ShaderProgram& program(FrameState& frameState, bool feedback, bool mipTail);
+    /// How far from the point under the eye the view's pixels reach (radians at the centre):
+    /// past where a pixel may ask for a level coarser than 0, mayAskForMipTail says.
+    double viewReach(const FrameState& frameState) const;
+    /// Whether a pixel of a tile may ask for a level coarser than 0, within the view's reach.
+    bool mayAskForMipTail(const FrameState& frameState, const QuadtreeTile& tile, double reach) const;
     void setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double bias) const;
     bool evictable(const PageKey& page) const;
     double bias() const noexcept { return options->virtualTexture.lodBias + dynamicBias; }
@@ -223,7 +233,7 @@ struct VirtualTextureGlobe::Impl {
     std::unique_ptr<renderer::Framebuffer> feedbackTarget;
     std::deque<FeedbackRead> feedbackReads; ///< oldest first
     std::vector<renderer::PixelBuffer> spareBuffers;
-    std::map<std::pair<int, DepthStrategy>, std::shared_ptr<renderer::ShaderProgram>> programs;
+    std::map<std::tuple<bool, DepthStrategy, bool, bool>, std::shared_ptr<renderer::ShaderProgram>> programs;
 
     // The surface.
     TileSelection selection;
@@ -630,11 +640,14 @@ void VirtualTextureGlobe::Impl::requestPages()
     statistics.pagesRequested = loader.startedLastFrame();
 }
 
-renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback)
+renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback, bool mipTail)
 {
-    // The feedback pass draws with its own plain projection, whatever the frame's depth strategy.
+    // The feedback pass draws with its own plain projection, whatever the frame's depth strategy,
+    // and reads no texels: the mip tail is the main pass's only.
     const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
-    std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback ? 1 : 0, strategy}];
+    mipTail = mipTail && !feedback;
+    const bool ramp = !waitingFootprints.empty();
+    std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback, strategy, mipTail, ramp}];
     if (program) {
         return *program;
     }
@@ -652,6 +665,12 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     }
     if (options->virtualTexture.maximumAnisotropy > 1.0f) {
         description.defines.push_back({"VT_ANISOTROPIC"});
+    }
+    if (mipTail) {
+        description.defines.push_back({"VT_MIP_TAIL"});
+    }
+    if (ramp) {
+        description.defines.push_back({"VT_LOD_RAMP"});
     }
     for (renderer::ShaderDefine& define : depthStrategyDefines(strategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
@@ -680,7 +699,67 @@ void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const Q
         glm::vec2(1.0f / static_cast<float>(physical->width()), 1.0f / static_cast<float>(physical->height())));
     set("u_lodBias", static_cast<float>(lodBias));
     set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
-    set("u_waiting", !waitingFootprints.empty());
+}
+
+double VirtualTextureGlobe::Impl::viewReach(const FrameState& frameState) const
+{
+    // Rays through a 9 x 9 grid of the view's pixels, corners and edges included; one that misses
+    // the globe means the view reaches the horizon.
+    const Camera& camera = frameState.camera;
+    const glm::dvec3 down = glm::normalize(camera.eye());
+    const double radius = ellipsoid.minimumRadius();
+    double reach = 0.0;
+    constexpr int kSamples = 9;
+    for (int j = 0; j < kSamples; ++j) {
+        for (int i = 0; i < kSamples; ++i) {
+            const glm::dvec2 pixel(frameState.width * i / (kSamples - 1.0), frameState.height * j / (kSamples - 1.0));
+            const Ray ray = camera.pickRay(pixel, frameState.width, frameState.height);
+            const std::optional<RayInterval> hit = intersectRayEllipsoid(ray, ellipsoid);
+            if (!hit) {
+                return std::acos(std::min(1.0, radius / glm::length(camera.eye())));
+            }
+            reach = std::max(reach, detail::centralAngle(down, ray.pointAt(hit->nearDistance)));
+        }
+    }
+    return reach;
+}
+
+bool VirtualTextureGlobe::Impl::mayAskForMipTail(const FrameState& frameState, const QuadtreeTile& tile, double reach) const
+{
+    // A pixel asks for a level coarser than 0 where its footprint's long axis spans more than a
+    // texel of level 0 (pi / P radians of longitude: a cos(latitude) metres, narrowest nearest the
+    // pole). On a sphere of radius R seen from D, the footprint at an angle t from the point under
+    // the eye is d rho / sin(a) = rho d^2 / (D cos t - R) (d its distance, a the grazing angle,
+    // rho a pixel's angle at the centre of the view, the largest): it grows with t, so a tile's
+    // largest is at the farthest of its points that the view reaches. Its corners, edge midpoints
+    // and centre stand for the tile (a margin of two); a tile wider than 45 degrees, or reaching
+    // within a degree of the horizon, may ask for it anywhere.
+    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
+    const glm::dvec3& eye = frameState.camera.eye();
+    const double eyeDistance = glm::length(eye);
+    const double radius = ellipsoid.minimumRadius();
+    const double horizon = std::acos(std::min(1.0, radius / eyeDistance));
+    if (extent.width() > toRadians(45.0)) {
+        return true;
+    }
+    const glm::dvec3 down = eye / eyeDistance;
+    double farthest = 0.0;
+    for (int i = 0; i <= 2; ++i) {
+        for (int j = 0; j <= 2; ++j) {
+            const Geodetic2D g{extent.west + 0.5 * i * extent.width(), extent.south + 0.5 * j * extent.height()};
+            farthest = std::max(farthest, detail::centralAngle(down, ellipsoid.geodeticSurfaceNormal(g)));
+        }
+    }
+    const double t = std::min(farthest, reach);
+    if (t > horizon - toRadians(1.0)) {
+        return true;
+    }
+    const double rho = 2.0 * std::tan(0.5 * frameState.camera.fieldOfViewY()) / std::max(frameState.height, 1);
+    const double d2 = eyeDistance * eyeDistance + radius * radius - 2.0 * eyeDistance * radius * std::cos(t);
+    const double footprint = rho * d2 / (eyeDistance * std::cos(t) - radius);
+    const double poleward = std::max(std::abs(extent.south), std::abs(extent.north));
+    const double texel0 = ellipsoid.maximumRadius() * std::cos(poleward) * kPi / layout.pageSize * std::exp2(-bias());
+    return 2.0 * footprint > texel0;
 }
 
 void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
@@ -726,7 +805,7 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     sceneState.nearDistance = nearDistance;
     sceneState.farDistance = farDistance;
 
-    renderer::ShaderProgram& feedbackProgram = program(frameState, true);
+    renderer::ShaderProgram& feedbackProgram = program(frameState, true, false);
     const double shift = std::log2(static_cast<double>(divisor)); // the feedback's pixels are larger
     renderer::DrawCommand draw;
     draw.shaderProgram = &feedbackProgram;
@@ -920,7 +999,8 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
     }
 
     // The commands: one per drawn tile, all reading the one virtual texture.
-    renderer::ShaderProgram& program = impl.program(frameState, false);
+    const double reach = impl.viewReach(frameState);
+    _statistics.tilesWithMipTail = 0;
     const glm::dvec3& eye = frameState.camera.eye();
     const double eyeHeight = impl.ellipsoid.toGeodetic3D(eye).height;
     const ImageryLayerStyle& style = _options.style;
@@ -929,6 +1009,9 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         SceneCommand command;
         command.draw.debugName = "virtual texture tile " + pageName(tile->key);
         command.draw.vertexArray = &surface.mesh->array;
+        const bool mipTail = impl.mayAskForMipTail(frameState, *tile, reach);
+        _statistics.tilesWithMipTail += mipTail ? 1 : 0;
+        renderer::ShaderProgram& program = impl.program(frameState, false, mipTail);
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
         impl.setUniforms(command.draw, *tile, impl.bias());

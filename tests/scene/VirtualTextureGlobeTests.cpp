@@ -85,6 +85,55 @@ TEST_CASE("A converged virtual texture draws the tiled globe's golden images", "
     }
 }
 
+TEST_CASE("Only tiles whose pixels may be coarser than level 0 read the mip tail, and the picture stays the tiled globe's",
+          "[scene][virtual][gl]")
+{
+    // Against the tiled globe: pixels beyond 4 apart and the largest difference, measured with
+    // the mip tail read for every tile (the Alps' horizon: 8.8%, at most 26, where the two filter
+    // grazing footprints differently; the whole Earth 18 pixels) and for none (the Alps at most 69,
+    // the whole Earth 1,940 pixels: the limb aliased).
+    struct View {
+        const char* name;
+        Geodetic3D position;
+        double heading;
+        double pitch;
+        double differingFraction;
+        int largestDifference;
+    };
+    const View views[] = {
+        {"Paris from 10 km, no horizon", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0, 0.0, 4},
+        {"the Alps from 300 km, the horizon in view", Geodetic3D::fromDegrees(8.0, 43.5, 300000.0), 10.0, -35.0, 0.09, 30},
+        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -90.0, 0.001, 255},
+    };
+    for (const View& view : views) {
+        INFO(view.name);
+        Scene virtualScene(kEarth);
+        virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
+        placeCamera(virtualScene, view.position, view.heading, view.pitch);
+        const RenderedFrame frame = renderUntilTilesConverge(virtualScene, 256, 144, 100);
+        REQUIRE(frame.statistics.virtualTexture->converged);
+        const std::size_t withTail = frame.statistics.virtualTexture->tilesWithMipTail;
+        const std::size_t drawn = frame.statistics.tiles->drawn;
+        if (&view == &views[0]) {
+            CHECK(withTail == 0);
+        } else if (&view == &views[1]) {
+            CHECK(withTail > 0);
+        } else {
+            CHECK(withTail == drawn);
+        }
+        TiledGlobeOptions tiledOptions;
+        tiledOptions.imagery.push_back({blueMarble().source, {}});
+        Scene tiled(kEarth);
+        tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
+        placeCamera(tiled, view.position, view.heading, view.pitch);
+        const RenderedFrame expected = renderUntilTilesConverge(tiled, 256, 144, 100);
+        const ImageDifference difference = compareImages(frame.image, expected.image, 4);
+        INFO("beyond 4: " << difference.differingPixels << ", largest " << difference.maxChannelDifference);
+        CHECK(difference.differingFraction <= view.differingFraction);
+        CHECK(difference.maxChannelDifference <= view.largestDifference);
+    }
+}
+
 namespace {
 
 /// The shader's functions (virtual_texture.frag.glsl) run per vertex: each point is a tile
@@ -153,7 +202,10 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
     const Sampler sampler = device.createSampler(point);
     const int physicalWidth = slotsX * layout.slotSize();
     const int physicalHeight = slotsY * layout.slotSize();
-    const float anisotropyLog2 = 2.0f; // up to 4 probes
+    // The level of detail with anisotropic filtering (up to 4 probes) and without (the long axis).
+    const bool anisotropic = GENERATE(true, false);
+    INFO((anisotropic ? "anisotropic" : "isotropic"));
+    const float anisotropyLog2 = anisotropic ? 2.0f : 0.0f;
 
     ShaderProgramDescription description;
     description.name = "virtual texture translation";
@@ -162,6 +214,9 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
         ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl").text + kTranslationMain);
     description.fragment = ShaderSource::fromText("nothing.frag.glsl", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
     description.transformFeedbackVaryings = {"v_physical", "v_levelOfDetail"};
+    if (anisotropic) {
+        description.defines.push_back({"VT_ANISOTROPIC"});
+    }
     ShaderProgram program = device.createShaderProgram(description);
     Framebuffer framebuffer = context.createFramebuffer(1, 1);
 
@@ -207,7 +262,9 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
                                                      layout.slotSize()));
         command.uniforms.set("u_physicalTexelSize", glm::vec2(1.0f / static_cast<float>(physicalWidth), 1.0f / static_cast<float>(physicalHeight)));
         command.uniforms.set("u_lodBias", 0.25f);
-        command.uniforms.set("u_maximumAnisotropyLog2", anisotropyLog2);
+        if (anisotropic) {
+            command.uniforms.set("u_maximumAnisotropyLog2", anisotropyLog2);
+        }
         const std::vector<float> captured = context.captureVertexOutputs(command, SceneState{});
         REQUIRE(captured.size() == points.size() * 5);
 
@@ -223,7 +280,8 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
             const glm::dvec2 physical((entry.slotX + inSlot.x) * layout.slotSize() / physicalWidth,
                                       (entry.slotY + inSlot.y) * layout.slotSize() / physicalHeight);
             const double texelsPerTile = layout.pageSize * std::exp2(static_cast<double>(entry.level) - tile.level);
-            // The level of detail: the course's anisotropic formula at the finest level's texels.
+            // The level of detail: the course's anisotropic formula at the finest level's texels
+            // (the long axis alone without anisotropy: anisotropyLog2 0).
             const double finestTexelsPerTile = layout.pageSize * std::exp2(static_cast<double>(layout.finestLevel) - tile.level);
             const double a = glm::dot(glm::dvec2(p.dx), glm::dvec2(p.dx)) * finestTexelsPerTile * finestTexelsPerTile;
             const double b = glm::dot(glm::dvec2(p.dy), glm::dvec2(p.dy)) * finestTexelsPerTile * finestTexelsPerTile;

@@ -42,18 +42,17 @@ struct PagePosition {
 
 PagePosition vtPagePosition(int level, vec2 tileCoordinates)
 {
+    // Without a branch (llvmpipe runs both sides of one for every pixel): `up` levels finer than
+    // the tile, or `down` levels coarser.
     int finer = level - u_tileKey.x;
-    if (finer >= 0) {
-        float pages = float(1 << finer); // pages of this level across the tile
-        vec2 scaled = tileCoordinates * pages;
-        // Interpolated coordinates overshoot 0 and 1 by a rounding at the tile's edges.
-        vec2 whole = clamp(floor(scaled), vec2(0.0), vec2(pages - 1.0));
-        return PagePosition(u_tileKey.yz * (1 << finer) + ivec2(whole), scaled - whole);
-    }
-    int coarser = -finer;
-    ivec2 page = u_tileKey.yz >> coarser;
-    ivec2 within = u_tileKey.yz - (page << coarser);
-    return PagePosition(page, (vec2(within) + tileCoordinates) / float(1 << coarser));
+    int up = max(finer, 0);
+    int down = max(-finer, 0);
+    float pages = float(1 << up); // pages of this level across the tile; 1 when coarser
+    vec2 scaled = tileCoordinates * pages;
+    // Interpolated coordinates overshoot 0 and 1 by a rounding at the tile's edges.
+    vec2 whole = clamp(floor(scaled), vec2(0.0), vec2(pages - 1.0));
+    ivec2 within = u_tileKey.yz - ((u_tileKey.yz >> down) << down); // the tile within the coarser page
+    return PagePosition(((u_tileKey.yz << up) >> down) + ivec2(whole), (vec2(within) + scaled - whole) / float(1 << down));
 }
 
 // A page-table entry: the slot, the level of the page in it (the page's own or an ancestor's), and
@@ -74,8 +73,11 @@ PageEntry vtPageEntry(int level, ivec2 page)
 // level, and how many physical texels one unit of tile coordinates spans there.
 vec2 vtPhysicalPosition(PageEntry entry, int level, PagePosition wanted, vec2 tileCoordinates, out float texelsPerTile)
 {
-    PagePosition shown = entry.level == level ? wanted : vtPagePosition(entry.level, tileCoordinates);
-    vec2 texel = entry.slot * float(u_layout.w) + float(u_layout.z) + shown.inPage * float(u_layout.y);
+    // Where the point is in the ancestor the entry falls back to, `coarser` levels up (0: the
+    // page itself), from where it is in the page asked for.
+    int coarser = max(level - entry.level, 0);
+    vec2 inPage = (vec2(wanted.page - ((wanted.page >> coarser) << coarser)) + wanted.inPage) / float(1 << coarser);
+    vec2 texel = entry.slot * float(u_layout.w) + float(u_layout.z) + inPage * float(u_layout.y);
     texelsPerTile = float(u_layout.y) * exp2(float(entry.level - u_tileKey.x));
     return texel * u_physicalTexelSize;
 }
@@ -90,10 +92,13 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
     float pa = max(dot(a, a), 1e-30);
     float pb = max(dot(b, b), 1e-30);
     float maxLod = 0.5 * log2(max(pa, pb));
+#ifdef VT_ANISOTROPIC
+    // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes.
     float minLod = 0.5 * log2(min(pa, pb));
-    // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes
-    // (u_maximumAnisotropyLog2 is 0 without anisotropy: the long axis alone).
     return maxLod - min(maxLod - minLod, u_maximumAnisotropyLog2) + u_lodBias;
+#else
+    return maxLod + u_lodBias; // the long axis alone
+#endif
 }
 
 // The coarsest level of detail the pages there allow (course 6.1.2's LOD clamp): never finer than
@@ -104,9 +109,8 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
 // over kRampPixels pixels (from the level of detail lod: a page of the finest level spans
 // P / 2^lod pixels), so that it hides the seam without showing coarser texels far into pages that
 // are resident; and at least u_layout.x or 8 levels a page, so that no page beyond the eight
-// neighbours can reach in. u_waiting is false when nothing waits anywhere: then only the page's
-// own clamp counts.
-uniform bool u_waiting;
+// neighbours can reach in. The ramp is compiled in (VT_LOD_RAMP) only while a page waits
+// anywhere: otherwise only the page's own clamp counts.
 const float kRampPixels = 4.0;
 
 float vtLodClamp(vec2 tileCoordinates, float lod)
@@ -114,9 +118,7 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
     PagePosition finest = vtPagePosition(u_layout.x, tileCoordinates);
     vec2 own = texelFetch(og_texture2, finest.page, 0).rg;
     float allowed = max(own.r, own.g);
-    if (!u_waiting) {
-        return allowed;
-    }
+#ifdef VT_LOD_RAMP
     ivec2 size = textureSize(og_texture2, 0);
     vec2 f = clamp(finest.inPage, 0.0, 1.0);
     float slope = max(float(max(8, u_layout.x)), float(u_layout.y) * exp2(-lod) / kRampPixels);
@@ -136,6 +138,7 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
             allowed = max(allowed, waiting - slope * max(distanceX, distanceY));
         }
     }
+#endif
     return allowed;
 }
 
@@ -217,12 +220,17 @@ void main()
     vec2 dy = dFdy(tc);
     LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dx, dy), tc);
     vec4 texel;
+#ifdef VT_MIP_TAIL
+    // Compiled in only for tiles that may have pixels coarser than level 0 (the CPU's
+    // mayAskForMipTail): elsewhere both sides would cost every pixel on llvmpipe.
     if (choice.tail) {
         // Level 0 as a whole: u and v over the globe, the gradients scaled by the bias.
         vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
         vec2 scale = exp2(u_lodBias) / tiles;
         texel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
-    } else {
+    } else
+#endif
+    {
         texel = vtSample(choice.finer, tc, dx, dy);
         if (choice.coarserWeight > 0.0) {
             texel = mix(texel, vtSample(choice.finer - 1, tc, dx, dy), choice.coarserWeight);

@@ -32,6 +32,9 @@ struct VirtualTextureStatistics {
     double lodBias = 0.0;
     bool lodBiasRaised = false;      ///< the dynamic bias is above the configured one
     std::size_t gpuBytes = 0;        ///< physical texture, page table, LOD clamp, feedback buffers: fixed
+    /// Tiles drawn with the mip tail's lookup compiled in: those with pixels that may be coarser
+    /// than level 0 (near the horizon, a pole, or from afar); the others leave it out.
+    std::size_t tilesWithMipTail = 0;
     /// Every page the view asks for is resident (or missing from the source), no load is pending,
     /// and the latest feedback, of the present view, shows no fallback.
     bool converged = false;
