@@ -79,6 +79,38 @@ glm::dvec3 toFrame(int frame, const glm::dvec3& e) noexcept
     default: return e;
     }
 }
+/// The geodetic position of an Earth-fixed unit normal.
+Geodetic2D geodetic(const glm::dvec3& normal) noexcept
+{
+    return {std::atan2(normal.y, normal.x), std::asin(std::clamp(normal.z, -1.0, 1.0))};
+}
+
+/// The rotated grids' posts have their geodetic positions worked out exactly at every 16th post
+/// of a row (whatever strip is written, so a post always gets the same doubles) and stepped to
+/// from there.
+constexpr std::int64_t kStepAnchor = 16;
+
+/// The geodetic position of unit normal n, one post on from `before` (its normal) at `from`: the
+/// longitude and latitude moved by the small angles between the two, their tangent and sine
+/// series to the seventh power (exact to 1e-18 rad for steps under 0.01 rad), instead of an arc
+/// tangent and an arc sine a post; anew where a step is larger (near the Earth's poles).
+Geodetic2D stepTo(const glm::dvec3& before, const Geodetic2D& from, const glm::dvec3& n) noexcept
+{
+    const double cross = before.x * n.y - before.y * n.x;
+    const double dot = before.x * n.x + before.y * n.y;
+    const double sinStep = n.z * std::sqrt(before.x * before.x + before.y * before.y) -
+                           before.z * std::sqrt(n.x * n.x + n.y * n.y); // sin(latitude step)
+    if (!(std::abs(cross) < 0.01 * dot) || !(std::abs(sinStep) < 0.01)) {
+        return geodetic(n);
+    }
+    const double t = cross / dot; // tan(longitude step)
+    const double t2 = t * t;
+    const double s2 = sinStep * sinStep;
+    double longitude = from.longitude + t * (1.0 - t2 * (1.0 / 3.0 - t2 * (1.0 / 5.0 - t2 / 7.0)));
+    longitude = longitude > kPi ? longitude - kTwoPi : (longitude < -kPi ? longitude + kTwoPi : longitude);
+    return {longitude, from.latitude + sinStep * (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0 + s2 * (5.0 / 112.0))))};
+}
+
 glm::mat3 frameMatrix(int frame) noexcept
 {
     const glm::dvec3 x = toEarth(frame, {1, 0, 0}), y = toEarth(frame, {0, 1, 0}), z = toEarth(frame, {0, 0, 1});
@@ -245,10 +277,6 @@ struct ClipmapTerrain::Impl {
         return k / std::sqrt(glm::dot(normal, k)) + height * normal;
     }
 
-    static Geodetic2D geodetic(const glm::dvec3& normal) noexcept
-    {
-        return {std::atan2(normal.y, normal.x), std::asin(std::clamp(normal.z, -1.0, 1.0))};
-    }
 
     /// What the vertex shader computes a level's posts from: its centre post's grid angles, normal,
     /// surface point relative to the eye and radius of curvature, as floats.
@@ -637,12 +665,14 @@ struct ClipmapTerrain::Impl {
         const std::uint32_t baseColor = pack(options.baseColor);
         // Per column and per row once: the grid's longitude (wrapped, for the geodetic grid) and
         // its sine and cosine.
-        std::vector<double> cosLongitude(static_cast<std::size_t>(x1 - x0)), sinLongitude(cosLongitude.size()),
+        // In the rotated grids from the anchor post at or before x0 (see stepTo).
+        const std::int64_t xa = frame == 0 ? x0 : x0 - (((x0 % kStepAnchor) + kStepAnchor) % kStepAnchor);
+        std::vector<double> cosLongitude(static_cast<std::size_t>(x1 - xa)), sinLongitude(cosLongitude.size()),
             wrappedLongitude(cosLongitude.size());
-        for (std::int64_t x = x0; x < x1; ++x) {
-            cosLongitude[static_cast<std::size_t>(x - x0)] = std::cos(static_cast<double>(x) * s);
-            sinLongitude[static_cast<std::size_t>(x - x0)] = std::sin(static_cast<double>(x) * s);
-            wrappedLongitude[static_cast<std::size_t>(x - x0)] = std::remainder(static_cast<double>(x) * s, kTwoPi);
+        for (std::int64_t x = xa; x < x1; ++x) {
+            cosLongitude[static_cast<std::size_t>(x - xa)] = std::cos(static_cast<double>(x) * s);
+            sinLongitude[static_cast<std::size_t>(x - xa)] = std::sin(static_cast<double>(x) * s);
+            wrappedLongitude[static_cast<std::size_t>(x - xa)] = std::remainder(static_cast<double>(x) * s, kTwoPi);
         }
         // The mesh tile and triangle the last post was in, and those of each post a row before:
         // a post is mostly in one of the two.
@@ -662,8 +692,17 @@ struct ClipmapTerrain::Impl {
                 }
             } else {
                 const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
-                for (std::size_t i = 0; i < row.size(); ++i) {
-                    row[i] = geodetic(toEarth(frame, {cosLatitude * cosLongitude[i], cosLatitude * sinLongitude[i], sinLatitude}));
+                glm::dvec3 before{};
+                Geodetic2D position{};
+                for (std::int64_t x = xa; x < x1; ++x) {
+                    const std::size_t k = static_cast<std::size_t>(x - xa);
+                    const glm::dvec3 normal =
+                        toEarth(frame, {cosLatitude * cosLongitude[k], cosLatitude * sinLongitude[k], sinLatitude});
+                    position = k % kStepAnchor == 0 ? geodetic(normal) : stepTo(before, position, normal);
+                    before = normal;
+                    if (x >= x0) {
+                        row[static_cast<std::size_t>(x - x0)] = position;
+                    }
                 }
             }
             // In the geodetic grid a row is one latitude: the posts in one tile share its v, and

@@ -9,6 +9,7 @@
 #include <orbis/renderer/ShaderCache.h>
 #include <orbis/scene/ClipmapTerrain.h>
 #include <orbis/scene/Globe.h>
+#include <orbis/world/FunctionTerrainSource.h>
 #include <orbis/world/TerrainHeight.h>
 #include <orbis/world/TerrainSource.h>
 #include <orbis/world/TileSource.h>
@@ -324,6 +325,40 @@ TEST_CASE("Clipmap levels take the finest tile loaded at every post, also beside
     }
     // The finest levels interpolate the DEM's 80 m grids, bilinearly on 129 x 129 lattices.
     CHECK(largest < 10.0);
+}
+
+TEST_CASE("In a rotated grid the posts are written at their own geodetic positions, stepped from post to post",
+          "[scene][clipmap][gl]")
+{
+    // Ground rising 20 km a radian eastwards and 10 km northwards: linear in longitude and
+    // latitude, so a post's height says where the post was sampled (a post a step off would be
+    // 0.1-0.3 m off here), whatever level and lattice it was read from.
+    const auto plane = [](const Geodetic2D& g) { return 2.0e4 * g.longitude + 1.0e4 * g.latitude; };
+    ClipmapTerrainOptions options;
+    options.terrain = std::make_shared<world::FunctionTerrainSource>(plane, 12);
+    options.posts = 127;
+    options.loader = deterministicLoader(0);
+    auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
+    Scene scene(kEarth);
+    scene.add(terrain);
+    const Geodetic3D eye = Geodetic3D::fromDegrees(10.0, 62.0, 2000.0 + plane(Geodetic2D::fromDegrees(10.0, 62.0)));
+    placeCamera(scene, eye, 30.0, -20.0);
+    const RenderedFrame frame = renderConverged(scene, *terrain, 96, 54, 200);
+    REQUIRE(terrain->converged());
+    REQUIRE(frame.statistics.clipmap->parameterization != 0);
+    double largest = 0.0;
+    int points = 0;
+    for (double north = -0.02; north <= 0.02; north += 0.002) {
+        for (double east = -0.04; east <= 0.04; east += 0.004) {
+            const Geodetic2D point = Geodetic2D::fromDegrees(10.0 + east, 62.0 + north);
+            const std::optional<double> drawn = terrain->groundHeight(point);
+            REQUIRE(drawn);
+            largest = std::max(largest, std::abs(*drawn - plane(point)));
+            ++points;
+        }
+    }
+    CHECK(points >= 400);
+    CHECK(largest < 0.02);
 }
 
 TEST_CASE("A moving viewer's clipmap updates stay within the budget, coarse levels first, and end where a fresh one starts", "[scene][clipmap][gl]")
