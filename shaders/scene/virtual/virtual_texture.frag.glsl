@@ -218,16 +218,22 @@ void main()
     vec2 tc = v_tileCoordinates;
     vec2 dx = dFdx(tc);
     vec2 dy = dFdy(tc);
-    LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dx, dy), tc);
+    float lod = vtLevelOfDetail(dx, dy);
+    LevelChoice choice = vtChooseLevels(lod, tc);
     vec4 texel;
 #ifdef VT_MIP_TAIL
     // Compiled in only for tiles that may have pixels coarser than level 0 (the CPU's
     // mayAskForMipTail): elsewhere both sides would cost every pixel on llvmpipe.
     if (choice.tail) {
-        // Level 0 as a whole: u and v over the globe, the gradients scaled by the bias.
+        // Level 0 as a whole: u and v over the globe.
         vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
-        vec2 scale = exp2(u_lodBias) / tiles;
+#ifdef VT_ANISOTROPIC
+        vec2 scale = exp2(u_lodBias) / tiles; // the gradients scaled by the bias
         texel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
+#else
+        // Its level of detail is known: the tail's level 0 is the virtual texture's.
+        texel = textureLod(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, lod - float(u_layout.x));
+#endif
     } else
 #endif
     {
