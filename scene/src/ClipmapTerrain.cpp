@@ -1451,10 +1451,6 @@ std::optional<HeightInterval> ClipmapTerrain::drawnHeights(const GeodeticExtent&
     };
     const double exaggeration = _options.exaggeration;
     std::optional<HeightInterval> heights;
-    auto add = [&heights](double lowest, double highest) {
-        heights = heights ? HeightInterval{std::min(heights->lowest, lowest), std::max(heights->highest, highest)}
-                          : HeightInterval{lowest, highest};
-    };
     for (int l = finestDrawn; l < L; ++l) {
         const Box box = boxIn(l);
         const auto x0 = static_cast<double>(impl.originX(l)), y0 = static_cast<double>(impl.originY(l));
@@ -1478,14 +1474,16 @@ std::optional<HeightInterval> ClipmapTerrain::drawnHeights(const GeodeticExtent&
             lowest = std::min(lowest, coarser.minimumHeight);
             highest = std::max(highest, coarser.maximumHeight);
         }
-        add(exaggeration * lowest - detail::triangleSagBound(impl.ellipsoid, 2.0 * impl.levelSpacing(l)), exaggeration * highest);
+        heights = enclose(heights, {exaggeration * lowest - detail::triangleSagBound(impl.ellipsoid, 2.0 * impl.levelSpacing(l)),
+                                    exaggeration * highest});
     }
     if (_statistics.backdropDrawn) {
         // Drawn where no level is: beyond the coarsest level's window less its outer two posts.
         const int coarsest = L - 1;
         const auto x0 = static_cast<double>(impl.originX(coarsest)), y0 = static_cast<double>(impl.originY(coarsest));
         if (finestDrawn >= L || !inside(boxIn(coarsest), x0 + 2.0, y0 + 2.0, x0 + n - 3.0, y0 + n - 3.0)) {
-            add(impl.backdrop.lowest - detail::triangleSagBound(impl.ellipsoid, toRadians(2.0)), impl.backdrop.highest);
+            heights = enclose(heights, {impl.backdrop.lowest - detail::triangleSagBound(impl.ellipsoid, toRadians(2.0)),
+                                        impl.backdrop.highest});
         }
     }
     return heights;

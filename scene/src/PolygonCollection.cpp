@@ -211,16 +211,32 @@ std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec
                                    std::vector<LeftOutHole>* leftOutHoles)
 {
     std::vector<std::vector<glm::dvec3>> rings;
+    std::vector<std::vector<double>> heights;
     rings.reserve(polygon.rings.size());
     for (const world::LinearRing& ring : polygon.rings) {
         std::vector<glm::dvec3>& cartesian = rings.emplace_back();
+        std::vector<double>& ringHeights = heights.emplace_back();
         cartesian.reserve(ring.size());
         for (const Geodetic3D& position : ring) {
             cartesian.push_back(_ellipsoid.toCartesian(Geodetic2D{position.longitude, position.latitude}));
+            ringHeights.push_back(position.height);
         }
     }
+    return add(rings, heights, color, name, leftOutHoles);
+}
+
+std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
+                                   std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
+{
+    return add(rings, {}, color, name, leftOutHoles);
+}
+
+std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> rings,
+                                   std::span<const std::vector<double>> heights, const glm::vec4& color,
+                                   std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
+{
     if (!_options.groundHeight || draped()) {
-        return add(rings, color, name, leftOutHoles);
+        return addMesh(triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name, leftOutHoles), color, {});
     }
     // Its heights above the ground, linear over the triangles of the ear clipping, which are made
     // of the positions given (as the triangulation puts them on the surface); a vertex the
@@ -228,34 +244,24 @@ std::size_t PolygonCollection::add(const world::Polygon& polygon, const glm::vec
     std::map<std::array<double, 3>, double> heightAt;
     double sum = 0.0;
     std::size_t count = 0;
-    for (std::size_t r = 0; r < rings.size(); ++r) {
-        for (std::size_t i = 0; i < rings[r].size(); ++i) {
+    for (std::size_t r = 0; r < heights.size(); ++r) {
+        for (std::size_t i = 0; i < heights[r].size(); ++i) {
             const glm::dvec3 surface = _ellipsoid.scaleToGeodeticSurface(rings[r][i]);
-            const double height = polygon.rings[r][i].height;
-            heightAt[{surface.x, surface.y, surface.z}] = height;
-            sum += height;
+            heightAt[{surface.x, surface.y, surface.z}] = heights[r][i];
+            sum += heights[r][i];
             ++count;
         }
     }
     const Mesh clipped = triangulatePolygon(_ellipsoid, rings, kPi, name, leftOutHoles);
-    std::vector<double> heights;
-    heights.reserve(clipped.positions.size());
+    std::vector<double> vertexHeights;
+    vertexHeights.reserve(clipped.positions.size());
     for (const glm::dvec3& position : clipped.positions) {
         const auto found = heightAt.find({position.x, position.y, position.z});
-        heights.push_back(found != heightAt.end() ? found->second : sum / static_cast<double>(std::max<std::size_t>(count, 1)));
+        vertexHeights.push_back(found != heightAt.end() ? found->second
+                                                        : sum / static_cast<double>(std::max<std::size_t>(count, 1)));
     }
-    Mesh mesh = subdivideOnEllipsoid(_ellipsoid, clipped.positions, clipped.indices, groundGranularity(clipped), &heights);
-    return addMesh(std::move(mesh), color, heights);
-}
-
-std::size_t PolygonCollection::add(std::span<const std::vector<glm::dvec3>> rings, const glm::vec4& color,
-                                   std::string_view name, std::vector<LeftOutHole>* leftOutHoles)
-{
-    if (!_options.groundHeight || draped()) {
-        return addMesh(triangulatePolygon(_ellipsoid, rings, _options.granularityRadians, name, leftOutHoles), color, {});
-    }
-    const Mesh clipped = triangulatePolygon(_ellipsoid, rings, kPi, name, leftOutHoles);
-    return addMesh(subdivideOnEllipsoid(_ellipsoid, clipped.positions, clipped.indices, groundGranularity(clipped)), color, {});
+    Mesh mesh = subdivideOnEllipsoid(_ellipsoid, clipped.positions, clipped.indices, groundGranularity(clipped), &vertexHeights);
+    return addMesh(std::move(mesh), color, vertexHeights);
 }
 
 double PolygonCollection::groundGranularity(const Mesh& clipped) const
@@ -398,7 +404,8 @@ void PolygonCollection::writeAttributes(std::size_t index, std::vector<std::byte
     }
 }
 
-bool PolygonCollection::finishDrapedCommand(const FrameState& frameState, std::size_t index, SceneCommand& command)
+bool PolygonCollection::finishDrapedCommand(const FrameState& frameState, double eyeHeight, std::size_t index,
+                                            SceneCommand& command)
 {
     Item& item = _polygons[index];
     item.drapedHeights = frameState.groundHeights(item.footprint);
@@ -413,7 +420,7 @@ bool PolygonCollection::finishDrapedCommand(const FrameState& frameState, std::s
                               item.sphere.radius + std::max(std::abs(heights.lowest), std::abs(heights.highest))};
     command.horizonOcclusionPoint.reset(); // the ground it needs is drawn, so not all below the horizon
     const glm::dvec3 eye = frameState.camera.eye();
-    detail::boundDepth(command, _ellipsoid, eye, _ellipsoid.toGeodetic3D(eye).height, heights.highest);
+    detail::boundDepth(command, _ellipsoid, eye, eyeHeight, heights.highest);
     return true;
 }
 
@@ -460,8 +467,9 @@ void PolygonCollection::update(FrameState& frameState, CommandList& commands)
     for (Item& item : _polygons) {
         item.drapedHeights.reset();
     }
+    const double eyeHeight = _ellipsoid.toGeodetic3D(frameState.camera.eye()).height;
     _batch->appendCommands(frameState, depthOffset, volumes, [&](std::size_t index, SceneCommand& command) {
-        return finishDrapedCommand(frameState, index, command);
+        return finishDrapedCommand(frameState, eyeHeight, index, command);
     });
     for (SceneCommand& volume : volumes) {
         appendDrapedDraws(std::move(volume), commands);

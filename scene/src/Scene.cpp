@@ -57,9 +57,7 @@ std::optional<HeightInterval> FrameState::groundHeights(const GeodeticExtent& ex
     std::optional<HeightInterval> heights;
     for (const Primitive* primitive : ground) {
         if (const std::optional<HeightInterval> drawn = primitive->drawnHeights(extent)) {
-            heights = heights ? HeightInterval{std::min(heights->lowest, drawn->lowest),
-                                               std::max(heights->highest, drawn->highest)}
-                              : *drawn;
+            heights = enclose(heights, *drawn);
         }
     }
     return heights;

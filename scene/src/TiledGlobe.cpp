@@ -1893,9 +1893,7 @@ std::optional<HeightInterval> TiledGlobe::drawnHeights(const GeodeticExtent& ext
         const double cell = (tileExtent.width() + tileExtent.height()) / (mesh.size() - 1);
         const double sag = detail::triangleSagBound(impl.ellipsoid, coarser > 0 ? std::ldexp(cell, std::min(coarser + 1, 30)) : cell);
         const auto [lowest, highest] = surface.drawnVertexHeights->second;
-        const HeightInterval drawn{static_cast<double>(lowest) - sag, static_cast<double>(highest)};
-        heights = heights ? HeightInterval{std::min(heights->lowest, drawn.lowest), std::max(heights->highest, drawn.highest)}
-                          : drawn;
+        heights = enclose(heights, {static_cast<double>(lowest) - sag, static_cast<double>(highest)});
     }
     return heights;
 }

@@ -11,6 +11,7 @@
 #include <orbis/core/GeodeticExtent.h>
 #include <orbis/core/Ray.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -34,6 +35,12 @@ struct HeightInterval {
     double lowest = 0.0;
     double highest = 0.0;
 };
+
+/// The smallest interval holding both; `b` alone when there is no `a`.
+inline HeightInterval enclose(const std::optional<HeightInterval>& a, const HeightInterval& b) noexcept
+{
+    return a ? HeightInterval{std::min(a->lowest, b.lowest), std::max(a->highest, b.highest)} : b;
+}
 
 /// What a primitive sees of the frame it takes part in (docs/architecture.md, "One frame, as data").
 struct FrameState {

@@ -116,12 +116,15 @@ public:
 
 private:
     struct Item;
+    /// The rings' heights (one per position, ring by ring; none: 0) count with groundHeight only.
+    std::size_t add(std::span<const std::vector<glm::dvec3>> rings, std::span<const std::vector<double>> heights,
+                    const glm::vec4& color, std::string_view name, std::vector<LeftOutHole>* leftOutHoles);
     std::size_t addMesh(Mesh mesh, const glm::vec4& color, std::span<const double> heightsAboveGround);
     double groundGranularity(const Mesh& clipped) const;
     void build(FrameState& frameState);
     void buildIndices(renderer::Device& device);
     void writeAttributes(std::size_t index, std::vector<std::byte>& out) const;
-    bool finishDrapedCommand(const FrameState& frameState, std::size_t index, SceneCommand& command);
+    bool finishDrapedCommand(const FrameState& frameState, double eyeHeight, std::size_t index, SceneCommand& command);
 
     Ellipsoid _ellipsoid;
     PolygonCollectionOptions _options;
