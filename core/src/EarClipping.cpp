@@ -15,6 +15,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -62,12 +63,28 @@ public:
 
     bool empty() const noexcept { return _size == 0; }
 
+    // Empties the queue, keeping its buckets' memory for the next polygon.
+    void clear() noexcept
+    {
+        for (std::size_t b = 0; b < _bucketsUsed; ++b) {
+            _bucketOf[_buckets[b].priorityClass] = 0;
+            _nonEmpty[_buckets[b].priorityClass / 64] = 0;
+            _buckets[b].ids.clear();
+            _buckets[b].read = 0;
+        }
+        _bucketsUsed = 0;
+        _size = 0;
+    }
+
     void push(std::uint32_t priorityClass, int id)
     {
         std::uint16_t& number = _bucketOf[priorityClass];
         if (number == 0) {
-            _buckets.emplace_back();
-            number = static_cast<std::uint16_t>(_buckets.size());
+            if (_bucketsUsed == _buckets.size()) {
+                _buckets.emplace_back();
+            }
+            _buckets[_bucketsUsed].priorityClass = priorityClass;
+            number = static_cast<std::uint16_t>(++_bucketsUsed);
         }
         Bucket& bucket = _buckets[number - 1u];
         if (bucket.ids.size() == bucket.read) {
@@ -100,8 +117,10 @@ private:
     struct Bucket {
         std::vector<int> ids;
         std::size_t read = 0;
+        std::uint32_t priorityClass = 0;
     };
-    std::vector<Bucket> _buckets;
+    std::vector<Bucket> _buckets; // the first _bucketsUsed in use
+    std::size_t _bucketsUsed = 0;
     std::array<std::uint16_t, kClasses> _bucketOf{}; // per class: its bucket's number from 1, 0 for none yet
     std::array<std::uint64_t, kClasses / 64> _nonEmpty{};
     std::size_t _size = 0;
@@ -109,13 +128,25 @@ private:
 
 class EarClipper {
 public:
-    EarClipper(std::string_view name, double repairRelativeArea, std::vector<LeftOutHole>* leftOutHoles)
-        : _name(name), _repairRelativeArea(repairRelativeArea), _leftOutHoles(leftOutHoles)
+    // One clipper serves polygon after polygon on a thread, its vectors keeping their memory: a
+    // polygon of a few vertices (a building) spent most of its time in some 30 allocations.
+    PolygonTriangles run(std::span<const std::vector<glm::dvec2>> rings, std::string_view name, double repairRelativeArea,
+                         std::vector<LeftOutHole>* leftOutHoles)
     {
-    }
-
-    PolygonTriangles run(std::span<const std::vector<glm::dvec2>> rings)
-    {
+        _name = name;
+        _repairRelativeArea = repairRelativeArea;
+        _leftOutHoles = leftOutHoles;
+        _holesLeftOut = 0;
+        _outerArea = 0.0;
+        _repairedArea = 0.0;
+        _nodes.clear();
+        _cycles.clear();
+        _ringNumbers.clear();
+        _ringTouchesItself = false;
+        _edges.reset();
+        _ringOf.clear();
+        _start = -1;
+        _remaining = 0;
         PolygonTriangles result;
         if (!prepareRings(rings, result)) {
             return result;
@@ -143,6 +174,9 @@ public:
         return result;
     }
 
+    // The vertices its memory holds now.
+    std::size_t capacity() const noexcept { return _nodes.capacity(); }
+
 private:
     [[noreturn]] void fail(const std::string& what) const
     {
@@ -163,8 +197,8 @@ private:
         }
         _nodes.reserve(total + total / 8); // room for the vertices that touching edges add
         std::size_t offset = 0;
-        std::vector<Node> kept;
-        std::vector<glm::dvec2> points;
+        std::vector<Node>& kept = _kept;
+        std::vector<glm::dvec2>& points = _keptPoints;
         for (std::size_t r = 0; r < rings.size(); ++r) {
             const std::vector<glm::dvec2>& ring = rings[r];
             kept.clear();
@@ -280,11 +314,18 @@ private:
         for (const int cycle : _cycles) {
             forEachInCycle(cycle, [&](int) { ++count; });
         }
-        std::vector<int> edges; // by the node each starts at
-        std::vector<int> edgeEnds;
-        std::vector<std::size_t> edgeCycles;
-        std::vector<glm::dvec2> starts;
-        std::vector<glm::dvec2> ends;
+        // By edge, in the order of the rings: the node it starts at, the node it ends at, its cycle,
+        // its ends' positions.
+        std::vector<int>& edges = _edgeStarts;
+        std::vector<int>& edgeEnds = _edgeEnds;
+        std::vector<std::size_t>& edgeCycles = _edgeCycles;
+        std::vector<glm::dvec2>& starts = _edgeStartPositions;
+        std::vector<glm::dvec2>& ends = _edgeEndPositions;
+        edges.clear();
+        edgeEnds.clear();
+        edgeCycles.clear();
+        starts.clear();
+        ends.clear();
         edges.reserve(count);
         edgeEnds.reserve(count);
         edgeCycles.reserve(count);
@@ -300,7 +341,8 @@ private:
             });
         }
 
-        std::vector<std::pair<int, int>> touching; // an edge (by its first node), a vertex touching it
+        std::vector<std::pair<int, int>>& touching = _touching; // an edge (by its first node), a vertex touching it
+        touching.clear();
         // Vertex touches the edge from edgeFrom, given which side of the edge it is on.
         auto touches = [&](int vertex, int edgeFrom, int side) {
             const glm::dvec2& a = pos(edgeFrom);
@@ -313,7 +355,8 @@ private:
         };
         Split changed = Split::Done;
         std::vector<std::pair<std::size_t, std::string>> faulty; // holes to leave out, and why
-        std::vector<bool> isFaulty(_cycles.size(), false);
+        std::vector<bool>& isFaulty = _cycleIsFaulty;
+        isFaulty.assign(_cycles.size(), false);
         detail::findMeetingSegments(starts, ends, [&](std::size_t e, std::size_t f) {
             const int a = edges[e];
             const int b = edgeEnds[e];
@@ -1006,7 +1049,7 @@ private:
             return kNotConvex;
         }
         int blocker = kEar;
-        _index->findIn(glm::min(pa, glm::min(pb, pc)), glm::max(pa, glm::max(pb, pc)), b, [&](int i) {
+        forEachVertexIn(glm::min(pa, glm::min(pb, pc)), glm::max(pa, glm::max(pb, pc)), b, [&](int i) {
             if (i == a || i == b || i == c) {
                 return false;
             }
@@ -1021,6 +1064,23 @@ private:
             return inTheWay;
         });
         return blocker;
+    }
+
+    // Calls visit(i) for vertices left in the box lo..hi (and maybe some others), until it returns
+    // true. near: a vertex left, at or next to the box.
+    template <typename Visit>
+    void forEachVertexIn(const glm::dvec2& lo, const glm::dvec2& hi, int near, Visit&& visit)
+    {
+        if (_indexed) {
+            _index.findIn(lo, hi, near, visit);
+            return;
+        }
+        for (int i = node(near).next; i != near; i = node(i).next) {
+            const glm::dvec2& q = pos(i);
+            if (q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && visit(i)) {
+                return;
+            }
+        }
     }
 
     // --- The order of clipping: a queue of candidate ears, shortest diagonal first ------------
@@ -1079,7 +1139,9 @@ private:
             _start = c;
         }
         --_remaining;
-        _index->remove(b);
+        if (_indexed) {
+            _index.remove(b);
+        }
         enqueue(a); // new diagonals
         enqueue(c);
         for (const int beyond : {node(a).prev, node(c).next}) { // the same diagonal, a new edge next to the ear
@@ -1145,20 +1207,30 @@ private:
 
     void clip(std::vector<std::uint32_t>& indices)
     {
-        std::vector<int> all;
-        all.reserve(_nodes.size());
+        std::vector<int>& all = _cycleOrder;
+        all.clear();
         forEachInCycle(_start, [&](int i) { all.push_back(i); });
-        _positions.clear();
-        _positions.reserve(_nodes.size());
-        for (const Node& n : _nodes) {
-            _positions.push_back(n.p);
-        }
         _remaining = all.size();
-        _index.emplace(_positions, all);
+        // A small polygon's ears are tested against all its vertices: cheaper than indexing them.
+        _indexed = all.size() > kSmallPolygon;
+        if (_indexed) {
+            _positions.clear();
+            for (const Node& n : _nodes) {
+                _positions.push_back(n.p);
+            }
+            _index.reset(_positions, all);
+        }
+        _queue.clear();
         _queued.assign(_nodes.size(), kNotQueued);
-        _waiting.assign(_nodes.size(), {});
+        if (_waiting.size() < _nodes.size()) {
+            _waiting.resize(_nodes.size());
+        }
+        for (std::size_t i = 0; i < _nodes.size(); ++i) {
+            _waiting[i].clear();
+        }
         indices.reserve(3 * _remaining);
-        std::vector<int> work = all;
+        std::vector<int>& work = _work;
+        work = all;
         removeNoArea(work);
         for (const int i : all) {
             enqueue(i);
@@ -1214,13 +1286,14 @@ private:
     // positions on one great circle are projected onto a plane). Where a sliver's longest edge is
     // shared with another triangle and the two form a convex quadrilateral, flipping that edge gives
     // two fuller triangles; the triangulation stays one of the same polygon.
-    void flipSlivers(std::vector<std::uint32_t>& indices) const
+    void flipSlivers(std::vector<std::uint32_t>& indices)
     {
         std::uint32_t largest = 0;
         for (const Node& n : _nodes) {
             largest = std::max(largest, n.index);
         }
-        std::vector<glm::dvec2> where(std::size_t{largest} + 1);
+        std::vector<glm::dvec2>& where = _byOutputIndex;
+        where.resize(std::size_t{largest} + 1);
         for (const Node& n : _nodes) {
             where[n.index] = n.p;
         }
@@ -1328,8 +1401,8 @@ private:
     }
 
     std::string_view _name;
-    double _repairRelativeArea;
-    std::vector<LeftOutHole>* _leftOutHoles; // null: faulty holes throw
+    double _repairRelativeArea = 0.0;
+    std::vector<LeftOutHole>* _leftOutHoles = nullptr; // null: faulty holes throw
     std::size_t _holesLeftOut = 0;
     double _outerArea = 0.0;
     double _repairedArea = 0.0;
@@ -1346,11 +1419,23 @@ private:
     std::size_t _remaining = 0;
     // While clipping:
     std::vector<glm::dvec2> _positions;       // by node, for the index
-    std::optional<detail::PointIndex> _index; // the vertices left
+    static constexpr std::size_t kSmallPolygon = 32;
+    bool _indexed = false;     // whether _index is in use
+    detail::PointIndex _index; // the vertices left
     ClassQueue _queue;
     static constexpr std::uint64_t kNotQueued = ~std::uint64_t{0}; // no priority: no magnitude is that large
     std::vector<std::uint64_t> _queued;       // per vertex: the priority it is queued with
     std::vector<std::vector<int>> _waiting;   // per vertex: vertices it is in the way of
+    // Working lists of single steps, members only to keep their memory between polygons:
+    std::vector<Node> _kept;                         // prepareRings: a ring's vertices
+    std::vector<glm::dvec2> _keptPoints;             // and their positions
+    std::vector<int> _edgeStarts, _edgeEnds;         // splitTouchingEdges: by edge
+    std::vector<std::size_t> _edgeCycles;
+    std::vector<glm::dvec2> _edgeStartPositions, _edgeEndPositions;
+    std::vector<std::pair<int, int>> _touching;
+    std::vector<bool> _cycleIsFaulty;
+    std::vector<int> _cycleOrder, _work;             // clip
+    std::vector<glm::dvec2> _byOutputIndex;          // flipSlivers
 };
 
 } // namespace
@@ -1358,7 +1443,23 @@ private:
 PolygonTriangles earClip(std::span<const std::vector<glm::dvec2>> rings, std::string_view name,
                          double repairRelativeArea, std::vector<LeftOutHole>* leftOutHoles)
 {
-    return EarClipper(name, std::max(repairRelativeArea, 0.0), leftOutHoles).run(rings);
+    // Memory kept for the next polygon is bounded: a clipper that grew beyond this many vertices
+    // (some 16 MB) is let go.
+    constexpr std::size_t kKeptVertices = std::size_t{1} << 16;
+    thread_local std::unique_ptr<EarClipper> clipper;
+    if (!clipper) {
+        clipper = std::make_unique<EarClipper>();
+    }
+    struct Release {
+        std::unique_ptr<EarClipper>& clipper;
+        ~Release()
+        {
+            if (clipper->capacity() > kKeptVertices) {
+                clipper.reset();
+            }
+        }
+    } release{clipper};
+    return clipper->run(rings, name, std::max(repairRelativeArea, 0.0), leftOutHoles);
 }
 
 } // namespace orbis

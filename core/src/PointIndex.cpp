@@ -21,8 +21,19 @@ std::uint32_t spread(std::uint32_t v) noexcept
 
 } // namespace
 
-PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> present) : _points(points)
+PointIndex::PointIndex() = default;
+
+PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> present)
 {
+    reset(points, present);
+}
+
+void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> present)
+{
+    _points = points;
+    _presentCount = 0;
+    _stepsBeyondLimit = 0;
+    _tree.reset();
     glm::dvec2 lo(HUGE_VAL);
     glm::dvec2 hi(-HUGE_VAL);
     for (const int id : present) {
@@ -38,8 +49,8 @@ PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> 
     _previous.assign(points.size(), -1);
     _next.assign(points.size(), -1);
     _present.assign(points.size(), 0);
-    std::vector<std::uint64_t> order; // key, then id
-    order.reserve(present.size());
+    std::vector<std::uint64_t>& order = _order; // key, then id
+    order.clear();
     for (const int id : present) {
         _key[static_cast<std::size_t>(id)] = key(points[static_cast<std::size_t>(id)]);
         _present[static_cast<std::size_t>(id)] = 1;

@@ -21,9 +21,13 @@ namespace orbis::detail {
 /// it), whose query takes O(sqrt(n) + k) whatever the box.
 class PointIndex {
 public:
+    PointIndex();
     /// Indexes points[id] for each id in present (ids index points, which must outlive the index).
     PointIndex(std::span<const glm::dvec2> points, std::span<const int> present);
     ~PointIndex();
+
+    /// Indexes these points instead, keeping the memory of those before.
+    void reset(std::span<const glm::dvec2> points, std::span<const int> present);
     PointIndex(const PointIndex&) = delete;
     PointIndex& operator=(const PointIndex&) = delete;
 
@@ -159,6 +163,7 @@ private:
     std::vector<int> _previous;      // by id: the point before in Z order, -1 for none
     std::vector<int> _next;
     std::vector<std::uint8_t> _present; // by id
+    std::vector<std::uint64_t> _order; // reset's, kept for its memory
     std::size_t _presentCount = 0;
     std::size_t _stepsBeyondLimit = 0; // by all walks
     std::unique_ptr<Tree> _tree;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <thread>
 
 using namespace orbis;
 using Catch::Matchers::Contains;
@@ -561,6 +562,57 @@ TEST_CASE("earClip handles thousands of vertices", "[polygon][ear-clipping]")
     const PolygonTriangles result = earClip(Rings{star});
     REQUIRE(result.triangleCount() == n - 2);
     requireCoversArea(Rings{star}, result);
+}
+
+TEST_CASE("earClip gives the same triangles whatever it triangulated before, on any thread", "[polygon][ear-clipping]")
+{
+    // The clipper keeps its memory between polygons on a thread (and lets it go after one larger
+    // than it keeps): nothing of one polygon may leak into the next, a polygon that threw included.
+    std::mt19937_64 random(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    auto star = [&](int n, double x) {
+        Ring ring;
+        for (int i = 0; i < n; ++i) {
+            const double angle = kTwoPi * i / n;
+            const double radius = 0.5 + unit(random);
+            ring.push_back({x + radius * std::cos(angle), radius * std::sin(angle)});
+        }
+        return ring;
+    };
+    const std::vector<Rings> polygons = {
+        {star(7, 0.0)},
+        {star(32, 10.0)},  // the most vertices tested against all the others
+        {star(33, 20.0)},  // the fewest indexed
+        {square(0, 0, 10), square(2, 2, 2, false), square(6, 6, 2, false)},
+        {star(70000, 0.0)}, // more than a clipper keeps memory for
+        {star(500, -5.0)},
+    };
+    const Rings crossing = {{{0, 0}, {2, 2}, {2, 0}, {0, 2}}};
+    auto indices = [](const Rings& rings) { return earClip(rings).indices; };
+    std::vector<std::vector<std::uint32_t>> alone;
+    for (const Rings& rings : polygons) {
+        alone.push_back(indices(rings));
+        requireCoversArea(rings, earClip(rings));
+    }
+    for (std::size_t k = polygons.size(); k-- > 0;) {
+        REQUIRE_THROWS_AS(earClip(crossing), Error);
+        REQUIRE(indices(polygons[k]) == alone[k]);
+    }
+    std::vector<std::vector<std::vector<std::uint32_t>>> byThread(2);
+    std::vector<std::thread> threads;
+    for (auto& results : byThread) {
+        threads.emplace_back([&polygons, &results, &indices] {
+            for (const Rings& rings : polygons) {
+                results.push_back(indices(rings));
+            }
+        });
+    }
+    for (std::thread& thread : threads) {
+        thread.join();
+    }
+    for (const auto& results : byThread) {
+        REQUIRE(results == alone);
+    }
 }
 
 TEST_CASE("earClip triangulates rings of 100,000 vertices, round, wavy and spiky", "[polygon][ear-clipping][large]")
