@@ -110,6 +110,23 @@ void PageTable::markMissing(const PageKey& page)
     forSubtree(page, [](PageTableEntry& entry) { entry.flags |= PageTableEntry::kMissing; });
 }
 
+void PageTable::texels(std::uint32_t level, const PageRectangle& rectangle, std::vector<float>& out) const
+{
+    out.clear();
+    static_assert(kMaximumVirtualTextureLevel < 32 && PageTableEntry::kMissing < 8);
+    const auto encoded = [](const PageTableEntry& e) {
+        return static_cast<float>(e.slotX | e.slotY << 8 | e.level << 16 | e.flags << 21);
+    };
+    out.reserve(static_cast<std::size_t>(rectangle.x1 - rectangle.x0) * (rectangle.y1 - rectangle.y0) * 2);
+    for (std::uint32_t y = rectangle.y0; y < rectangle.y1; ++y) {
+        for (std::uint32_t x = rectangle.x0; x < rectangle.x1; ++x) {
+            const PageTableEntry& own = entry({level, x, y});
+            out.push_back(encoded(own));
+            out.push_back(encoded(level > 0 ? entry({level - 1, x / 2, y / 2}) : own));
+        }
+    }
+}
+
 void PageTable::clearDirty() noexcept
 {
     std::fill(_dirty.begin(), _dirty.end(), std::nullopt);

@@ -241,6 +241,7 @@ struct VirtualTextureGlobe::Impl {
     std::size_t meshBytes = 0;
     std::size_t meshUploadedBytes = 0;
     std::vector<std::uint8_t> staging;
+    std::vector<float> tableTexels; ///< uploadTables', kept for its memory
 };
 
 void VirtualTextureGlobe::Impl::warn(const std::string& message) const
@@ -262,7 +263,7 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
         bytes += static_cast<std::size_t>(tail->width()) * tail->height() * 4 * 4 / 3;
     }
     if (pageTableTexture) {
-        bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 4 * 4 / 3;
+        bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 8;
     }
     bytes += clampValues.size() * sizeof(glm::vec2);
     if (feedbackTarget) {
@@ -306,6 +307,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     }
     const std::uint32_t pagesX = VirtualTextureLayout::pagesX(layout.finestLevel);
     const std::uint32_t pagesY = VirtualTextureLayout::pagesY(layout.finestLevel);
+    const glm::uvec2 tableSize = VirtualTextureLayout::pageTableSize(layout.finestLevel);
     if (static_cast<int>(pagesX) + 1 > maximum) {
         throw Error("VirtualTextureGlobe: the page table of " + pages->tileSource().info().name + " needs " +
                     std::to_string(pagesX + 1) + " texels across, beyond this device's " + std::to_string(maximum) +
@@ -323,7 +325,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
         frameState.context.clear(clear, &target);
     }
     pageTableTexture = device.createTexture2D(
-        {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RGBA8, true});
+        {static_cast<int>(tableSize.x), static_cast<int>(tableSize.y), renderer::TextureFormat::RG32F, false});
     lodClamp = device.createTexture2D(
         {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RG32F, false});
     clampValues.assign(static_cast<std::size_t>(pagesX) * pagesY, glm::vec2(static_cast<float>(layout.finestLevel), kNoClamp));
@@ -400,22 +402,13 @@ void VirtualTextureGlobe::Impl::uploadTables()
         if (!dirty) {
             continue;
         }
-        const std::span<const PageTableEntry> entries = pageTable.level(level);
-        const std::uint32_t columns = VirtualTextureLayout::pagesX(level);
-        const std::uint32_t width = dirty->x1 - dirty->x0;
-        staging.resize(static_cast<std::size_t>(width) * (dirty->y1 - dirty->y0) * sizeof(PageTableEntry));
-        std::uint8_t* out = staging.data();
-        for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
-            std::memcpy(out, entries.data() + static_cast<std::size_t>(y) * columns + dirty->x0,
-                        width * sizeof(PageTableEntry));
-            out += width * sizeof(PageTableEntry);
-        }
+        pageTable.texels(level, *dirty, tableTexels);
+        const glm::uvec2 origin = VirtualTextureLayout::pageTableOrigin(level, finest);
         pageTableTexture->copyFromSystemMemory(
-            std::as_bytes(std::span(staging)),
-            {static_cast<int>(dirty->x0), static_cast<int>(dirty->y0), static_cast<int>(width),
-             static_cast<int>(dirty->y1 - dirty->y0)},
-            static_cast<int>(finest - level));
-        statistics.uploadedBytes += staging.size();
+            std::as_bytes(std::span(tableTexels)),
+            {static_cast<int>(origin.x + dirty->x0), static_cast<int>(origin.y + dirty->y0),
+             static_cast<int>(dirty->x1 - dirty->x0), static_cast<int>(dirty->y1 - dirty->y0)});
+        statistics.uploadedBytes += tableTexels.size() * sizeof(float);
     }
     updateLodClamp();
     pageTable.clearDirty();

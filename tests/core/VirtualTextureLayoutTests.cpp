@@ -86,6 +86,31 @@ TEST_CASE("A page's four children cover it and share its parent", "[core][virtua
     CHECK(VirtualTextureLayout::pageAt(3, -0.5, 2.0) == PageKey{3, 0, 7});
 }
 
+TEST_CASE("The page-table texture holds every level once, inside it, no wider than the finest level", "[core][virtual]")
+{
+    for (std::uint32_t finest = 0; finest <= kMaximumVirtualTextureLevel; ++finest) {
+        INFO("finest level " << finest);
+        const glm::uvec2 size = VirtualTextureLayout::pageTableSize(finest);
+        REQUIRE(size.x == VirtualTextureLayout::pagesX(finest));
+        if (finest > 7) {
+            continue; // the coverage check below, entry by entry, for the smaller tables
+        }
+        std::vector<int> owner(std::size_t{size.x} * size.y, -1);
+        for (std::uint32_t level = 0; level <= finest; ++level) {
+            const glm::uvec2 origin = VirtualTextureLayout::pageTableOrigin(level, finest);
+            REQUIRE(origin.x + VirtualTextureLayout::pagesX(level) <= size.x);
+            REQUIRE(origin.y + VirtualTextureLayout::pagesY(level) <= size.y);
+            for (std::uint32_t y = 0; y < VirtualTextureLayout::pagesY(level); ++y) {
+                for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(level); ++x) {
+                    int& taken = owner[std::size_t{origin.y + y} * size.x + origin.x + x];
+                    REQUIRE(taken == -1);
+                    taken = static_cast<int>(level);
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("Border contraction keeps positions in a page inside its slot's border", "[core][virtual]")
 {
     const VirtualTextureLayout layout{128, 4, 6};

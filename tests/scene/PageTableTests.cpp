@@ -156,3 +156,78 @@ TEST_CASE("A missing page marks itself and everything below, keeping their fallb
     CHECK(table.isMissing({3, 2, 2}));
     CHECK(table.entry({3, 2, 2}).level == 0);
 }
+
+TEST_CASE("The texels of the dirty rectangles keep a copy of the page table equal to the table, parents' entries included",
+          "[scene][virtual]")
+{
+    // As the GPU's copy is kept: only the rectangles marked dirty are copied after each change.
+    // Each texel carries its parent's entry too, which changes when the parent's subtree does.
+    const std::uint32_t seed = 9001;
+    INFO("seed " << seed);
+    std::mt19937 random(seed);
+    const std::uint32_t finest = 4;
+    PageTable table(finest);
+    auto allTexels = [&](std::uint32_t level) {
+        std::vector<float> texels;
+        table.texels(level, {0, 0, VirtualTextureLayout::pagesX(level), VirtualTextureLayout::pagesY(level)}, texels);
+        return texels;
+    };
+    std::vector<std::vector<float>> copy;
+    for (std::uint32_t level = 0; level <= finest; ++level) {
+        copy.push_back(allTexels(level));
+    }
+    table.clearDirty();
+    std::vector<float> rectangle;
+    for (int step = 0; step < 300; ++step) {
+        const std::uint32_t level = std::uniform_int_distribution<std::uint32_t>(0, finest)(random);
+        const PageKey page{level, std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesX(level) - 1)(random),
+                           std::uniform_int_distribution<std::uint32_t>(0, VirtualTextureLayout::pagesY(level) - 1)(random)};
+        const int action = static_cast<int>(random() % 8);
+        if (action == 0) {
+            table.markMissing(page);
+        } else if (table.isMapped(page) && action < 4) {
+            table.unmap(page);
+        } else {
+            table.map(page, static_cast<std::uint8_t>(step % 17), static_cast<std::uint8_t>(step % 13));
+        }
+        for (std::uint32_t l = 0; l <= finest; ++l) {
+            const std::optional<PageRectangle>& dirty = table.dirty(l);
+            if (!dirty) {
+                continue;
+            }
+            table.texels(l, *dirty, rectangle);
+            const std::uint32_t columns = VirtualTextureLayout::pagesX(l);
+            std::size_t k = 0;
+            for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
+                for (std::uint32_t x = dirty->x0; x < dirty->x1; ++x, k += 2) {
+                    std::copy_n(rectangle.begin() + static_cast<std::ptrdiff_t>(k), 2,
+                                copy[l].begin() + static_cast<std::ptrdiff_t>(2 * (std::size_t{y} * columns + x)));
+                }
+            }
+        }
+        table.clearDirty();
+        for (std::uint32_t l = 0; l <= finest; ++l) {
+            INFO("step " << step << ", level " << l);
+            REQUIRE(copy[l] == allTexels(l));
+        }
+    }
+    // A texel spelled out: a page of level 2 under a mapped root shows the root, and so does its
+    // parent's entry beside it.
+    PageTable fresh(2);
+    fresh.map({0, 1, 0}, 3, 5);
+    std::vector<float> texel;
+    fresh.texels(2, {4, 1, 5, 2}, texel);
+    const auto encoded = [](int slotX, int slotY, int level, int flags) {
+        return static_cast<float>(slotX + 256 * slotY + 65536 * level + 2097152 * flags);
+    };
+    const float root = encoded(3, 5, 0, PageTableEntry::kValid);
+    CHECK(texel == std::vector<float>{root, root});
+    fresh.map({1, 2, 0}, 7, 1);
+    fresh.texels(2, {4, 1, 5, 2}, texel);
+    // Now both show the level-1 page, which the parent is (mapped) and the page falls back to.
+    CHECK(texel == std::vector<float>{encoded(7, 1, 1, PageTableEntry::kValid),
+                                      encoded(7, 1, 1, PageTableEntry::kValid | PageTableEntry::kMapped)});
+    fresh.markMissing({2, 4, 1});
+    fresh.texels(2, {4, 1, 5, 2}, texel);
+    CHECK(texel[0] == encoded(7, 1, 1, PageTableEntry::kValid | PageTableEntry::kMissing));
+}

@@ -138,21 +138,29 @@ namespace {
 
 /// The shader's functions (virtual_texture.frag.glsl) run per vertex: each point is a tile
 /// coordinate and a level, and captures where the page table sends it, the level it shows, and
-/// the level of detail of a footprint (its two axes in "normal" and "color").
+/// the same one level coarser through the parent's entry fetched with it (the level itself at
+/// level 0), and the level of detail of a footprint (its two axes in "normal" and "color").
 const char* kTranslationMain = R"(
 in vec3 position;          // s, t within the tile; the level asked for
 in vec3 normal;            // dx: the derivatives of s and t across a pixel (z unused)
 in vec4 color;             // dy in xy
 out vec4 v_physical;       // physical x, y; the level shown; texels per tile unit there
+out vec4 v_coarser;        // the same one level coarser
 out float v_levelOfDetail;
+
+vec4 translate(PageEntry entry, int level)
+{
+    float texelsPerTile;
+    vec2 physical = vtPhysicalPosition(entry, level, vtPagePosition(level, position.xy), position.xy, texelsPerTile);
+    return vec4(physical, float(entry.level), texelsPerTile);
+}
+
 void main()
 {
     int level = int(position.z);
-    PagePosition wanted = vtPagePosition(level, position.xy);
-    PageEntry entry = vtPageEntry(level, wanted.page);
-    float texelsPerTile;
-    vec2 physical = vtPhysicalPosition(entry, level, wanted, position.xy, texelsPerTile);
-    v_physical = vec4(physical, float(entry.level), texelsPerTile);
+    PageEntries entries = vtPageEntries(level, vtPagePosition(level, position.xy).page);
+    v_physical = translate(entries.own, level);
+    v_coarser = translate(entries.parent, max(level - 1, 0));
     v_levelOfDetail = vtLevelOfDetail(normal.xy, color.xy);
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }
@@ -189,12 +197,17 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
             mapPage(page);
         }
     }
+    const glm::uvec2 tableSize = VirtualTextureLayout::pageTableSize(layout.finestLevel);
     Texture2D pageTableTexture = device.createTexture2D(
-        {static_cast<int>(VirtualTextureLayout::pagesX(layout.finestLevel)),
-         static_cast<int>(VirtualTextureLayout::pagesY(layout.finestLevel)), TextureFormat::RGBA8, true});
+        {static_cast<int>(tableSize.x), static_cast<int>(tableSize.y), TextureFormat::RG32F, false});
+    std::vector<float> texels;
     for (std::uint32_t level = 0; level <= layout.finestLevel; ++level) {
-        pageTableTexture.copyFromSystemMemory(std::as_bytes(table.level(level)),
-                                              static_cast<int>(layout.finestLevel - level));
+        const PageRectangle whole{0, 0, VirtualTextureLayout::pagesX(level), VirtualTextureLayout::pagesY(level)};
+        table.texels(level, whole, texels);
+        const glm::uvec2 origin = VirtualTextureLayout::pageTableOrigin(level, layout.finestLevel);
+        pageTableTexture.copyFromSystemMemory(std::as_bytes(std::span(texels)),
+                                              {static_cast<int>(origin.x), static_cast<int>(origin.y),
+                                               static_cast<int>(whole.x1), static_cast<int>(whole.y1)});
     }
     SamplerDescription point;
     point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
@@ -213,7 +226,7 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
         "virtual_texture.frag.glsl + translation main",
         ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl").text + kTranslationMain);
     description.fragment = ShaderSource::fromText("nothing.frag.glsl", "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
-    description.transformFeedbackVaryings = {"v_physical", "v_levelOfDetail"};
+    description.transformFeedbackVaryings = {"v_physical", "v_coarser", "v_levelOfDetail"};
     if (anisotropic) {
         description.defines.push_back({"VT_ANISOTROPIC"});
     }
@@ -266,20 +279,28 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
             command.uniforms.set("u_maximumAnisotropyLog2", anisotropyLog2);
         }
         const std::vector<float> captured = context.captureVertexOutputs(command, SceneState{});
-        REQUIRE(captured.size() == points.size() * 5);
+        REQUIRE(captured.size() == points.size() * 9);
 
         for (std::size_t i = 0; i < points.size(); ++i) {
             const Point& p = points[i];
             // The reference, in doubles from the same floats.
             const double u = (tile.x + static_cast<double>(p.s)) / VirtualTextureLayout::pagesX(tile.level);
             const double v = (tile.y + static_cast<double>(p.t)) / VirtualTextureLayout::pagesY(tile.level);
-            const PageKey wanted = VirtualTextureLayout::pageAt(static_cast<std::uint32_t>(p.level), u, v);
-            const PageTableEntry& entry = table.entry(wanted);
-            const PageKey shown = wanted.ancestor(entry.level);
-            const glm::dvec2 inSlot = layout.contractToSlot(VirtualTextureLayout::positionInPage(shown, u, v));
-            const glm::dvec2 physical((entry.slotX + inSlot.x) * layout.slotSize() / physicalWidth,
-                                      (entry.slotY + inSlot.y) * layout.slotSize() / physicalHeight);
-            const double texelsPerTile = layout.pageSize * std::exp2(static_cast<double>(entry.level) - tile.level);
+            struct Translation {
+                glm::dvec2 physical;
+                std::uint32_t shownLevel;
+                double texelsPerTile;
+            };
+            auto reference = [&](std::uint32_t level) {
+                const PageKey wanted = VirtualTextureLayout::pageAt(level, u, v);
+                const PageTableEntry& entry = table.entry(wanted);
+                const PageKey shown = wanted.ancestor(entry.level);
+                const glm::dvec2 inSlot = layout.contractToSlot(VirtualTextureLayout::positionInPage(shown, u, v));
+                return Translation{{(entry.slotX + inSlot.x) * layout.slotSize() / physicalWidth,
+                                    (entry.slotY + inSlot.y) * layout.slotSize() / physicalHeight},
+                                   entry.level,
+                                   layout.pageSize * std::exp2(static_cast<double>(entry.level) - tile.level)};
+            };
             // The level of detail: the course's anisotropic formula at the finest level's texels
             // (the long axis alone without anisotropy: anisotropyLog2 0).
             const double finestTexelsPerTile = layout.pageSize * std::exp2(static_cast<double>(layout.finestLevel) - tile.level);
@@ -289,17 +310,23 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
             const double minLod = 0.5 * std::log2(std::min(a, b));
             const double lod = maxLod - std::min(maxLod - minLod, static_cast<double>(anisotropyLog2)) + 0.25;
 
-            const float* gpu = captured.data() + i * 5;
+            const float* gpu = captured.data() + i * 9;
             INFO("tile " << tile.level << "/" << tile.x << "/" << tile.y << ", s " << p.s << ", t " << p.t << ", level "
                          << p.level);
-            REQUIRE(static_cast<int>(gpu[2]) == static_cast<int>(entry.level));
-            // A hundredth of a texel of the physical texture; the float of a level-7 tile's position
-            // carries 2^-24 of the tile, 2^-17 of a page two levels up.
-            REQUIRE(std::abs(static_cast<double>(gpu[0]) - physical.x) * physicalWidth < 0.01);
-            REQUIRE(std::abs(static_cast<double>(gpu[1]) - physical.y) * physicalHeight < 0.01);
-            REQUIRE(gpu[3] == Approx(texelsPerTile).epsilon(1e-6));
-            REQUIRE(gpu[4] == Approx(lod).margin(1e-4));
-            fallbacks += entry.level < static_cast<std::uint32_t>(p.level) ? 1 : 0;
+            const auto level = static_cast<std::uint32_t>(p.level);
+            for (const std::uint32_t translated : {level, level > 0 ? level - 1 : 0u}) {
+                INFO("translated at level " << translated);
+                const Translation expected = reference(translated);
+                const float* got = gpu + (translated == level ? 0 : 4);
+                REQUIRE(static_cast<std::uint32_t>(got[2]) == expected.shownLevel);
+                // A hundredth of a texel of the physical texture; the float of a level-7 tile's
+                // position carries 2^-24 of the tile, 2^-17 of a page two levels up.
+                REQUIRE(std::abs(static_cast<double>(got[0]) - expected.physical.x) * physicalWidth < 0.01);
+                REQUIRE(std::abs(static_cast<double>(got[1]) - expected.physical.y) * physicalHeight < 0.01);
+                REQUIRE(got[3] == Approx(expected.texelsPerTile).epsilon(1e-6));
+            }
+            REQUIRE(gpu[8] == Approx(lod).margin(1e-4));
+            fallbacks += reference(level).shownLevel < level ? 1 : 0;
             ++checked;
         }
     }

@@ -1,11 +1,13 @@
 // Software virtual texturing over the globe (Mayer 4.4, course 6.1): a tile of the surface reads
 // one virtual texture through the page table. The level of detail comes from the derivatives of
 // the texture coordinates, anisotropic as the course's 6.1.1; it is clamped from below by the
-// LOD-clamp texture so that it never asks for a level the page table cannot give there, and the
-// clamp varies smoothly across pages (course 6.1.2), so a region waiting for its pages shows as a
-// gradual blur, never as a seam; then two levels are looked up in the page table (point-sampled,
-// explicit level) and blended (trilinear filtering with two translations, course 6.1.2), each read
-// from its page's slot with corrected gradients, inside the page's border.
+// page table so that it never shows a level the page table cannot give there (where the page asked
+// for falls back to a coarser one, that one alone), and while pages wait, by the LOD-clamp texture,
+// which varies smoothly across pages (course 6.1.2), so a region waiting for its pages shows as a
+// gradual blur, never as a seam; then two levels are blended (trilinear filtering with two
+// translations, course 6.1.2), each read from its page's slot with corrected gradients, inside the
+// page's border. One fetch of the page table (point-sampled, from the one image holding every
+// level) gives both levels' entries: each entry carries its parent page's.
 //
 // Positions are worked out per surface tile in integers (the page under a point at any level) and
 // small fractions (where in the page), so that the precision does not depend on how deep the
@@ -22,7 +24,7 @@ in vec3 v_normal;
 out vec4 fragmentColor;
 #endif
 
-uniform sampler2D og_texture0; // page table: mip m holds level N - m; RGBA8 slot x, slot y, level, flags
+uniform sampler2D og_texture0; // page table: every level in one image (VirtualTextureLayout::pageTableOrigin); RG32F, PageTable::texels
 uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border
 uniform sampler2D og_texture2; // LOD clamp, RG32F, a texel per page of the finest level
 uniform sampler2D og_texture3; // the mip tail: level 0's two pages as one mipmapped texture
@@ -32,7 +34,7 @@ uniform vec2 u_physicalTexelSize; // 1 / the physical texture's width and height
 uniform float u_lodBias;          // levels, > 0 coarser; the feedback pass adds log2 of its divisor
 uniform float u_maximumAnisotropyLog2;
 
-const float kMissing = 4.0; // PageTableEntry::kMissing
+const int kMissing = 4; // PageTableEntry::kMissing
 
 // The page under a point of the surface tile at a level, and where in it the point is (0..1).
 struct PagePosition {
@@ -63,10 +65,27 @@ struct PageEntry {
     bool missing;
 };
 
-PageEntry vtPageEntry(int level, ivec2 page)
+// From slot x + 2^8 slot y + 2^16 level + 2^21 flags, an integer exact in a float.
+PageEntry vtDecodeEntry(float encoded)
 {
-    vec4 entry = floor(texelFetch(og_texture0, page, u_layout.x - level) * 255.0 + 0.5);
-    return PageEntry(entry.rg, int(entry.b), mod(floor(entry.a / kMissing), 2.0) == 1.0);
+    int bits = int(encoded);
+    return PageEntry(vec2(float(bits & 255), float((bits >> 8) & 255)), (bits >> 16) & 31, ((bits >> 21) & kMissing) != 0);
+}
+
+// A page's entry and its parent page's (the page one level coarser holding it): the two levels a
+// trilinear lookup blends.
+struct PageEntries {
+    PageEntry own;
+    PageEntry parent;
+};
+
+PageEntries vtPageEntries(int level, ivec2 page)
+{
+    // VirtualTextureLayout::pageTableOrigin
+    int finest = u_layout.x;
+    ivec2 origin = level == finest ? ivec2(0) : ivec2((2 << finest) - (4 << level), 1 << finest);
+    vec2 texel = texelFetch(og_texture0, page + origin, 0).rg;
+    return PageEntries(vtDecodeEntry(texel.r), vtDecodeEntry(texel.g));
 }
 
 // Where a point of the tile is in the physical texture, read through the entry of its page at a
@@ -155,7 +174,13 @@ struct LevelChoice {
 LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
 {
     float finest = float(u_layout.x);
+#ifdef VT_LOD_RAMP
     float allowed = vtLodClamp(tileCoordinates, lod);
+#else
+    // No page waits: the page table's entry alone keeps the levels shown resident (see main),
+    // without a read of the clamp.
+    float allowed = 0.0;
+#endif
 #ifdef VT_TRILINEAR
     float asked = clamp(floor(lod), 0.0, finest);
     float shown = clamp(max(lod, allowed), 0.0, finest);
@@ -172,10 +197,9 @@ LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
 
 #ifdef OG_FRAGMENT_SHADER
 
-vec4 vtSample(int level, vec2 tileCoordinates, vec2 dx, vec2 dy)
+// The texels at a point of the tile, wanted at a level, through the page-table entry there.
+vec4 vtSample(PageEntry entry, int level, PagePosition wanted, vec2 tileCoordinates, vec2 dx, vec2 dy)
 {
-    PagePosition wanted = vtPagePosition(level, tileCoordinates);
-    PageEntry entry = vtPageEntry(level, wanted.page);
     float texelsPerTile;
     vec2 physical = vtPhysicalPosition(entry, level, wanted, tileCoordinates, texelsPerTile);
 #ifdef VT_ANISOTROPIC
@@ -194,9 +218,9 @@ void main()
     vec2 tc = v_tileCoordinates;
     LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dFdx(tc), dFdy(tc)), tc);
     PagePosition asked = vtPagePosition(choice.asked, tc);
-    PageEntry askedEntry = vtPageEntry(choice.asked, asked.page);
+    PageEntry askedEntry = vtPageEntries(choice.asked, asked.page).own;
     PageEntry shownEntry = choice.finer == choice.asked ? askedEntry
-                                                        : vtPageEntry(choice.finer, vtPagePosition(choice.finer, tc).page);
+                                                        : vtPageEntries(choice.finer, vtPagePosition(choice.finer, tc).page).own;
     bool fallback = min(shownEntry.level, choice.finer) < choice.asked && !askedEntry.missing;
     uint bits = uint(asked.page.x) | (uint(asked.page.y) << 13) | (uint(choice.asked) << 26) |
                 (fallback ? (1u << 30) : 0u) | (1u << 31);
@@ -223,23 +247,32 @@ void main()
     vec4 texel;
 #ifdef VT_MIP_TAIL
     // Compiled in only for tiles that may have pixels coarser than level 0 (the CPU's
-    // mayAskForMipTail): elsewhere both sides would cost every pixel on llvmpipe.
-    if (choice.tail) {
-        // Level 0 as a whole: u and v over the globe.
-        vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
+    // mayAskForMipTail): elsewhere both sides would cost every pixel on llvmpipe. Level 0 as a
+    // whole: u and v over the globe; read before the branch, where implicit derivatives are
+    // defined (and llvmpipe runs both sides anyway).
+    vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
 #ifdef VT_ANISOTROPIC
-        vec2 scale = exp2(u_lodBias) / tiles; // the gradients scaled by the bias
-        texel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
+    vec2 scale = exp2(u_lodBias) / tiles; // the gradients scaled by the bias
+    vec4 tailTexel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
 #else
-        // Its level of detail is known: the tail's level 0 is the virtual texture's.
-        texel = textureLod(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, lod - float(u_layout.x));
+    // Its level of detail from the implicit derivatives, as the hardware works it out for a
+    // quad of pixels at once (cheaper on llvmpipe than a level per pixel): the tail's level 0
+    // is the virtual texture's.
+    vec4 tailTexel = texture(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, u_lodBias);
 #endif
+    if (choice.tail) {
+        texel = tailTexel;
     } else
 #endif
     {
-        texel = vtSample(choice.finer, tc, dx, dy);
-        if (choice.coarserWeight > 0.0) {
-            texel = mix(texel, vtSample(choice.finer - 1, tc, dx, dy), choice.coarserWeight);
+        PagePosition wanted = vtPagePosition(choice.finer, tc);
+        PageEntries entries = vtPageEntries(choice.finer, wanted.page);
+        texel = vtSample(entries.own, choice.finer, wanted, tc, dx, dy);
+        // Where the page falls back to a coarser one, that one alone, as the LOD clamp would have it.
+        float coarserWeight = entries.own.level < choice.finer ? 0.0 : choice.coarserWeight;
+        if (coarserWeight > 0.0) {
+            int coarser = choice.finer - 1;
+            texel = mix(texel, vtSample(entries.parent, coarser, vtPagePosition(coarser, tc), tc, dx, dy), coarserWeight);
         }
     }
     vec3 color = u_baseColor.rgb;

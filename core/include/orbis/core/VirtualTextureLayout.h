@@ -50,6 +50,20 @@ struct VirtualTextureLayout {
         return static_cast<std::uint64_t>(pagesY(level)) * static_cast<std::uint64_t>(pageSize);
     }
 
+    /// Where a level's page-table entries start in the page-table texture, which holds every level
+    /// in one image (the shader then reads the texture's level 0 only: a fetch at a mipmap level
+    /// that varies from pixel to pixel costs llvmpipe more): the finest level n at the origin,
+    /// 2^(n+1) x 2^n entries, and the coarser ones in a row above it, the next coarser to the right.
+    static constexpr glm::uvec2 pageTableOrigin(std::uint32_t level, std::uint32_t finestLevel) noexcept
+    {
+        return level == finestLevel ? glm::uvec2(0) : glm::uvec2((2u << finestLevel) - (4u << level), 1u << finestLevel);
+    }
+    /// The page-table texture's size: 2^(n+1) by 2^n + 2^(n-1) entries, no wider than the finest level.
+    static constexpr glm::uvec2 pageTableSize(std::uint32_t finestLevel) noexcept
+    {
+        return {2u << finestLevel, (1u << finestLevel) + (1u << finestLevel) / 2};
+    }
+
     /// The index of the first page of a level when pages are numbered level by level from level
     /// 0, each level row by row from the south, each row from the west (the quadtree's linear
     /// order): the pages of levels 0..level-1 together.

@@ -66,6 +66,14 @@ public:
     /// the shader counts that as no fallback.
     void markMissing(const PageKey& page);
 
+    /// The page-table texture's texels (RG32F) for a rectangle of a level, rows from the south,
+    /// each row from the west: every entry with its parent's beside it, so that the shader finds
+    /// the two levels a trilinear lookup blends in one fetch. Red: the entry as the integer
+    /// slotX + 2^8 slotY + 2^16 level + 2^21 flags (24 bits: exact in a float); green: the parent
+    /// page's entry (at level 0, the entry itself). A parent's entry changes only with its
+    /// subtree, which marks the rectangle of its children dirty too.
+    void texels(std::uint32_t level, const PageRectangle& rectangle, std::vector<float>& out) const;
+
     /// What changed at a level since clearDirty(); empty when nothing did.
     const std::optional<PageRectangle>& dirty(std::uint32_t level) const noexcept { return _dirty[level]; }
     void clearDirty() noexcept;
