@@ -181,8 +181,7 @@ struct TileFinder {
     {
         if (scheme.projection() == TilingProjection::Geographic) {
             // From the extent found, without the scheme's general arithmetic.
-            return {(g.longitude - lastExtent.west) / (lastExtent.east - lastExtent.west),
-                    (g.latitude - lastExtent.south) / (lastExtent.north - lastExtent.south)};
+            return {(g.longitude - lastExtent.west) * _perRadian.x, (g.latitude - lastExtent.south) * _perRadian.y};
         }
         return scheme.positionInTile(lastKey, g);
     }
@@ -210,6 +209,7 @@ private:
                 last = value;
                 lastKey = *at;
                 lastExtent = scheme.tileExtent(*at);
+                _perRadian = {1.0 / (lastExtent.east - lastExtent.west), 1.0 / (lastExtent.north - lastExtent.south)};
                 return;
             }
         }
@@ -218,6 +218,7 @@ private:
     static constexpr GeodeticExtent kNowhere{0.0, 1.0, 0.0, -1.0}; ///< south above north: holds no point
     std::uint32_t _askedLevel = ~0u;
     GeodeticExtent _holds = kNowhere; ///< where the last search's answer holds
+    glm::dvec2 _perRadian{0.0};       ///< 1 / the last tile's width and height: a post's position a multiply
 };
 
 } // namespace orbis::scene::detail
