@@ -65,7 +65,7 @@ case "$target" in
   geojson)
     sources="tests/fuzz/GeoJsonFuzz.cpp world/src/GeoJson.cpp world/src/TopoJsonDocument.cpp world/src/RingConvention.cpp
       world/src/JsonText.cpp world/src/JsonLocator.cpp world/src/Diagnostics.cpp world/src/FileAccess.cpp
-      core/src/EllipsoidPolygon.cpp core/src/EarClipping.cpp core/src/PolygonCleanup.cpp core/src/PointIndex.cpp
+      core/src/EllipsoidPolygon.cpp core/src/EarClipping.cpp core/src/PolygonCleanup.cpp core/src/PointIndex.cpp core/src/SegmentPairs.cpp
       core/src/RobustPredicates.cpp core/src/TriangleMeshSubdivision.cpp core/src/EllipsoidTangentPlane.cpp
       core/src/Ellipsoid.cpp core/src/Math.cpp"
     seeds="$root/tests/fuzz/seeds/geojson/*"

@@ -357,7 +357,8 @@ private:
         std::vector<std::pair<std::size_t, std::string>> faulty; // holes to leave out, and why
         std::vector<bool>& isFaulty = _cycleIsFaulty;
         isFaulty.assign(_cycles.size(), false);
-        detail::findMeetingSegments(starts, ends, [&](std::size_t e, std::size_t f) {
+        // Judges a pair of edges that may meet.
+        auto judge = [&](std::size_t e, std::size_t f) {
             const int a = edges[e];
             const int b = edgeEnds[e];
             const int c = edges[f];
@@ -406,7 +407,14 @@ private:
             touches(a, c, o3);
             touches(b, c, o4);
             return false;
-        });
+        };
+        // Where the grid would compare many pairs (long edges close together, as in a ring of thin
+        // spikes), a sweep proves most rings touch nothing in O(n log n); what it finds is then
+        // judged pair by pair after all.
+        if (detail::findMeetingSegments(starts, ends, judge, 32 * count) == detail::PairSearch::TooManyPairs &&
+            !detail::meetOnlyAtSharedVertices(starts, ends, edges, edgeEnds)) {
+            detail::findMeetingSegments(starts, ends, judge);
+        }
         if (changed != Split::Done) {
             return changed;
         }
@@ -1049,7 +1057,7 @@ private:
             return kNotConvex;
         }
         int blocker = kEar;
-        forEachVertexIn(glm::min(pa, glm::min(pb, pc)), glm::max(pa, glm::max(pb, pc)), b, [&](int i) {
+        forEachVertexIn(pa, pb, pc, b, [&](int i) {
             if (i == a || i == b || i == c) {
                 return false;
             }
@@ -1066,15 +1074,17 @@ private:
         return blocker;
     }
 
-    // Calls visit(i) for vertices left in the box lo..hi (and maybe some others), until it returns
-    // true. near: a vertex left, at or next to the box.
+    // Calls visit(i) for vertices left in the counter-clockwise triangle a, b, c (and maybe some
+    // others in its box), until it returns true. near: a vertex left, at or next to the triangle.
     template <typename Visit>
-    void forEachVertexIn(const glm::dvec2& lo, const glm::dvec2& hi, int near, Visit&& visit)
+    void forEachVertexIn(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int near, Visit&& visit)
     {
         if (_indexed) {
-            _index.findIn(lo, hi, near, visit);
+            _index.findIn(a, b, c, near, visit);
             return;
         }
+        const glm::dvec2 lo = glm::min(a, glm::min(b, c));
+        const glm::dvec2 hi = glm::max(a, glm::max(b, c));
         for (int i = node(near).next; i != near; i = node(i).next) {
             const glm::dvec2& q = pos(i);
             if (q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && visit(i)) {

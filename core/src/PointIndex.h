@@ -3,8 +3,10 @@
 // The points of a set that lie in a box, as points are removed one by one: the ear clipper's way to
 // find what may lie inside an ear without looking at every vertex. Internal to orbis::core.
 
+#include <glm/common.hpp>
 #include <glm/vec2.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -34,18 +36,21 @@ public:
     /// Removes the point id; nothing if it is not present.
     void remove(int id) noexcept;
 
-    /// Calls visit(id) for points present with lo <= p <= hi, in no particular order and maybe a
-    /// point twice, until visit returns true; returns whether it did. near must be a point present
-    /// at or next to the box (the walk starts there).
+    /// Calls visit(id) for points present in the counter-clockwise triangle a, b, c (closed), and
+    /// maybe some others in its bounding box, in no particular order and maybe a point twice,
+    /// until visit returns true; returns whether it did. near must be a point present at or next
+    /// to the triangle (the walk starts there).
     template <typename Visit>
-    bool findIn(const glm::dvec2& lo, const glm::dvec2& hi, int near, Visit&& visit)
+    bool findIn(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int near, Visit&& visit)
     {
+        const glm::dvec2 lo = glm::min(a, glm::min(b, c));
+        const glm::dvec2 hi = glm::max(a, glm::max(b, c));
         const std::uint32_t low = key(lo);
         const std::uint32_t high = key(hi);
         int steps = 0;
         for (int i = near; i >= 0 && _key[static_cast<std::size_t>(i)] >= low; i = _previous[static_cast<std::size_t>(i)]) {
             if (++steps > kWalkLimit && walkTooLong()) {
-                return findInTree(lo, hi, visit);
+                return findInTree(Triangle{{a, b, c}, lo, hi}, visit);
             }
             if (inBox(i, lo, hi) && visit(i)) {
                 return true;
@@ -54,7 +59,7 @@ public:
         for (int i = _next[static_cast<std::size_t>(near)]; i >= 0 && _key[static_cast<std::size_t>(i)] <= high;
              i = _next[static_cast<std::size_t>(i)]) {
             if (++steps > kWalkLimit && walkTooLong()) {
-                return findInTree(lo, hi, visit);
+                return findInTree(Triangle{{a, b, c}, lo, hi}, visit);
             }
             if (inBox(i, lo, hi) && visit(i)) {
                 return true;
@@ -73,25 +78,58 @@ private:
     // For each step of a walk beyond kWalkLimit: whether to go on in the tree instead.
     bool walkTooLong() noexcept { return _tree || ++_stepsBeyondLimit > kTreeStepsPerPoint * _presentCount; }
 
+    /// A query: a counter-clockwise triangle and its bounding box.
+    struct Triangle {
+        glm::dvec2 corners[3];
+        glm::dvec2 lo, hi;
+
+        /// Whether the box lo..hi (within the triangle's box) lies wholly outside one of the
+        /// triangle's edges, by more than rounding could make up: then no point of it is in the
+        /// triangle (a thin triangle's box holds far more points than the triangle).
+        bool missesBox(const glm::dvec2& boxLo, const glm::dvec2& boxHi) const noexcept
+        {
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec2& p = corners[k];
+                const glm::dvec2 edge = corners[(k + 1) % 3] - p;
+                // The box's corner farthest to the left of the edge (inside is left).
+                const glm::dvec2 r(edge.y < 0.0 ? boxHi.x : boxLo.x, edge.x > 0.0 ? boxHi.y : boxLo.y);
+                const double left = edge.x * (r.y - p.y);
+                const double right = edge.y * (r.x - p.x);
+                if (left - right < -1e-12 * (std::abs(left) + std::abs(right))) {
+                    return true;
+                }
+            }
+            return false;
+        }
+    };
+
     /// A static k-d tree over points, with removal; see findIn.
     class Tree {
     public:
         Tree(std::span<const glm::dvec2> points, std::span<const int> present);
         void remove(int id) noexcept;
 
+        /// Calls visit(id) for the points present in the triangle's box whose k-d cell the
+        /// triangle may meet, until visit returns true.
         template <typename Visit>
-        bool findIn(const glm::dvec2& lo, const glm::dvec2& hi, Visit&& visit) const
+        bool findIn(const Triangle& triangle, Visit&& visit) const
         {
+            const glm::dvec2& lo = triangle.lo;
+            const glm::dvec2& hi = triangle.hi;
             struct Range {
                 int first, last, axis;
+                glm::dvec2 cellLo, cellHi; // the subtree's cell, within the triangle's box
             };
             Range stack[96]; // the depth is at most log2(n) + 1
             int top = 0;
             if (!_ids.empty()) {
-                stack[top++] = {0, static_cast<int>(_ids.size()) - 1, 0};
+                stack[top++] = {0, static_cast<int>(_ids.size()) - 1, 0, lo, hi};
             }
             while (top > 0) {
                 const Range range = stack[--top];
+                if (triangle.missesBox(range.cellLo, range.cellHi)) {
+                    continue;
+                }
                 if (range.last - range.first < kLeafSize) {
                     if (_count[static_cast<std::size_t>(range.first)] == 0) {
                         continue;
@@ -112,10 +150,14 @@ private:
                 }
                 const double split = _points[static_cast<std::size_t>(middle)][range.axis];
                 if (lo[range.axis] <= split) {
-                    stack[top++] = {range.first, middle - 1, 1 - range.axis};
+                    glm::dvec2 cellHi = range.cellHi;
+                    cellHi[range.axis] = std::min(cellHi[range.axis], split);
+                    stack[top++] = {range.first, middle - 1, 1 - range.axis, range.cellLo, cellHi};
                 }
                 if (hi[range.axis] >= split) {
-                    stack[top++] = {middle + 1, range.last, 1 - range.axis};
+                    glm::dvec2 cellLo = range.cellLo;
+                    cellLo[range.axis] = std::max(cellLo[range.axis], split);
+                    stack[top++] = {middle + 1, range.last, 1 - range.axis, cellLo, range.cellHi};
                 }
             }
             return false;
@@ -140,12 +182,12 @@ private:
     };
 
     template <typename Visit>
-    bool findInTree(const glm::dvec2& lo, const glm::dvec2& hi, Visit&& visit)
+    bool findInTree(const Triangle& triangle, Visit&& visit)
     {
         if (!_tree) {
             buildTree();
         }
-        return _tree->findIn(lo, hi, visit);
+        return _tree->findIn(triangle, visit);
     }
     void buildTree();
 

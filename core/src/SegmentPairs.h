@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -155,17 +156,34 @@ private:
     std::int64_t _cells = 1; // per axis
 };
 
+/// True when the segments from[k] -> to[k], each from vertex fromVertex[k] to vertex toVertex[k]
+/// (ids >= 0: the nodes of closed rings, where each vertex starts one segment and ends one), have
+/// a position per vertex that no other vertex has, and meet only where
+/// two share a vertex, there at that point alone: then no segment touches or crosses another.
+/// Proved by a sweep of a vertical line across the vertices (Shamos and Hoey), comparing only
+/// segments next to each other along the line: O(n log n) whatever the segments' lengths, where
+/// findMeetingSegments looks at every pair whose boxes overlap (most pairs of a ring of long thin
+/// spikes). False as soon as it finds anything else, without saying what: the caller looks closer.
+bool meetOnlyAtSharedVertices(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to,
+                              std::span<const int> fromVertex, std::span<const int> toVertex);
+
+/// What findMeetingSegments did: visit returned true (Stopped), every pair was visited
+/// (Finished), or none was, for the pairs to look at were more than the limit.
+enum class PairSearch { Stopped, Finished, TooManyPairs };
+
 /// Calls visit(i, j), i < j, once for every pair of the segments from[k] -> to[k] that share a
-/// point, and for some pairs that come close; stops when visit returns true, and returns whether it
-/// did. The segments go into a SegmentGrid, each into the cells it passes through, so the work is
-/// about the number of segments plus, per cell, the square of the segments in it: linear for rings
-/// whose edges are about equally long, whatever the shape.
+/// point, and for some pairs that come close; stops when visit returns true. The segments go into
+/// a SegmentGrid, each into the cells it passes through, so the work is about the number of
+/// segments plus, per cell, the square of the segments in it: linear for rings whose edges are
+/// about equally long, whatever the shape; where the pairs sharing a cell are more than pairLimit
+/// (long edges close together: a ring of thin spikes), it visits none.
 template <typename Visit>
-bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to, Visit&& visit)
+PairSearch findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to, Visit&& visit,
+                               std::size_t pairLimit = std::numeric_limits<std::size_t>::max())
 {
     const std::size_t count = from.size();
     if (count < 2) {
-        return false;
+        return PairSearch::Finished;
     }
     // Whether segment j's bounding box meets the box lo..hi.
     auto meets = [&](const glm::dvec2& lo, const glm::dvec2& hi, std::size_t j) {
@@ -180,11 +198,11 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
             const glm::dvec2 hi = glm::max(from[i], to[i]);
             for (std::size_t j = i + 1; j < count; ++j) {
                 if (meets(lo, hi, j) && visit(i, j)) {
-                    return true;
+                    return PairSearch::Stopped;
                 }
             }
         }
-        return false;
+        return PairSearch::Finished;
     }
     const SegmentGrid grid(from, to);
     // Segments by cell, through a hash of the cell into 2^k buckets (a bucket may hold several
@@ -207,8 +225,14 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
     for (const std::uint32_t bucket : buckets) {
         ++start[bucket + 1];
     }
+    std::size_t pairs = 0;
     for (std::size_t bucket = 1; bucket <= bucketCount; ++bucket) {
+        const std::size_t inBucket = start[bucket];
+        pairs += inBucket * (inBucket - std::min<std::size_t>(inBucket, 1)) / 2;
         start[bucket] += start[bucket - 1];
+    }
+    if (pairs > pairLimit) {
+        return PairSearch::TooManyPairs;
     }
     // Each bucket's segments in increasing order, and where each segment stands in its buckets.
     std::vector<std::uint32_t> segments(buckets.size());
@@ -237,12 +261,12 @@ bool findMeetingSegments(std::span<const glm::dvec2> from, std::span<const glm::
                 }
                 metLast[j] = i;
                 if (meets(lo, hi, j) && visit(i, j)) {
-                    return true;
+                    return PairSearch::Stopped;
                 }
             }
         }
     }
-    return false;
+    return PairSearch::Finished;
 }
 
 /// Segments, named by ids, filed by the cells of a uniform grid that they pass through (about one
