@@ -23,11 +23,6 @@ std::uint32_t spread(std::uint32_t v) noexcept
 
 PointIndex::PointIndex() = default;
 
-PointIndex::PointIndex(std::span<const glm::dvec2> points, std::span<const int> present)
-{
-    reset(points, present);
-}
-
 void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> present)
 {
     _points = points;

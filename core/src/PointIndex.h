@@ -23,12 +23,12 @@ namespace orbis::detail {
 /// it), whose query takes O(sqrt(n) + k) whatever the box.
 class PointIndex {
 public:
+    /// Empty until reset.
     PointIndex();
-    /// Indexes points[id] for each id in present (ids index points, which must outlive the index).
-    PointIndex(std::span<const glm::dvec2> points, std::span<const int> present);
     ~PointIndex();
 
-    /// Indexes these points instead, keeping the memory of those before.
+    /// Indexes points[id] for each id in present (ids index points, which must outlive the
+    /// index), instead of those before, keeping their memory.
     void reset(std::span<const glm::dvec2> points, std::span<const int> present);
     PointIndex(const PointIndex&) = delete;
     PointIndex& operator=(const PointIndex&) = delete;

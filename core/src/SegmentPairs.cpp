@@ -136,8 +136,8 @@ bool meetOnlyAtSharedVertices(std::span<const glm::dvec2> from, std::span<const 
         // line before those whose first end it is join it.
         const std::uint32_t leaving = vertices[v].segment;
         const std::uint32_t arriving = ending[static_cast<std::size_t>(fromVertex[leaving])];
+        const glm::dvec2& here = from[leaving];
         for (const std::uint32_t segment : {arriving, leaving}) {
-            const glm::dvec2& here = from[leaving];
             if (last[segment] != here) {
                 continue;
             }
@@ -151,7 +151,7 @@ bool meetOnlyAtSharedVertices(std::span<const glm::dvec2> from, std::span<const 
             line.erase(at);
         }
         for (const std::uint32_t segment : {arriving, leaving}) {
-            if (first[segment] != from[leaving]) {
+            if (first[segment] != here) {
                 continue;
             }
             const auto at = line.insert(place(segment), segment);

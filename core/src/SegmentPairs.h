@@ -228,7 +228,7 @@ PairSearch findMeetingSegments(std::span<const glm::dvec2> from, std::span<const
     std::size_t pairs = 0;
     for (std::size_t bucket = 1; bucket <= bucketCount; ++bucket) {
         const std::size_t inBucket = start[bucket];
-        pairs += inBucket * (inBucket - std::min<std::size_t>(inBucket, 1)) / 2;
+        pairs += inBucket * (inBucket - 1) / 2; // 0 for an empty bucket too (unsigned)
         start[bucket] += start[bucket - 1];
     }
     if (pairs > pairLimit) {
