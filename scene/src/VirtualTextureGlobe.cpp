@@ -10,6 +10,7 @@
 #include "orbis/scene/TileQuadtree.h"
 
 #include <orbis/core/Error.h>
+#include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/IntersectionTests.h>
 #include <orbis/core/TileMesh.h>
 #include <orbis/renderer/Context.h>
@@ -69,6 +70,15 @@ struct FeedbackView {
     int height = 0;
     double lodBias = 0.0;
     friend bool operator==(const FeedbackView&, const FeedbackView&) = default;
+};
+
+/// What a feedback pass draws from: the view, the tiles drawn and the page table's and LOD
+/// clamp's contents (their version). A frame with the same inputs would draw the same feedback.
+struct FeedbackInputs {
+    FeedbackView view;
+    std::vector<TileKey> tiles;
+    std::uint64_t tablesVersion = 0;
+    friend bool operator==(const FeedbackInputs&, const FeedbackInputs&) = default;
 };
 
 /// A feedback buffer on its way back from the GPU.
@@ -166,7 +176,11 @@ struct VirtualTextureGlobe::Impl {
     bool uploadPage(FrameState& frameState, const PageKey& page, const Image& image);
     /// Sends the page table's changed rectangles, and the LOD clamp's, to the GPU.
     void uploadTables();
-    void updateLodClamp();
+    /// Level 0 halved down to 1 x 1 (level 0: its two pages side by side, rows from the north),
+    /// into the strip below the slots (VirtualTextureLayout::tailOffset).
+    void uploadTail(const Image& level0);
+    /// Whether it uploaded anything.
+    bool updateLodClamp();
     void readFeedback(FrameState& frameState);
     void adjustBias();
     void requestPages();
@@ -208,6 +222,8 @@ struct VirtualTextureGlobe::Impl {
 
     // The latest feedback read back, and what the view needs from it.
     std::optional<FeedbackView> feedbackView;
+    std::optional<FeedbackInputs> lastFeedbackInputs; ///< of the last feedback pass drawn
+    std::uint64_t tablesVersion = 0;                  ///< counts the frames the tables changed in
     FeedbackSummary summary;
     std::vector<PageCount> needed;
     std::unordered_set<PageKey, TileKeyHash> neededSet;
@@ -226,8 +242,6 @@ struct VirtualTextureGlobe::Impl {
     std::vector<glm::vec2> clampValues;
     std::vector<std::uint8_t> waiting;               ///< finest pages under a page asked for, not resident
     std::vector<PageRectangle> waitingFootprints;    ///< those pages' extents at the finest level
-    std::optional<renderer::Texture2D> tail; ///< level 0's two pages, mipmapped
-    std::optional<renderer::Sampler> tailSampler;
     std::optional<renderer::Sampler> physicalSampler;
     std::optional<renderer::Sampler> pointSampler;
     std::unique_ptr<renderer::Framebuffer> feedbackTarget;
@@ -258,9 +272,6 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
     std::size_t bytes = 0;
     if (physical) {
         bytes += static_cast<std::size_t>(physical->width()) * physical->height() * 4;
-    }
-    if (tail) {
-        bytes += static_cast<std::size_t>(tail->width()) * tail->height() * 4 * 4 / 3;
     }
     if (pageTableTexture) {
         bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 8;
@@ -299,11 +310,14 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     renderer::Device& device = frameState.device;
     const int maximum = device.info().maxTextureSize;
     const int slot = layout.slotSize();
-    if (cache->slotsX() * slot > maximum || cache->slotsY() * slot > maximum) {
+    // The slots, and the mip tail's strip below them.
+    const int physicalWidth = std::max(cache->slotsX() * slot, layout.tailStripSize().x);
+    const int physicalHeight = cache->slotsY() * slot + layout.tailStripSize().y;
+    if (physicalWidth > maximum || physicalHeight > maximum) {
         throw Error("VirtualTextureGlobe: a physical texture of " + std::to_string(cache->capacity()) + " pages of " +
-                    std::to_string(slot) + " texels is " + std::to_string(cache->slotsX() * slot) + " x " +
-                    std::to_string(cache->slotsY() * slot) + " texels, beyond this device's " +
-                    std::to_string(maximum) + "; ask for fewer physicalPages or a smaller pageSize");
+                    std::to_string(slot) + " texels is " + std::to_string(physicalWidth) + " x " +
+                    std::to_string(physicalHeight) + " texels, beyond this device's " + std::to_string(maximum) +
+                    "; ask for fewer physicalPages or a smaller pageSize");
     }
     const std::uint32_t pagesX = VirtualTextureLayout::pagesX(layout.finestLevel);
     const std::uint32_t pagesY = VirtualTextureLayout::pagesY(layout.finestLevel);
@@ -314,7 +328,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
                     "; use larger pages");
     }
     physical = std::make_shared<renderer::Texture2D>(device.createTexture2D(
-        {cache->slotsX() * slot, cache->slotsY() * slot, renderer::TextureFormat::RGBA8, false}));
+        {physicalWidth, physicalHeight, renderer::TextureFormat::RGBA8, false}));
     {
         // Defined texels in the empty slots, dark grey in pictures of the physical texture; no
         // pixel ever reads them.
@@ -338,12 +352,8 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     point.magnificationFilter = TextureMagnificationFilter::Nearest;
     pointSampler = device.createSampler(point);
 
-    SamplerDescription trilinear = linear;
-    trilinear.minificationFilter = TextureMinificationFilter::LinearMipmapLinear;
-    trilinear.wrapS = TextureWrap::Repeat; // across the antimeridian
-    tailSampler = device.createSampler(trilinear);
-
-    // The coarsest level, here and now: every pixel of the first frame has a page.
+    // The coarsest level, here and now: every pixel of the first frame has a page; and the mip
+    // tail made from it.
     Image tailImage(2 * layout.pageSize, layout.pageSize, 4);
     for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(0); ++x) {
         const PageKey root{0, x, 0};
@@ -363,7 +373,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
                         image->pixel(layout.border, layout.border + row), static_cast<std::size_t>(layout.pageSize) * 4);
         }
     }
-    tail = device.createTexture2D(tailImage, true);
+    uploadTail(tailImage);
     uploadTables();
 }
 
@@ -394,14 +404,38 @@ bool VirtualTextureGlobe::Impl::uploadPage(FrameState& frameState, const PageKey
     return true;
 }
 
+void VirtualTextureGlobe::Impl::uploadTail(const Image& level0)
+{
+    const int border = layout.border;
+    const int stripY = cache->slotsY() * layout.slotSize();
+    const std::vector<Image> chain = mipmapChain(level0);
+    for (int t = 1; t <= layout.tailLevels(); ++t) {
+        const Image& level = chain[static_cast<std::size_t>(t) - 1];
+        const int width = level.width + 2 * border, height = level.height + 2 * border;
+        // Rows from the south, as GL has them; the border as a page's: the antimeridian wraps,
+        // beyond a pole the edge row repeats.
+        staging.resize(static_cast<std::size_t>(width) * height * 4);
+        for (int y = 0; y < height; ++y) {
+            const int row = std::clamp(level.height - 1 - (y - border), 0, level.height - 1);
+            for (int x = 0; x < width; ++x) {
+                const int column = ((x - border) % level.width + level.width) % level.width;
+                std::memcpy(staging.data() + (static_cast<std::size_t>(y) * width + x) * 4, level.pixel(column, row), 4);
+            }
+        }
+        physical->copyFromSystemMemory(std::as_bytes(std::span(staging)), {layout.tailOffset(t), stripY, width, height});
+    }
+}
+
 void VirtualTextureGlobe::Impl::uploadTables()
 {
     const std::uint32_t finest = layout.finestLevel;
+    bool changed = false;
     for (std::uint32_t level = 0; level <= finest; ++level) {
         const std::optional<PageRectangle>& dirty = pageTable.dirty(level);
         if (!dirty) {
             continue;
         }
+        changed = true;
         pageTable.texels(level, *dirty, tableTexels);
         const glm::uvec2 origin = VirtualTextureLayout::pageTableOrigin(level, finest);
         pageTableTexture->copyFromSystemMemory(
@@ -410,8 +444,9 @@ void VirtualTextureGlobe::Impl::uploadTables()
              static_cast<int>(dirty->x1 - dirty->x0), static_cast<int>(dirty->y1 - dirty->y0)});
         statistics.uploadedBytes += tableTexels.size() * sizeof(float);
     }
-    updateLodClamp();
+    changed = updateLodClamp() || changed;
     pageTable.clearDirty();
+    tablesVersion += changed ? 1 : 0;
 }
 
 namespace {
@@ -426,7 +461,7 @@ PageRectangle unite(const std::optional<PageRectangle>& a, const PageRectangle& 
 
 } // namespace
 
-void VirtualTextureGlobe::Impl::updateLodClamp()
+bool VirtualTextureGlobe::Impl::updateLodClamp()
 {
     // Where the view asks for pages that are not resident yet: their extents at the finest level.
     const std::uint32_t finest = layout.finestLevel;
@@ -463,7 +498,7 @@ void VirtualTextureGlobe::Impl::updateLodClamp()
         waitingFootprints = std::move(footprints);
     }
     if (!dirty) {
-        return;
+        return false;
     }
     const std::uint32_t pagesX = VirtualTextureLayout::pagesX(finest);
     for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
@@ -495,6 +530,7 @@ void VirtualTextureGlobe::Impl::updateLodClamp()
                                    {static_cast<int>(dirty->x0), static_cast<int>(dirty->y0),
                                     static_cast<int>(dirty->x1 - dirty->x0), static_cast<int>(dirty->y1 - dirty->y0)});
     statistics.uploadedBytes += region.size() * sizeof(glm::vec2);
+    return true;
 }
 
 void VirtualTextureGlobe::Impl::receive(world::TileLoadResult result)
@@ -691,6 +727,8 @@ void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const Q
     set("u_physicalTexelSize",
         glm::vec2(1.0f / static_cast<float>(physical->width()), 1.0f / static_cast<float>(physical->height())));
     set("u_lodBias", static_cast<float>(lodBias));
+    set("u_tailOrigin", glm::vec2(0.0f, static_cast<float>(cache->slotsY() * layout.slotSize())));
+    set("u_tailLevels", layout.tailLevels());
     set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
 }
 
@@ -944,7 +982,21 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
 
         const FeedbackView current{camera.eye(), camera.target(), camera.up(), camera.fieldOfViewY(),
                                    frameState.width, frameState.height, impl.bias()};
-        impl.drawFeedback(frameState, current);
+        FeedbackInputs inputs{current, {}, impl.tablesVersion};
+        inputs.tiles.reserve(impl.selection.drawn.size());
+        for (const QuadtreeTile* tile : impl.selection.drawn) {
+            inputs.tiles.push_back(tile->key);
+        }
+        if (inputs != impl.lastFeedbackInputs) {
+            impl.drawFeedback(frameState, current);
+            impl.lastFeedbackInputs = std::move(inputs);
+        } else {
+            // The last feedback drawn is this frame's: no pass (a still view costs no more than
+            // its draws); its pages are used this frame as it read them.
+            for (const PageCount& count : impl.needed) {
+                impl.cache->touch(count.page, frame);
+            }
+        }
 
         VirtualTextureStatistics& s = impl.statistics;
         s.pagesWanted = impl.needed.size();
@@ -1017,8 +1069,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         }
         command.draw.textures = {{0, &*impl.pageTableTexture, &*impl.pointSampler},
                                  {1, impl.physical.get(), &*impl.physicalSampler},
-                                 {2, &*impl.lodClamp, &*impl.pointSampler},
-                                 {3, &*impl.tail, &*impl.tailSampler}};
+                                 {2, &*impl.lodClamp, &*impl.pointSampler}};
         command.boundingSphere = tile->region.boundingSphere();
         command.nearestDistance = std::max(tile->region.distanceTo(eye), eyeHeight - tile->region.maximumHeight());
         command.tags = Effect::Globe | Effect::VirtualTexture;

@@ -1,3 +1,4 @@
+#include <orbis/core/ImageMipmaps.h>
 #include <orbis/core/TilingScheme.h>
 #include <orbis/core/VirtualTextureLayout.h>
 
@@ -161,4 +162,29 @@ TEST_CASE("Feedback samples pack into 32 bits and unpack to the same page", "[co
                                   static_cast<std::uint8_t>(bits >> 16), static_cast<std::uint8_t>(bits >> 24)};
     const std::uint32_t fromBytes = rgba[0] | (rgba[1] << 8) | (rgba[2] << 16) | (static_cast<std::uint32_t>(rgba[3]) << 24);
     CHECK(unpackFeedback(fromBytes) == sample);
+}
+
+TEST_CASE("The mip tail's levels are level 0's mipmaps, side by side in a strip without overlapping", "[core][virtual]")
+{
+    for (const int pageSize : {16, 64, 128, 256}) {
+        for (const int border : {0, 1, 4}) {
+            INFO("page size " << pageSize << ", border " << border);
+            const VirtualTextureLayout layout{pageSize, border, 3};
+            // The sizes mipmapChain makes of level 0 (two pages side by side), down to 1 x 1.
+            Image level0(2 * pageSize, pageSize, 4);
+            const std::vector<Image> chain = mipmapChain(level0);
+            REQUIRE(layout.tailLevels() == static_cast<int>(chain.size()));
+            int end = 0; // where the regions so far end across the strip
+            for (int t = 1; t <= layout.tailLevels(); ++t) {
+                const glm::ivec2 size = layout.tailSize(t);
+                CHECK(size.x == chain[static_cast<std::size_t>(t) - 1].width);
+                CHECK(size.y == chain[static_cast<std::size_t>(t) - 1].height);
+                CHECK(layout.tailOffset(t) == end); // next to the one before, no gap, no overlap
+                end += size.x + 2 * border;
+                CHECK(size.y + 2 * border <= layout.tailStripSize().y);
+            }
+            CHECK(layout.tailSize(layout.tailLevels()) == glm::ivec2(1, 1));
+            CHECK(layout.tailStripSize().x == end);
+        }
+    }
 }

@@ -461,7 +461,7 @@ TEST_CASE("Virtual texture frames are the same whatever the loader's thread coun
     CHECK(run(2) == inline_);
 }
 
-TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][virtual][gl]")
+TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a still view once converged", "[scene][virtual][gl]")
 {
     TiledGlobeOptions tiledOptions;
     tiledOptions.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), {}});
@@ -479,14 +479,33 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass", "[scene][vi
     Scene virtualScene(kEarth);
     virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
     placeCamera(virtualScene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
-    const RenderedFrame with = renderUntilTilesConverge(virtualScene, 160, 90, 100);
-    const std::vector<std::string> withEffects = with.statistics.effectsRun();
+    const RenderedFrame first = renderFrame(virtualScene, 160, 90);
+    const std::vector<std::string> withEffects = first.statistics.effectsRun();
     CHECK(std::find(withEffects.begin(), withEffects.end(), "virtual texture") != withEffects.end());
     CHECK(std::find(withEffects.begin(), withEffects.end(), "feedback pass") != withEffects.end());
     // Each tile twice: into the feedback buffer, then into the frame.
-    CHECK(with.statistics.renderer.drawCalls == 2 * with.statistics.commandsExecuted);
-    CHECK(with.statistics.toJson().find("\"virtualTexture\": {\"pagesWanted\"") != std::string::npos);
-    CHECK(with.statistics.toText().find("virtual texture:") != std::string::npos);
+    CHECK(first.statistics.renderer.drawCalls == 2 * first.statistics.commandsExecuted);
+    CHECK(first.statistics.toJson().find("\"virtualTexture\": {\"pagesWanted\"") != std::string::npos);
+    CHECK(first.statistics.toText().find("virtual texture:") != std::string::npos);
+
+    // Converged and still: the view, the tiles and the page table are those the last feedback
+    // pass drew, so no frame draws another, and the picture stays the same.
+    const RenderedFrame converged = renderUntilTilesConverge(virtualScene, 160, 90, 100);
+    REQUIRE(converged.statistics.virtualTexture->converged);
+    for (int frame = 0; frame < 3; ++frame) {
+        const RenderedFrame still = renderFrame(virtualScene, 160, 90);
+        const std::vector<std::string> stillEffects = still.statistics.effectsRun();
+        CHECK(std::find(stillEffects.begin(), stillEffects.end(), "feedback pass") == stillEffects.end());
+        CHECK(still.statistics.virtualTexture->feedbackWidth == 0);
+        CHECK(still.statistics.renderer.drawCalls == still.statistics.commandsExecuted);
+        CHECK(still.statistics.virtualTexture->converged);
+        CHECK(compareImages(still.image, converged.image, 0).differingPixels == 0);
+    }
+    // A step of the camera draws one again.
+    placeCamera(virtualScene, Geodetic3D::fromDegrees(8.01, 44.0, 300000.0), 0.0, -35.0);
+    const RenderedFrame moved = renderFrame(virtualScene, 160, 90);
+    CHECK(moved.statistics.virtualTexture->feedbackWidth == 40);
+    CHECK(moved.statistics.renderer.drawCalls == 2 * moved.statistics.commandsExecuted);
 }
 
 TEST_CASE("A scene without a virtual texture compiles no virtual-texture program", "[scene][virtual][gl]")

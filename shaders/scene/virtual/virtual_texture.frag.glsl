@@ -27,14 +27,21 @@ out vec4 fragmentColor;
 uniform sampler2D og_texture0; // page table: every level in one image (VirtualTextureLayout::pageTableOrigin); RG32F, PageTable::texels
 uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border
 uniform sampler2D og_texture2; // LOD clamp, RG32F, a texel per page of the finest level
-uniform sampler2D og_texture3; // the mip tail: level 0's two pages as one mipmapped texture
 uniform ivec3 u_tileKey;       // the surface tile: level, column, row (from the south)
 uniform ivec4 u_layout;        // finest level N, page size P, border B, slot size S (texels)
 uniform vec2 u_physicalTexelSize; // 1 / the physical texture's width and height
+uniform vec2 u_tailOrigin;        // the mip tail's strip in the physical texture (texels)
+uniform int u_tailLevels;         // VirtualTextureLayout::tailLevels
 uniform float u_lodBias;          // levels, > 0 coarser; the feedback pass adds log2 of its divisor
 uniform float u_maximumAnisotropyLog2;
 
 const int kMissing = 4; // PageTableEntry::kMissing
+
+// 2^e for an integer e (-126..127), exact: cheaper than exp2 or a division by 1 << e on llvmpipe.
+float vtPowerOfTwo(int e)
+{
+    return intBitsToFloat((e + 127) << 23);
+}
 
 // The page under a point of the surface tile at a level, and where in it the point is (0..1).
 struct PagePosition {
@@ -49,12 +56,12 @@ PagePosition vtPagePosition(int level, vec2 tileCoordinates)
     int finer = level - u_tileKey.x;
     int up = max(finer, 0);
     int down = max(-finer, 0);
-    float pages = float(1 << up); // pages of this level across the tile; 1 when coarser
+    float pages = vtPowerOfTwo(up); // pages of this level across the tile; 1 when coarser
     vec2 scaled = tileCoordinates * pages;
     // Interpolated coordinates overshoot 0 and 1 by a rounding at the tile's edges.
     vec2 whole = clamp(floor(scaled), vec2(0.0), vec2(pages - 1.0));
     ivec2 within = u_tileKey.yz - ((u_tileKey.yz >> down) << down); // the tile within the coarser page
-    return PagePosition(((u_tileKey.yz << up) >> down) + ivec2(whole), (vec2(within) + scaled - whole) / float(1 << down));
+    return PagePosition(((u_tileKey.yz << up) >> down) + ivec2(whole), (vec2(within) + scaled - whole) * vtPowerOfTwo(-down));
 }
 
 // A page-table entry: the slot, the level of the page in it (the page's own or an ancestor's), and
@@ -95,9 +102,9 @@ vec2 vtPhysicalPosition(PageEntry entry, int level, PagePosition wanted, vec2 ti
     // Where the point is in the ancestor the entry falls back to, `coarser` levels up (0: the
     // page itself), from where it is in the page asked for.
     int coarser = max(level - entry.level, 0);
-    vec2 inPage = (vec2(wanted.page - ((wanted.page >> coarser) << coarser)) + wanted.inPage) / float(1 << coarser);
+    vec2 inPage = (vec2(wanted.page - ((wanted.page >> coarser) << coarser)) + wanted.inPage) * vtPowerOfTwo(-coarser);
     vec2 texel = entry.slot * float(u_layout.w) + float(u_layout.z) + inPage * float(u_layout.y);
-    texelsPerTile = float(u_layout.y) * exp2(float(entry.level - u_tileKey.x));
+    texelsPerTile = float(u_layout.y) * vtPowerOfTwo(entry.level - u_tileKey.x);
     return texel * u_physicalTexelSize;
 }
 
@@ -105,7 +112,7 @@ vec2 vtPhysicalPosition(PageEntry entry, int level, PagePosition wanted, vec2 ti
 // from the derivatives of the tile coordinates across and up one pixel.
 float vtLevelOfDetail(vec2 dx, vec2 dy)
 {
-    float texelsPerTile = float(u_layout.y) * exp2(float(u_layout.x - u_tileKey.x));
+    float texelsPerTile = float(u_layout.y) * vtPowerOfTwo(u_layout.x - u_tileKey.x);
     vec2 a = dx * texelsPerTile;
     vec2 b = dy * texelsPerTile;
     float pa = max(dot(a, a), 1e-30);
@@ -161,14 +168,13 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
     return allowed;
 }
 
-// What a point shows: the finer of the two levels blended and the weight of the coarser one; or,
-// for a footprint wider than a texel of level 0, the mip tail (Mayer 4.1: no page is smaller than
-// a page, so below level 0 the two pages are an ordinary mipmapped texture).
+// What a point shows: the finer of the two levels blended and the weight of the coarser one; and,
+// for a footprint wider than a texel of level 0, how much wider (the mip tail's levels).
 struct LevelChoice {
     int finer;           // level (0 coarsest .. N finest)
     float coarserWeight; // 0 when only the finer level is read
     int asked;           // the level the point's texels ask for, before the clamp
-    bool tail;
+    float beyondLevel0;  // levels coarser than level 0 the point shows; > 0: the mip tail
 };
 
 LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
@@ -192,16 +198,31 @@ LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
     float weight = 0.0;
 #endif
     return LevelChoice(u_layout.x - int(finer), finer < finest ? weight : 0.0, u_layout.x - int(asked),
-                       max(lod, allowed) > finest);
+                       max(lod, allowed) - finest);
 }
 
 #ifdef OG_FRAGMENT_SHADER
 
-// The texels at a point of the tile, wanted at a level, through the page-table entry there.
-vec4 vtSample(PageEntry entry, int level, PagePosition wanted, vec2 tileCoordinates, vec2 dx, vec2 dy)
+// Where a point of the tile is in tail level t (Mayer 4.1: no page is smaller than a page, so the
+// levels coarser than level 0 are its two pages halved t times, 1 .. VirtualTextureLayout::
+// tailLevels), kept side by side in a strip of the physical texture (VirtualTextureLayout::
+// tailOffset), and how many texels one unit of tile coordinates spans there.
+vec2 vtTailPosition(int t, vec2 tileCoordinates, out float texelsPerTile)
 {
-    float texelsPerTile;
-    vec2 physical = vtPhysicalPosition(entry, level, wanted, tileCoordinates, texelsPerTile);
+    int twoPages = 2 * u_layout.y;
+    int border = u_layout.z;
+    vec2 size = vec2(float(max(twoPages >> t, 1)), float(max(u_layout.y >> t, 1)));
+    vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
+    vec2 onGlobe = (vec2(u_tileKey.yz) + tileCoordinates) / tiles; // u and v over the globe
+    float offset = float(twoPages - (twoPages >> (t - 1)) + 2 * border * (t - 1) + border);
+    texelsPerTile = size.x / tiles.x;
+    return (u_tailOrigin + vec2(offset, float(border)) + onGlobe * size) * u_physicalTexelSize;
+}
+
+// The physical texture's texels at a position, for a footprint (dx, dy in tile coordinates) at
+// texelsPerTile.
+vec4 vtRead(vec2 physical, float texelsPerTile, vec2 dx, vec2 dy)
+{
 #ifdef VT_ANISOTROPIC
     vec2 scale = texelsPerTile * u_physicalTexelSize;
     return textureGrad(og_texture1, physical, dx * scale, dy * scale);
@@ -219,9 +240,9 @@ void main()
     LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dFdx(tc), dFdy(tc)), tc);
     PagePosition asked = vtPagePosition(choice.asked, tc);
     PageEntry askedEntry = vtPageEntries(choice.asked, asked.page).own;
-    PageEntry shownEntry = choice.finer == choice.asked ? askedEntry
-                                                        : vtPageEntries(choice.finer, vtPagePosition(choice.finer, tc).page).own;
-    bool fallback = min(shownEntry.level, choice.finer) < choice.asked && !askedEntry.missing;
+    // A coarser level than asked for is shown where the clamp chose one (then whatever its page)
+    // or the page asked for falls back; unless the source has no such page.
+    bool fallback = (choice.finer < choice.asked || askedEntry.level < choice.asked) && !askedEntry.missing;
     uint bits = uint(asked.page.x) | (uint(asked.page.y) << 13) | (uint(choice.asked) << 26) |
                 (fallback ? (1u << 30) : 0u) | (1u << 31);
     fragmentColor = vec4(float(bits & 255u), float((bits >> 8) & 255u), float((bits >> 16) & 255u),
@@ -244,36 +265,31 @@ void main()
     vec2 dy = dFdy(tc);
     float lod = vtLevelOfDetail(dx, dy);
     LevelChoice choice = vtChooseLevels(lod, tc);
-    vec4 texel;
+    PagePosition wanted = vtPagePosition(choice.finer, tc);
+    PageEntries entries = vtPageEntries(choice.finer, wanted.page);
+    float finerTexels, coarserTexels;
+    vec2 finer = vtPhysicalPosition(entries.own, choice.finer, wanted, tc, finerTexels);
+    // The parent's entry falls back from the same page position as the page's own.
+    vec2 coarser = vtPhysicalPosition(entries.parent, choice.finer, wanted, tc, coarserTexels);
+    // Where the page falls back to a coarser one, that one alone, as the LOD clamp would have it.
+    float coarserWeight = entries.own.level < choice.finer ? 0.0 : choice.coarserWeight;
 #ifdef VT_MIP_TAIL
     // Compiled in only for tiles that may have pixels coarser than level 0 (the CPU's
-    // mayAskForMipTail): elsewhere both sides would cost every pixel on llvmpipe. Level 0 as a
-    // whole: u and v over the globe; read before the branch, where implicit derivatives are
-    // defined (and llvmpipe runs both sides anyway).
-    vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
-#ifdef VT_ANISOTROPIC
-    vec2 scale = exp2(u_lodBias) / tiles; // the gradients scaled by the bias
-    vec4 tailTexel = textureGrad(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, dx * scale, dy * scale);
-#else
-    // Its level of detail from the implicit derivatives, as the hardware works it out for a
-    // quad of pixels at once (cheaper on llvmpipe than a level per pixel): the tail's level 0
-    // is the virtual texture's.
-    vec4 tailTexel = texture(og_texture3, (vec2(u_tileKey.yz) + tc) / tiles, u_lodBias);
-#endif
-    if (choice.tail) {
-        texel = tailTexel;
-    } else
-#endif
-    {
-        PagePosition wanted = vtPagePosition(choice.finer, tc);
-        PageEntries entries = vtPageEntries(choice.finer, wanted.page);
-        texel = vtSample(entries.own, choice.finer, wanted, tc, dx, dy);
-        // Where the page falls back to a coarser one, that one alone, as the LOD clamp would have it.
-        float coarserWeight = entries.own.level < choice.finer ? 0.0 : choice.coarserWeight;
-        if (coarserWeight > 0.0) {
-            int coarser = choice.finer - 1;
-            texel = mix(texel, vtSample(entries.parent, coarser, vtPagePosition(coarser, tc), tc, dx, dy), coarserWeight);
+    // mayAskForMipTail). There the two levels blended are level 0's pages and the tail's first
+    // level, or two levels of the tail: read as the pages are, with no texture call more.
+    if (choice.beyondLevel0 > 0.0) {
+        int t = int(floor(choice.beyondLevel0)); // 0: level 0's pages, as chosen above
+        int lastTail = u_tailLevels;
+        if (t > 0) {
+            finer = vtTailPosition(min(t, lastTail), tc, finerTexels);
         }
+        coarser = vtTailPosition(min(t + 1, lastTail), tc, coarserTexels);
+        coarserWeight = t < lastTail ? fract(choice.beyondLevel0) : 0.0;
+    }
+#endif
+    vec4 texel = vtRead(finer, finerTexels, dx, dy);
+    if (coarserWeight > 0.0) {
+        texel = mix(texel, vtRead(coarser, coarserTexels, dx, dy), coarserWeight);
     }
     vec3 color = u_baseColor.rgb;
     vec3 adjusted = texel.rgb;

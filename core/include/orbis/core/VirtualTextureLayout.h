@@ -4,6 +4,8 @@
 
 #include <glm/vec2.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 
 namespace orbis {
@@ -49,6 +51,21 @@ struct VirtualTextureLayout {
     {
         return static_cast<std::uint64_t>(pagesY(level)) * static_cast<std::uint64_t>(pageSize);
     }
+
+    /// The mip tail (Mayer 4.1: no page is smaller than a page): level 0's two pages halved t times,
+    /// t = 1 .. tailLevels(), down to 1 x 1, each the box filter of the one before (halveImage).
+    /// The tail is kept in the physical texture beside the slots, so that a pixel coarser than
+    /// level 0 reads it as any other pixel reads a page: in a strip, the levels side by side from
+    /// the west, each with a border as a slot has (the antimeridian wraps, beyond a pole the edge
+    /// row repeats).
+    int tailLevels() const noexcept { return std::bit_width(static_cast<unsigned>(2 * pageSize)) - 1; }
+    /// Texels across and up tail level t (1 .. tailLevels()), its border left out.
+    glm::ivec2 tailSize(int t) const noexcept { return {std::max((2 * pageSize) >> t, 1), std::max(pageSize >> t, 1)}; }
+    /// Where tail level t's region (its border included) starts across the strip: the widths of
+    /// levels 1 .. t - 1, 2P - 2P / 2^(t-1) texels, and their borders.
+    int tailOffset(int t) const noexcept { return 2 * pageSize - ((2 * pageSize) >> (t - 1)) + 2 * border * (t - 1); }
+    /// The strip's width and height: every tail level's region, the first the tallest.
+    glm::ivec2 tailStripSize() const noexcept { return {tailOffset(tailLevels() + 1), pageSize / 2 + 2 * border}; }
 
     /// Where a level's page-table entries start in the page-table texture, which holds every level
     /// in one image (the shader then reads the texture's level 0 only: a fetch at a mipmap level

@@ -24,7 +24,9 @@ struct VirtualTextureStatistics {
     double fallbackFraction = 0.0;
     /// How many frames ago the feedback read this frame was drawn; 0 when none was read.
     std::uint64_t feedbackLatencyFrames = 0;
-    int feedbackWidth = 0;           ///< the feedback pass's size, pixels
+    /// The feedback pass's size, pixels; 0 in a frame that drew none: one whose view, tiles and
+    /// page table are those the last pass drew from, whose feedback then stands for it.
+    int feedbackWidth = 0;
     int feedbackHeight = 0;
     std::size_t uploadedBytes = 0;   ///< pages, page-table and LOD-clamp texels sent this frame
     /// Levels added to every pixel's level of detail (coarser), the dynamic part included: above
