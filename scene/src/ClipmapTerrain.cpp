@@ -786,47 +786,57 @@ struct ClipmapTerrain::Impl {
                upload(level.colorTexture, level.colors, written);
     }
 
-    /// An image's bilinear samples along one v (0 south .. 1 north, clamped), packed: weights of
-    /// 1/256, two channels a multiply (the red and blue, then the green and alpha bytes apart in
-    /// one word), for the level's posts are many.
+    /// An image's bilinear samples along one v (0 south .. 1 north, clamped), packed: positions
+    /// and weights in 1/256 of a texel, the four texels weighted at once, two channels a multiply
+    /// (the red and blue, then the green and alpha bytes apart in one word), for the level's posts
+    /// are many.
     struct ImageRow {
         ImageRow(const Image& image_, double v)
             : image(image_)
+            , east(image_.width > 1 ? 4 : 0)
         {
-            // Clamped to the outer pixels' centres, where one pixel gives the colour.
-            const double py = std::clamp((1.0 - std::clamp(v, 0.0, 1.0)) * image.height - 0.5, 0.0, image.height - 1.0);
-            const int iy = std::min(static_cast<int>(py), std::max(image.height - 2, 0));
-            fy = static_cast<std::uint32_t>((py - iy) * 256.0 + 0.5);
+            const int qy = fixedPoint(1.0 - v, image.height);
+            const int iy = std::min(qy >> 8, std::max(image.height - 2, 0));
+            fy = static_cast<std::uint32_t>(qy - (iy << 8));
             north = &image.pixels[static_cast<std::size_t>(iy) * static_cast<std::size_t>(image.width) * 4];
             south = image.height > 1 ? static_cast<std::size_t>(image.width) * 4 : 0;
+        }
+
+        /// Where t (0..1 across `size` texels) lies, in 1/256 of a texel from the first texel's
+        /// centre, rounded; clamped to the outer texels' centres, where one texel gives the colour.
+        static int fixedPoint(double t, int size) noexcept
+        {
+            return static_cast<int>(std::clamp(t * (256.0 * size) - 127.5, 0.0, 256.0 * (size - 1)));
         }
 
         /// u 0 west .. 1 east, clamped.
         std::uint32_t at(double u) const noexcept
         {
-            const double px = std::clamp(std::clamp(u, 0.0, 1.0) * image.width - 0.5, 0.0, image.width - 1.0);
-            const int ix = std::min(static_cast<int>(px), std::max(image.width - 2, 0));
-            const auto fx = static_cast<std::uint32_t>((px - ix) * 256.0 + 0.5);
-            const std::size_t east = image.width > 1 ? 4 : 0;
+            const int qx = fixedPoint(u, image.width);
+            const int ix = std::min(qx >> 8, std::max(image.width - 2, 0));
+            const auto fx = static_cast<std::uint32_t>(qx - (ix << 8));
             const std::uint8_t* p = north + static_cast<std::size_t>(ix) * 4;
             auto texel = [](const std::uint8_t* q) {
                 std::uint32_t abgr;
                 std::memcpy(&abgr, q, sizeof abgr);
                 return abgr;
             };
-            // a + (b - a) w / 256 of each byte pair, rounded.
-            auto lerpPairs = [](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
-                return ((a * (256 - w) + b * w + 0x00800080u) >> 8) & 0x00ff00ffu;
-            };
-            auto lerp = [&](std::uint32_t a, std::uint32_t b, std::uint32_t w) {
-                return lerpPairs(a & 0x00ff00ffu, b & 0x00ff00ffu, w) | (lerpPairs((a >> 8) & 0x00ff00ffu, (b >> 8) & 0x00ff00ffu, w) << 8);
-            };
-            return lerp(lerp(texel(p), texel(p + east), fx), lerp(texel(p + south), texel(p + south + east), fx), fy);
+            // Weights of 256 in all; the south-east one rounded, the others what remains of theirs.
+            const std::uint32_t se = (fx * fy + 128) >> 8, ne = fx - se, sw = fy - se, nw = 256 - fx - fy + se;
+            const std::uint32_t a = texel(p), b = texel(p + east), c = texel(p + south), d = texel(p + south + east);
+            constexpr std::uint32_t kPairs = 0x00ff00ffu;
+            const std::uint32_t redBlue =
+                (((a & kPairs) * nw + (b & kPairs) * ne + (c & kPairs) * sw + (d & kPairs) * se + 0x00800080u) >> 8) & kPairs;
+            const std::uint32_t greenAlpha = (((a >> 8) & kPairs) * nw + ((b >> 8) & kPairs) * ne + ((c >> 8) & kPairs) * sw +
+                                              ((d >> 8) & kPairs) * se + 0x00800080u) &
+                                             ~kPairs;
+            return redBlue | greenAlpha;
         }
 
         const Image& image;
         const std::uint8_t* north;
         std::size_t south; ///< bytes to the row below
+        std::size_t east;  ///< bytes to the next texel: none in a one-texel-wide image
         std::uint32_t fy;
     };
 
