@@ -681,6 +681,8 @@ struct ClipmapTerrain::Impl {
             std::uint32_t triangle = ~0u;
         };
         MeshHint left;
+        // The heights' range, kept in registers rather than in the level while its posts are written.
+        double lowest = level.minimumHeight, highest = level.maximumHeight;
         std::vector<Geodetic2D> row(static_cast<std::size_t>(x1 - x0));
         std::vector<MeshHint> below(row.size());
         for (std::int64_t y = y0; y < y1; ++y) {
@@ -716,8 +718,8 @@ struct ClipmapTerrain::Impl {
             };
             auto store = [&](std::size_t i, double height) {
                 level.heights.at(x0 + static_cast<std::int64_t>(i), y) = static_cast<float>(height);
-                level.minimumHeight = std::min(level.minimumHeight, height);
-                level.maximumHeight = std::max(level.maximumHeight, height);
+                lowest = std::min(lowest, height);
+                highest = std::max(highest, height);
             };
             for (std::size_t i = 0; i < row.size();) {
                 const std::int64_t x = x0 + static_cast<std::int64_t>(i);
@@ -763,6 +765,8 @@ struct ClipmapTerrain::Impl {
                 ++i;
             }
         }
+        level.minimumHeight = lowest;
+        level.maximumHeight = highest;
         // Normals from central differences (one-sided at the window's edges, where the blend
         // takes the coarser level's anyway), for the region and the posts next to it.
         const std::int64_t gx0 = std::max(x0 - 1, originX(l)), gy0 = std::max(y0 - 1, originY(l));
