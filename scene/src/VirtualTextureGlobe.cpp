@@ -354,7 +354,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
 
     // The coarsest level, here and now: every pixel of the first frame has a page; and the mip
     // tail made from it.
-    Image tailImage(2 * layout.pageSize, layout.pageSize, 4);
+    Image level0(2 * layout.pageSize, layout.pageSize, 4);
     for (std::uint32_t x = 0; x < VirtualTextureLayout::pagesX(0); ++x) {
         const PageKey root{0, x, 0};
         std::optional<Image> image;
@@ -369,11 +369,11 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
         }
         uploadPage(frameState, root, *image);
         for (int row = 0; row < layout.pageSize; ++row) {
-            std::memcpy(tailImage.pixel(static_cast<int>(x) * layout.pageSize, row),
+            std::memcpy(level0.pixel(static_cast<int>(x) * layout.pageSize, row),
                         image->pixel(layout.border, layout.border + row), static_cast<std::size_t>(layout.pageSize) * 4);
         }
     }
-    uploadTail(tailImage);
+    uploadTail(level0);
     uploadTables();
 }
 

@@ -279,12 +279,11 @@ void main()
     // level, or two levels of the tail: read as the pages are, with no texture call more.
     if (choice.beyondLevel0 > 0.0) {
         int t = int(floor(choice.beyondLevel0)); // 0: level 0's pages, as chosen above
-        int lastTail = u_tailLevels;
         if (t > 0) {
-            finer = vtTailPosition(min(t, lastTail), tc, finerTexels);
+            finer = vtTailPosition(min(t, u_tailLevels), tc, finerTexels);
         }
-        coarser = vtTailPosition(min(t + 1, lastTail), tc, coarserTexels);
-        coarserWeight = t < lastTail ? fract(choice.beyondLevel0) : 0.0;
+        coarser = vtTailPosition(min(t + 1, u_tailLevels), tc, coarserTexels);
+        coarserWeight = t < u_tailLevels ? fract(choice.beyondLevel0) : 0.0;
     }
 #endif
     vec4 texel = vtRead(finer, finerTexels, dx, dy);
