@@ -90,16 +90,23 @@ Geodetic2D geodetic(const glm::dvec3& normal) noexcept
 /// from there.
 constexpr std::int64_t kStepAnchor = 16;
 
-/// The geodetic position of unit normal n, one post on from `before` (its normal) at `from`: the
-/// longitude and latitude moved by the small angles between the two, their tangent and sine
-/// series to the seventh power (exact to 1e-18 rad for steps under 0.01 rad), instead of an arc
-/// tangent and an arc sine a post; anew where a step is larger (near the Earth's poles).
-Geodetic2D stepTo(const glm::dvec3& before, const Geodetic2D& from, const glm::dvec3& n) noexcept
+/// The length of a normal's projection on the equator's plane: the cosine of its latitude.
+double equatorial(const glm::dvec3& n) noexcept
+{
+    return std::sqrt(n.x * n.x + n.y * n.y);
+}
+
+/// The geodetic position of unit normal n, one post on from `before` (its normal, and its
+/// equatorial() length) at `from`: the longitude and latitude moved by the small angles between
+/// the two, their tangent and sine series to the seventh power (exact to 1e-18 rad for steps
+/// under 0.01 rad), instead of an arc tangent and an arc sine a post; anew where a step is larger
+/// (near the Earth's poles). nEquatorial: equatorial(n), which the next step takes as its before's.
+Geodetic2D stepTo(const glm::dvec3& before, double beforeEquatorial, const Geodetic2D& from, const glm::dvec3& n,
+                  double nEquatorial) noexcept
 {
     const double cross = before.x * n.y - before.y * n.x;
     const double dot = before.x * n.x + before.y * n.y;
-    const double sinStep = n.z * std::sqrt(before.x * before.x + before.y * before.y) -
-                           before.z * std::sqrt(n.x * n.x + n.y * n.y); // sin(latitude step)
+    const double sinStep = n.z * beforeEquatorial - before.z * nEquatorial; // sin(latitude step)
     if (!(std::abs(cross) < 0.01 * dot) || !(std::abs(sinStep) < 0.01)) {
         return geodetic(n);
     }
@@ -695,13 +702,17 @@ struct ClipmapTerrain::Impl {
             } else {
                 const double cosLatitude = std::cos(latitude), sinLatitude = std::sin(latitude);
                 glm::dvec3 before{};
+                double beforeEquatorial = 0.0;
                 Geodetic2D position{};
                 for (std::int64_t x = xa; x < x1; ++x) {
                     const std::size_t k = static_cast<std::size_t>(x - xa);
                     const glm::dvec3 normal =
                         toEarth(frame, {cosLatitude * cosLongitude[k], cosLatitude * sinLongitude[k], sinLatitude});
-                    position = k % kStepAnchor == 0 ? geodetic(normal) : stepTo(before, position, normal);
+                    const double normalEquatorial = equatorial(normal);
+                    position = k % kStepAnchor == 0 ? geodetic(normal)
+                                                    : stepTo(before, beforeEquatorial, position, normal, normalEquatorial);
                     before = normal;
+                    beforeEquatorial = normalEquatorial;
                     if (x >= x0) {
                         row[static_cast<std::size_t>(x - x0)] = position;
                     }
