@@ -180,7 +180,7 @@ Table largeRings(const Options& options)
         "other vertex is reflex (the star) earClip's order of clipping and its pruned queries win. earcut joins each "
         "hole to the outer ring by a walk round the whole outer ring, the holes joined before included, so its "
         "time grows with the holes times the vertices; earClip's bridges look only at the edges near them. On small polygons earcut's "
-        "lighter set-up still wins: earClip takes about 0.45 us a pentagon (its working memory kept between polygons on a "
+        "lighter set-up still wins: earClip takes about 0.41 us a pentagon (its working memory kept between polygons on a "
         "thread, and the ears of polygons of up to 32 vertices tested against all of them, without an index: 1.2 us before "
         "both), earcut about 0.08.";
     return table;
