@@ -182,6 +182,10 @@ struct VirtualTextureGlobe::Impl {
     /// Whether it uploaded anything.
     bool updateLodClamp();
     void readFeedback(FrameState& frameState);
+    /// Marks the pages the latest feedback asks for (their ancestors with them) used in `frame`.
+    void touchNeeded(std::uint64_t frame);
+    /// Where the mip tail's strip starts up the physical texture: above the slots.
+    int tailStripY() const noexcept { return cache->slotsY() * layout.slotSize(); }
     void adjustBias();
     void requestPages();
     void drawFeedback(FrameState& frameState, const FeedbackView& view);
@@ -312,7 +316,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     const int slot = layout.slotSize();
     // The slots, and the mip tail's strip below them.
     const int physicalWidth = std::max(cache->slotsX() * slot, layout.tailStripSize().x);
-    const int physicalHeight = cache->slotsY() * slot + layout.tailStripSize().y;
+    const int physicalHeight = tailStripY() + layout.tailStripSize().y;
     if (physicalWidth > maximum || physicalHeight > maximum) {
         throw Error("VirtualTextureGlobe: a physical texture of " + std::to_string(cache->capacity()) + " pages of " +
                     std::to_string(slot) + " texels is " + std::to_string(physicalWidth) + " x " +
@@ -407,7 +411,6 @@ bool VirtualTextureGlobe::Impl::uploadPage(FrameState& frameState, const PageKey
 void VirtualTextureGlobe::Impl::uploadTail(const Image& level0)
 {
     const int border = layout.border;
-    const int stripY = cache->slotsY() * layout.slotSize();
     const std::vector<Image> chain = mipmapChain(level0);
     for (int t = 1; t <= layout.tailLevels(); ++t) {
         const Image& level = chain[static_cast<std::size_t>(t) - 1];
@@ -422,7 +425,7 @@ void VirtualTextureGlobe::Impl::uploadTail(const Image& level0)
                 std::memcpy(staging.data() + (static_cast<std::size_t>(y) * width + x) * 4, level.pixel(column, row), 4);
             }
         }
-        physical->copyFromSystemMemory(std::as_bytes(std::span(staging)), {layout.tailOffset(t), stripY, width, height});
+        physical->copyFromSystemMemory(std::as_bytes(std::span(staging)), {layout.tailOffset(t), tailStripY(), width, height});
     }
 }
 
@@ -554,6 +557,14 @@ void VirtualTextureGlobe::Impl::receive(world::TileLoadResult result)
     }
 }
 
+void VirtualTextureGlobe::Impl::touchNeeded(std::uint64_t frame)
+{
+    // Pages the view uses are the most recently used.
+    for (const PageCount& count : needed) {
+        cache->touch(count.page, frame);
+    }
+}
+
 void VirtualTextureGlobe::Impl::readFeedback(FrameState& frameState)
 {
     const VirtualTextureOptions& vt = options->virtualTexture;
@@ -597,10 +608,7 @@ void VirtualTextureGlobe::Impl::readFeedback(FrameState& frameState)
         neededSet.insert(count.page);
     }
     feedbackView = ready->view;
-    // Pages the view uses are the most recently used; their ancestors with them.
-    for (const PageCount& count : needed) {
-        cache->touch(count.page, frameState.frameNumber);
-    }
+    touchNeeded(frameState.frameNumber);
     // Requests the view no longer makes are dropped (Mayer 4.2): loads in flight, pages not uploaded.
     for (auto page = inFlight.begin(); page != inFlight.end();) {
         if (neededSet.contains(*page)) {
@@ -727,7 +735,7 @@ void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const Q
     set("u_physicalTexelSize",
         glm::vec2(1.0f / static_cast<float>(physical->width()), 1.0f / static_cast<float>(physical->height())));
     set("u_lodBias", static_cast<float>(lodBias));
-    set("u_tailOrigin", glm::vec2(0.0f, static_cast<float>(cache->slotsY() * layout.slotSize())));
+    set("u_tailOrigin", glm::vec2(0.0f, static_cast<float>(tailStripY())));
     set("u_tailLevels", layout.tailLevels());
     set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
 }
@@ -993,9 +1001,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         } else {
             // The last feedback drawn is this frame's: no pass (a still view costs no more than
             // its draws); its pages are used this frame as it read them.
-            for (const PageCount& count : impl.needed) {
-                impl.cache->touch(count.page, frame);
-            }
+            impl.touchNeeded(frame);
         }
 
         VirtualTextureStatistics& s = impl.statistics;
