@@ -43,6 +43,7 @@ struct Node {
     int prev = -1;
     int next = -1;
     bool removed = false;
+    bool twin = false; // another vertex has its position (a touch, a bridge's copy)
 };
 
 enum class Location { Inside, Outside, Boundary };
@@ -289,6 +290,17 @@ private:
         } while (i != start);
     }
 
+    // Marks x and y as twins when they have one position; whether they do.
+    bool twins(int x, int y)
+    {
+        if (pos(x) != pos(y)) {
+            return false;
+        }
+        node(x).twin = true;
+        node(y).twin = true;
+        return true;
+    }
+
     int insertAfter(int after, const Node& copy)
     {
         Node n = copy;
@@ -374,8 +386,8 @@ private:
             if (isFaulty[edgeCycles[e]] || isFaulty[edgeCycles[f]]) {
                 return false; // going anyway
             }
-            if (edgeCycles[e] == edgeCycles[f] &&
-                (pos(a) == pos(c) || pos(a) == pos(d) || pos(b) == pos(c) || pos(b) == pos(d))) {
+            const bool sharePosition = twins(a, c) | twins(a, d) | twins(b, c) | twins(b, d); // all four marked
+            if (sharePosition && edgeCycles[e] == edgeCycles[f]) {
                 _ringTouchesItself = true;
             }
             const int o3 = orient2d(starts[f], ends[f], starts[e]);
@@ -441,6 +453,7 @@ private:
             }
             if (pos(vertex) != pos(after)) {
                 after = insertAfter(after, node(vertex));
+                twins(after, vertex);
             }
         }
         _ringTouchesItself = _ringTouchesItself || !touching.empty(); // maybe: a new vertex lies at a vertex of its ring
@@ -830,11 +843,14 @@ private:
         std::sort(holes.begin(), holes.end(), [&](const auto& a, const auto& b) { return pos(a.first).x > pos(b.first).x; });
 
         for (const auto& [m, k] : holes) {
+            // A hole touching the rings joined so far at a vertex is joined there: bridged
+            // elsewhere, both of the ring's passes through that point would claim the angle between
+            // the hole's edges and the other ring's, and no ear could be found round it.
+            if (mergeAtTouch(m)) {
+                continue;
+            }
             const int p = findBridge(m);
             if (p < 0) {
-                if (mergeAtTouch(m)) {
-                    continue;
-                }
                 const std::string why = "cannot be joined to the outer ring (no vertex in sight; do rings overlap?)";
                 if (!_leftOutHoles) {
                     fail("hole ring " + std::to_string(_ringNumbers[k]) + " " + why);
@@ -877,18 +893,19 @@ private:
         const int copy = static_cast<int>(_nodes.size());
         _nodes.push_back(node(i));
         _ringOf.push_back(0);
+        twins(i, copy);
         return copy;
     }
 
-    // A hole with no bridge in sight may touch the outer cycle at a vertex: join it there, with
-    // no bridge (p -> hole from h's next round to h -> p's next), where the hole's edges at the
-    // touch leave into the outer cycle's wedge.
+    // Where the hole touches the outer cycle at a vertex, joins it there, with no bridge (p -> hole
+    // from h's next round to h -> p's next), at the pass of the outer cycle through that point
+    // whose wedge the hole's edges there leave into. Whether it did.
     bool mergeAtTouch(int hole)
     {
         int touchP = -1;
         int touchH = -1;
         forEachInCycle(hole, [&](int h) {
-            if (touchP >= 0) {
+            if (touchP >= 0 || !node(h).twin) { // a vertex no other has touches nothing
                 return;
             }
             _edges->forEachInBox(pos(h), pos(h), [&](int p) {

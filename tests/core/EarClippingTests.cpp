@@ -642,19 +642,21 @@ TEST_CASE("earClip triangulates rings of 100,000 vertices, round, wavy and spiky
 
 TEST_CASE("earClip triangulates random lattice polygons with collinear runs, pinches and holes", "[polygon][ear-clipping]")
 {
-    // A random set of cells of a 10 x 10 grid, grown from the centre; its boundary traced along
-    // unit edges, so every lattice point on it is a vertex (runs of collinear vertices), cells
-    // touching at a corner only make rings touch themselves or each other there, and enclosed empty
-    // cells make holes. At a vertex with two ways out the trace turns right, so rings touch rather
-    // than cross.
+    // A random set of cells of a 10 x 10 grid (or, for every other seed, of a 24 x 24 one, whose
+    // rings have more vertices than earClip tests small polygons' ears against without an index),
+    // grown from the centre; its boundary traced along unit edges, so every lattice point on it is
+    // a vertex (runs of collinear vertices), cells touching at a corner only make rings touch
+    // themselves or each other there, and enclosed empty cells make holes. At a vertex with two ways
+    // out the trace turns right, so rings touch rather than cross.
     const auto seed = GENERATE(take(200, random(0u, 1000000u)));
     INFO("seed " << seed);
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    constexpr int size = 10;
+    const bool large = seed % 2 == 1;
+    const int size = large ? 24 : 10;
     std::vector<std::vector<bool>> cell(size, std::vector<bool>(size, false));
     cell[size / 2][size / 2] = true;
-    const int cells = 5 + static_cast<int>(40 * unit(random));
+    const int cells = large ? 60 + static_cast<int>(200 * unit(random)) : 5 + static_cast<int>(40 * unit(random));
     for (int placed = 1; placed < cells;) {
         const int x = static_cast<int>(size * unit(random));
         const int y = static_cast<int>(size * unit(random));
@@ -739,4 +741,18 @@ TEST_CASE("earClip triangulates random lattice polygons with collinear runs, pin
     const PolygonTriangles result = earClip(rings, "lattice");
     requireCoversArea(rings, result);
     requireNoOverlap(rings, result);
+    // Conforming: no vertex lies inside a triangle's edge (a T-junction, which would crack once
+    // the triangles are subdivided and lifted onto the ellipsoid).
+    const std::vector<glm::dvec2> all = concatenated(rings);
+    for (std::size_t t = 0; t < result.triangleCount(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec2 a = all[result.indices[3 * t + static_cast<std::size_t>(k)]];
+            const glm::dvec2 b = all[result.indices[3 * t + static_cast<std::size_t>((k + 1) % 3)]];
+            for (const glm::dvec2& p : all) {
+                const bool inside = p != a && p != b && orient(a, b, p) == 0.0L && (p.x - a.x) * (p.x - b.x) + (p.y - a.y) * (p.y - b.y) < 0.0;
+                INFO("triangle " << t << " edge " << k << " holds vertex (" << p.x << ", " << p.y << ")");
+                REQUIRE_FALSE(inside);
+            }
+        }
+    }
 }
