@@ -1091,8 +1091,21 @@ private:
         return blocker;
     }
 
+    // Whether vertex i may be in the way of an ear: a strictly convex vertex that shares its
+    // position with no other never is alone. If one lies in an ear's closed triangle (not at a
+    // corner: only a twin can be there), then a vertex lies strictly inside it (the boundary does
+    // not cross the ear's edges, and i's own edges cannot leave the side of the diagonal the ear is
+    // on without a vertex there or i being reflex), and the one farthest from the diagonal has the
+    // ear's side of its line through it inside the polygon: it is reflex or straight (O'Rourke,
+    // Computational Geometry in C, 1.2). A vertex only becomes more convex as ears go.
+    bool mayBlockEars(int i) const
+    {
+        return node(i).twin || orient2d(pos(node(i).prev), pos(i), pos(node(i).next)) <= 0;
+    }
+
     // Calls visit(i) for vertices left in the counter-clockwise triangle a, b, c (and maybe some
-    // others in its box), until it returns true. near: a vertex left, at or next to the triangle.
+    // others in its box) that may be in its way (mayBlockEars), until it returns true. near: a vertex
+    // left, at or next to the triangle.
     template <typename Visit>
     void forEachVertexIn(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int near, Visit&& visit)
     {
@@ -1168,6 +1181,11 @@ private:
         --_remaining;
         if (_indexed) {
             _index.remove(b);
+            for (const int turned : {a, c}) {
+                if (!mayBlockEars(turned)) {
+                    _index.remove(turned);
+                }
+            }
         }
         enqueue(a); // new diagonals
         enqueue(c);
@@ -1245,7 +1263,11 @@ private:
             for (const Node& n : _nodes) {
                 _positions.push_back(n.p);
             }
-            _index.reset(_positions, all);
+            _mayBlock.assign(_nodes.size(), 0);
+            for (const int i : all) {
+                _mayBlock[static_cast<std::size_t>(i)] = mayBlockEars(i);
+            }
+            _index.reset(_positions, all, _mayBlock);
         }
         _queue.clear();
         _queued.assign(_nodes.size(), kNotQueued);
@@ -1448,7 +1470,8 @@ private:
     std::vector<glm::dvec2> _positions;       // by node, for the index
     static constexpr std::size_t kSmallPolygon = 32;
     bool _indexed = false;     // whether _index is in use
-    detail::PointIndex _index; // the vertices left
+    detail::PointIndex _index; // the vertices left that may be in an ear's way
+    std::vector<std::uint8_t> _mayBlock; // by node, when the clipping starts
     ClassQueue _queue;
     static constexpr std::uint64_t kNotQueued = ~std::uint64_t{0}; // no priority: no magnitude is that large
     std::vector<std::uint64_t> _queued;       // per vertex: the priority it is queued with

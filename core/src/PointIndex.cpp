@@ -23,7 +23,7 @@ std::uint32_t spread(std::uint32_t v) noexcept
 
 PointIndex::PointIndex() = default;
 
-void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> present)
+void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> ids, std::span<const std::uint8_t> indexed)
 {
     _points = points;
     _presentCount = 0;
@@ -31,7 +31,7 @@ void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> 
     _tree.reset();
     glm::dvec2 lo(HUGE_VAL);
     glm::dvec2 hi(-HUGE_VAL);
-    for (const int id : present) {
+    for (const int id : ids) {
         lo = glm::min(lo, points[static_cast<std::size_t>(id)]);
         hi = glm::max(hi, points[static_cast<std::size_t>(id)]);
     }
@@ -46,18 +46,32 @@ void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> 
     _present.assign(points.size(), 0);
     std::vector<std::uint64_t>& order = _order; // key, then id
     order.clear();
-    for (const int id : present) {
-        _key[static_cast<std::size_t>(id)] = key(points[static_cast<std::size_t>(id)]);
-        _present[static_cast<std::size_t>(id)] = 1;
-        ++_presentCount;
-        order.push_back((std::uint64_t{_key[static_cast<std::size_t>(id)]} << 32) | static_cast<std::uint32_t>(id));
+    for (const int id : ids) {
+        const auto i = static_cast<std::size_t>(id);
+        _key[i] = key(points[i]);
+        if (indexed[i] != 0) {
+            _present[i] = 1;
+            ++_presentCount;
+        }
+        order.push_back((std::uint64_t{_key[i]} << 32) | static_cast<std::uint32_t>(id));
     }
     std::sort(order.begin(), order.end());
-    for (std::size_t k = 1; k < order.size(); ++k) {
-        const auto before = static_cast<int>(order[k - 1] & 0xffffffffu);
-        const auto after = static_cast<int>(order[k] & 0xffffffffu);
-        _next[static_cast<std::size_t>(before)] = after;
-        _previous[static_cast<std::size_t>(after)] = before;
+    // Each point linked to the points present before and after it.
+    int before = -1;
+    for (const std::uint64_t entry : order) {
+        const auto id = static_cast<std::size_t>(entry & 0xffffffffu);
+        _previous[id] = before;
+        if (_present[id] != 0) {
+            before = static_cast<int>(id);
+        }
+    }
+    int after = -1;
+    for (auto entry = order.rbegin(); entry != order.rend(); ++entry) {
+        const auto id = static_cast<std::size_t>(*entry & 0xffffffffu);
+        _next[id] = after;
+        if (_present[id] != 0) {
+            after = static_cast<int>(id);
+        }
     }
 }
 
@@ -93,8 +107,7 @@ void PointIndex::remove(int id) noexcept
     if (after >= 0) {
         _previous[static_cast<std::size_t>(after)] = before;
     }
-    _previous[i] = -1;
-    _next[i] = -1;
+    // Its own links stay: walks that start from it follow them to the points present (presentFrom).
 }
 
 void PointIndex::buildTree()

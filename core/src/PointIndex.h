@@ -27,9 +27,10 @@ public:
     PointIndex();
     ~PointIndex();
 
-    /// Indexes points[id] for each id in present (ids index points, which must outlive the
-    /// index), instead of those before, keeping their memory.
-    void reset(std::span<const glm::dvec2> points, std::span<const int> present);
+    /// Indexes points[id] for each id in ids with indexed[id] != 0 (ids index points and
+    /// indexed, which must outlive the call; points the index), instead of those before, keeping
+    /// their memory. The other ids are not found, but may start a walk (findIn's near).
+    void reset(std::span<const glm::dvec2> points, std::span<const int> ids, std::span<const std::uint8_t> indexed);
     PointIndex(const PointIndex&) = delete;
     PointIndex& operator=(const PointIndex&) = delete;
 
@@ -38,8 +39,8 @@ public:
 
     /// Calls visit(id) for points present in the counter-clockwise triangle a, b, c (closed), and
     /// maybe some others in its bounding box, in no particular order and maybe a point twice,
-    /// until visit returns true; returns whether it did. near must be a point present at or next
-    /// to the triangle (the walk starts there).
+    /// until visit returns true; returns whether it did. near must be one of reset's ids, present
+    /// or not, at or next to the triangle (the walk starts there).
     template <typename Visit>
     bool findIn(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int near, Visit&& visit)
     {
@@ -47,8 +48,11 @@ public:
         const glm::dvec2 hi = glm::max(a, glm::max(b, c));
         const std::uint32_t low = key(lo);
         const std::uint32_t high = key(hi);
+        // From the point present at or before near in the order back, and from the one after it on.
+        const int back = presentFrom(_previous, near);
+        const int forward = back >= 0 ? _next[static_cast<std::size_t>(back)] : presentFrom(_next, near);
         int steps = 0;
-        for (int i = near; i >= 0 && _key[static_cast<std::size_t>(i)] >= low; i = _previous[static_cast<std::size_t>(i)]) {
+        for (int i = back; i >= 0 && _key[static_cast<std::size_t>(i)] >= low; i = _previous[static_cast<std::size_t>(i)]) {
             if (++steps > kWalkLimit && walkTooLong()) {
                 return findInTree(Triangle{{a, b, c}, lo, hi}, visit);
             }
@@ -56,8 +60,7 @@ public:
                 return true;
             }
         }
-        for (int i = _next[static_cast<std::size_t>(near)]; i >= 0 && _key[static_cast<std::size_t>(i)] <= high;
-             i = _next[static_cast<std::size_t>(i)]) {
+        for (int i = forward; i >= 0 && _key[static_cast<std::size_t>(i)] <= high; i = _next[static_cast<std::size_t>(i)]) {
             if (++steps > kWalkLimit && walkTooLong()) {
                 return findInTree(Triangle{{a, b, c}, lo, hi}, visit);
             }
@@ -192,6 +195,22 @@ private:
     void buildTree();
 
     std::uint32_t key(const glm::dvec2& p) const noexcept;
+    /// id when present; otherwise the first point present following links (_previous or _next)
+    /// from it, -1 for none, the links on the way pointed straight at it (an absent point's links
+    /// lead to the points that were present next to it when it left, or was left out).
+    int presentFrom(std::vector<int>& links, int id) noexcept
+    {
+        int found = id;
+        while (found >= 0 && _present[static_cast<std::size_t>(found)] == 0) {
+            found = links[static_cast<std::size_t>(found)];
+        }
+        for (int i = id; i != found;) {
+            const int following = links[static_cast<std::size_t>(i)];
+            links[static_cast<std::size_t>(i)] = found;
+            i = following;
+        }
+        return found;
+    }
     bool inBox(int id, const glm::dvec2& lo, const glm::dvec2& hi) const noexcept
     {
         const glm::dvec2& p = _points[static_cast<std::size_t>(id)];
@@ -202,7 +221,9 @@ private:
     glm::dvec2 _origin{0.0};
     glm::dvec2 _scale{0.0};
     std::vector<std::uint32_t> _key; // by id
-    std::vector<int> _previous;      // by id: the point before in Z order, -1 for none
+    // By id: the point present before in Z order, -1 for none; for a point not present, the one
+    // present before it when it left, or was left out (see presentFrom).
+    std::vector<int> _previous;
     std::vector<int> _next;
     std::vector<std::uint8_t> _present; // by id
     std::vector<std::uint64_t> _order; // reset's, kept for its memory
