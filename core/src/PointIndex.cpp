@@ -1,5 +1,7 @@
 #include "PointIndex.h"
 
+#include "RadixSort.h"
+
 #include <glm/common.hpp>
 
 #include <algorithm>
@@ -29,6 +31,10 @@ void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> 
     _presentCount = 0;
     _stepsBeyondLimit = 0;
     _tree.reset();
+    _present.assign(points.size(), 0);
+    if (std::none_of(ids.begin(), ids.end(), [&](int id) { return indexed[static_cast<std::size_t>(id)] != 0; })) {
+        return; // nothing to find (a convex ring's ears): no order to build
+    }
     glm::dvec2 lo(HUGE_VAL);
     glm::dvec2 hi(-HUGE_VAL);
     for (const int id : ids) {
@@ -43,7 +49,6 @@ void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> 
     _key.assign(points.size(), 0);
     _previous.assign(points.size(), -1);
     _next.assign(points.size(), -1);
-    _present.assign(points.size(), 0);
     std::vector<std::uint64_t>& order = _order; // key, then id
     order.clear();
     for (const int id : ids) {
@@ -55,7 +60,7 @@ void PointIndex::reset(std::span<const glm::dvec2> points, std::span<const int> 
         }
         order.push_back((std::uint64_t{_key[i]} << 32) | static_cast<std::uint32_t>(id));
     }
-    std::sort(order.begin(), order.end());
+    radixSort(order, _orderScratch, [](std::uint64_t entry) { return entry; }, 32); // by key; ties as given
     // Each point linked to the points present before and after it.
     int before = -1;
     for (const std::uint64_t entry : order) {

@@ -44,6 +44,9 @@ public:
     template <typename Visit>
     bool findIn(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, int near, Visit&& visit)
     {
+        if (_presentCount == 0) {
+            return false;
+        }
         const glm::dvec2 lo = glm::min(a, glm::min(b, c));
         const glm::dvec2 hi = glm::max(a, glm::max(b, c));
         const std::uint32_t low = key(lo);
@@ -227,6 +230,7 @@ private:
     std::vector<int> _next;
     std::vector<std::uint8_t> _present; // by id
     std::vector<std::uint64_t> _order; // reset's, kept for its memory
+    std::vector<std::uint64_t> _orderScratch;
     std::size_t _presentCount = 0;
     std::size_t _stepsBeyondLimit = 0; // by all walks
     std::unique_ptr<Tree> _tree;

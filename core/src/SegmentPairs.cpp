@@ -1,5 +1,6 @@
 #include "SegmentPairs.h"
 
+#include "RadixSort.h"
 #include "RobustPredicates.h"
 
 #include <glm/geometric.hpp>
@@ -29,28 +30,6 @@ struct Vertex {
     std::uint32_t segment;
 };
 
-/// By key, least significant byte first; a byte all keys share is skipped.
-void radixSort(std::vector<Vertex>& items)
-{
-    std::vector<Vertex> scratch(items.size());
-    for (int shift = 0; shift < 64; shift += 8) {
-        std::array<std::size_t, 257> start{};
-        for (const Vertex& item : items) {
-            ++start[((item.key >> shift) & 0xff) + 1];
-        }
-        if (std::find(start.begin() + 1, start.end(), items.size()) != start.end()) {
-            continue;
-        }
-        for (std::size_t b = 1; b < start.size(); ++b) {
-            start[b] += start[b - 1];
-        }
-        for (const Vertex& item : items) {
-            scratch[start[(item.key >> shift) & 0xff]++] = item;
-        }
-        items.swap(scratch);
-    }
-}
-
 } // namespace
 
 bool meetOnlyAtSharedVertices(std::span<const glm::dvec2> from, std::span<const glm::dvec2> to,
@@ -76,7 +55,8 @@ bool meetOnlyAtSharedVertices(std::span<const glm::dvec2> from, std::span<const 
     for (std::size_t k = 0; k < count; ++k) {
         vertices[k] = {orderedBits(from[k].x), static_cast<std::uint32_t>(k)};
     }
-    radixSort(vertices);
+    std::vector<Vertex> scratch(vertices.size());
+    radixSort(vertices, scratch, [](const Vertex& v) { return v.key; });
     for (std::size_t run = 0; run < count;) {
         std::size_t end = run + 1;
         while (end < count && vertices[end].key == vertices[run].key) {
