@@ -149,6 +149,9 @@ public:
         _start = -1;
         _remaining = 0;
         PolygonTriangles result;
+        if (rings.size() == 1 && triangulateSmallConvex(rings[0], result)) {
+            return result;
+        }
         if (!prepareRings(rings, result)) {
             return result;
         }
@@ -182,6 +185,90 @@ private:
     [[noreturn]] void fail(const std::string& what) const
     {
         throw Error("polygon '" + std::string(_name) + "': " + what);
+    }
+
+    // --- Small convex rings ----------------------------------------------------------------
+
+    // A small strictly convex ring (a building, a parcel), triangulated at once: every vertex of
+    // one is an ear, so it needs neither the check of its edges nor the queue of ears. Its triangles
+    // zig-zag across it from both ends (fuller than a fan's). False, with nothing done, for any
+    // other ring: one with a vertex not strictly convex, more than kSmallPolygon vertices, a
+    // coordinate not finite, a winding more than once round, or a triangle thinner than a sliver.
+    bool triangulateSmallConvex(const std::vector<glm::dvec2>& ring, PolygonTriangles& result)
+    {
+        std::array<std::uint32_t, kSmallPolygon> kept; // consecutive repeats and the closing vertex left out
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+            if (!std::isfinite(ring[i].x) || !std::isfinite(ring[i].y) || n == kSmallPolygon) {
+                return false;
+            }
+            if (n == 0 || ring[kept[n - 1]] != ring[i]) {
+                kept[n++] = static_cast<std::uint32_t>(i);
+            }
+        }
+        while (n > 1 && ring[kept[n - 1]] == ring[kept[0]]) {
+            --n;
+        }
+        if (n < 3) {
+            return false;
+        }
+        auto at = [&](std::size_t k) -> const glm::dvec2& { return ring[kept[k % n]]; };
+        // Every turn one way; then the edges' direction turns monotonically, and it winds once
+        // round exactly when its x changes sign twice (no turn reaches half a turn).
+        int turn = 0;
+        int xChanges = 0;
+        double lastDx = 0.0;
+        for (std::size_t k = 0; k < n; ++k) {
+            const int o = orient2d(at(k + n - 1), at(k), at(k + 1));
+            if (o == 0 || (turn != 0 && o != turn)) {
+                return false;
+            }
+            turn = o;
+            const double dx = at(k + 1).x - at(k).x;
+            if (dx != 0.0) {
+                xChanges += (lastDx != 0.0 && (dx > 0.0) != (lastDx > 0.0)) ? 1 : 0;
+                lastDx = dx;
+            }
+        }
+        double firstDx = 0.0;
+        for (std::size_t k = 0; k < n && firstDx == 0.0; ++k) {
+            firstDx = at(k + 1).x - at(k).x;
+        }
+        xChanges += (firstDx > 0.0) != (lastDx > 0.0) ? 1 : 0; // round the end of the ring
+        if (xChanges > 2) {
+            return false;
+        }
+        if (turn < 0) {
+            std::reverse(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(n)); // counter-clockwise
+        }
+        std::vector<std::uint32_t>& indices = result.indices;
+        indices.reserve(3 * (n - 2));
+        std::size_t low = 0;
+        std::size_t high = n - 1;
+        for (bool fromLow = true; high - low >= 2; fromLow = !fromLow) {
+            // (low, low + 1, high), then (low, high - 1, high) with low one on: corners in the ring's
+            // order, so counter-clockwise.
+            const std::array<std::size_t, 3> t = fromLow ? std::array<std::size_t, 3>{low, low + 1, high}
+                                                         : std::array<std::size_t, 3>{low, high - 1, high};
+            const glm::dvec2 ab = at(t[1]) - at(t[0]);
+            const glm::dvec2 bc = at(t[2]) - at(t[1]);
+            const glm::dvec2 ca = at(t[0]) - at(t[2]);
+            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+            if (!(std::abs(ab.x * bc.y - ab.y * bc.x) >= kSliverQuality * longest)) {
+                indices.clear();
+                return false;
+            }
+            for (const std::size_t k : t) {
+                indices.push_back(kept[k]);
+            }
+            if (fromLow) {
+                ++low;
+            } else {
+                --high;
+            }
+        }
+        result.vertexCount = n;
+        return true;
     }
 
     // --- Rings -------------------------------------------------------------------------------

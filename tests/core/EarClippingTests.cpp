@@ -186,6 +186,60 @@ TEST_CASE("earClip triangulates a square given clockwise and closed, with indice
     requireTriangulation(rings, result);
 }
 
+TEST_CASE("earClip triangulates small convex rings at once, and leaves every other ring to the general path", "[polygon][ear-clipping]")
+{
+    // Random convex rings of 3 to 40 vertices (up to 32 take the quick path), either way round,
+    // closed or not, some with a vertex repeated: n - 2 triangles covering the ring, indices into
+    // the input.
+    const auto seed = GENERATE(take(100, random(0u, 1000000u)));
+    INFO("seed " << seed);
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const int n = 3 + static_cast<int>(38 * unit(random));
+    std::vector<double> angles(static_cast<std::size_t>(n));
+    for (double& angle : angles) {
+        angle = 6.283185307179586 * unit(random);
+    }
+    std::sort(angles.begin(), angles.end());
+    if (unit(random) < 0.5) {
+        std::reverse(angles.begin(), angles.end());
+    }
+    const bool repeat = unit(random) < 0.3;
+    Ring ring;
+    for (std::size_t k = 0; k < angles.size(); ++k) {
+        const glm::dvec2 p(3.0 + 2.0 * std::cos(angles[k]), -1.0 + 1.5 * std::sin(angles[k])); // on an ellipse: convex
+        ring.push_back(p);
+        if (repeat && k == 1) {
+            ring.push_back(p);
+        }
+    }
+    if (unit(random) < 0.5) {
+        ring.push_back(ring.front());
+    }
+    const Rings rings{ring};
+    const PolygonTriangles result = earClip(rings);
+    REQUIRE(result.vertexCount == static_cast<std::size_t>(n));
+    REQUIRE(result.triangleCount() == static_cast<std::size_t>(n - 2));
+    if (repeat) {
+        requireCoversArea(rings, result);
+        requireNoOverlap(rings, result);
+    } else {
+        requireTriangulation(rings, result);
+    }
+
+    // Every turn one way, but round twice: a pentagram crosses itself.
+    Ring pentagram;
+    for (int k = 0; k < 5; ++k) {
+        pentagram.push_back({std::cos(4.0 * 3.141592653589793 * k / 5), std::sin(4.0 * 3.141592653589793 * k / 5)});
+    }
+    REQUIRE_THROWS_WITH(earClip(Rings{pentagram}, "pentagram"), Contains("polygon 'pentagram'") && Contains("crosses"));
+    // A straight vertex stays a vertex.
+    const Rings straight{{{0, 0}, {1, 0}, {2, 0}, {2, 1}, {0, 1}}};
+    const PolygonTriangles kept = earClip(straight);
+    REQUIRE(kept.triangleCount() == 3);
+    requireTriangulation(straight, kept);
+}
+
 TEST_CASE("earClip triangulates concave polygons into n - 2 triangles", "[polygon][ear-clipping]")
 {
     SECTION("a comb")
