@@ -48,6 +48,37 @@ struct Node {
 
 enum class Location { Inside, Outside, Boundary };
 
+// Whether the closed ring of n points at(k) (k taken modulo n) is strictly convex and winds once
+// round: every turn goes one way (so the edges' direction turns monotonically, by less than half a
+// turn at a vertex) and the edges' x changes sign twice round it. Such a ring touches nothing. The
+// turns' sign (1 counter-clockwise, -1 clockwise), or 0 when it is not such a ring.
+template <typename At>
+int convexTurn(std::size_t n, At&& at)
+{
+    int turn = 0;
+    int xChanges = 0;
+    double firstDx = 0.0;
+    double lastDx = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const int o = orient2d(at(k + n - 1), at(k), at(k + 1));
+        if (o == 0 || (turn != 0 && o != turn)) {
+            return 0;
+        }
+        turn = o;
+        const double dx = at(k + 1).x - at(k).x;
+        if (dx != 0.0) {
+            if (lastDx == 0.0) {
+                firstDx = dx;
+            } else if ((dx > 0.0) != (lastDx > 0.0)) {
+                ++xChanges;
+            }
+            lastDx = dx;
+        }
+    }
+    xChanges += (firstDx > 0.0) != (lastDx > 0.0) ? 1 : 0; // round the end of the ring
+    return xChanges <= 2 ? turn : 0;
+}
+
 std::string describeEdge(const Node& from, const Node& to)
 {
     std::ostringstream out;
@@ -155,13 +186,18 @@ public:
         if (!prepareRings(rings, result)) {
             return result;
         }
-        for (Split split = splitTouchingEdges(); split != Split::Done; split = splitTouchingEdges()) {
+        // A convex ring without holes touches nothing: its edges need no check (a fifth of a round
+        // ring's time), and no vertex can be in an ear's way.
+        const bool convex = _cycles.size() == 1 && convexTurn(_nodes.size(), [&](std::size_t k) -> const glm::dvec2& {
+                                return _nodes[k % _nodes.size()].p;
+                            }) != 0;
+        for (Split split = convex ? Split::Done : splitTouchingEdges(); split != Split::Done; split = splitTouchingEdges()) {
             if (split == Split::RepairedVertex) {
                 ++result.repairedVertices;
                 --result.vertexCount;
             }
         }
-        for (std::size_t removed = removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
+        for (std::size_t removed = convex ? 0 : removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
             result.repairedVertices += removed;
             result.vertexCount -= std::min(removed, result.vertexCount);
         }
@@ -189,11 +225,11 @@ private:
 
     // --- Small convex rings ----------------------------------------------------------------
 
-    // A small strictly convex ring (a building, a parcel), triangulated at once: every vertex of
-    // one is an ear, so it needs neither the check of its edges nor the queue of ears. Its triangles
-    // zig-zag across it from both ends (fuller than a fan's). False, with nothing done, for any
-    // other ring: one with a vertex not strictly convex, more than kSmallPolygon vertices, a
-    // coordinate not finite, a winding more than once round, or a triangle thinner than a sliver.
+    // A small strictly convex ring (a building, a parcel; convexTurn), triangulated at once: every
+    // vertex of one is an ear, so it needs neither the check of its edges nor the queue of ears. Its
+    // triangles zig-zag across it from both ends (fuller than a fan's). False, with nothing done,
+    // for any other ring: one not strictly convex or winding more than once round, with more than
+    // kSmallPolygon vertices or a coordinate not finite, or a triangle thinner than a sliver.
     bool triangulateSmallConvex(const std::vector<glm::dvec2>& ring, PolygonTriangles& result)
     {
         std::array<std::uint32_t, kSmallPolygon> kept; // consecutive repeats and the closing vertex left out
@@ -213,29 +249,8 @@ private:
             return false;
         }
         auto at = [&](std::size_t k) -> const glm::dvec2& { return ring[kept[k % n]]; };
-        // Every turn one way; then the edges' direction turns monotonically, and it winds once
-        // round exactly when its x changes sign twice (no turn reaches half a turn).
-        int turn = 0;
-        int xChanges = 0;
-        double lastDx = 0.0;
-        for (std::size_t k = 0; k < n; ++k) {
-            const int o = orient2d(at(k + n - 1), at(k), at(k + 1));
-            if (o == 0 || (turn != 0 && o != turn)) {
-                return false;
-            }
-            turn = o;
-            const double dx = at(k + 1).x - at(k).x;
-            if (dx != 0.0) {
-                xChanges += (lastDx != 0.0 && (dx > 0.0) != (lastDx > 0.0)) ? 1 : 0;
-                lastDx = dx;
-            }
-        }
-        double firstDx = 0.0;
-        for (std::size_t k = 0; k < n && firstDx == 0.0; ++k) {
-            firstDx = at(k + 1).x - at(k).x;
-        }
-        xChanges += (firstDx > 0.0) != (lastDx > 0.0) ? 1 : 0; // round the end of the ring
-        if (xChanges > 2) {
+        const int turn = convexTurn(n, at);
+        if (turn == 0) {
             return false;
         }
         if (turn < 0) {

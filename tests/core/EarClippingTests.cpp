@@ -186,16 +186,16 @@ TEST_CASE("earClip triangulates a square given clockwise and closed, with indice
     requireTriangulation(rings, result);
 }
 
-TEST_CASE("earClip triangulates small convex rings at once, and leaves every other ring to the general path", "[polygon][ear-clipping]")
+TEST_CASE("earClip triangulates convex rings without checking their edges, and only them", "[polygon][ear-clipping]")
 {
-    // Random convex rings of 3 to 40 vertices (up to 32 take the quick path), either way round,
+    // Random convex rings of 3 to 80 vertices (up to 32 triangulated at once), either way round,
     // closed or not, some with a vertex repeated: n - 2 triangles covering the ring, indices into
     // the input.
     const auto seed = GENERATE(take(100, random(0u, 1000000u)));
     INFO("seed " << seed);
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const int n = 3 + static_cast<int>(38 * unit(random));
+    const int n = 3 + static_cast<int>(78 * unit(random));
     std::vector<double> angles(static_cast<std::size_t>(n));
     for (double& angle : angles) {
         angle = 6.283185307179586 * unit(random);
@@ -227,12 +227,16 @@ TEST_CASE("earClip triangulates small convex rings at once, and leaves every oth
         requireTriangulation(rings, result);
     }
 
-    // Every turn one way, but round twice: a pentagram crosses itself.
-    Ring pentagram;
-    for (int k = 0; k < 5; ++k) {
-        pentagram.push_back({std::cos(4.0 * 3.141592653589793 * k / 5), std::sin(4.0 * 3.141592653589793 * k / 5)});
+    // Every turn one way, but round twice: a pentagram crosses itself, and so does a ring of 101
+    // vertices round twice (past the small rings, where a convex ring's edges go unchecked).
+    for (const int points : {5, 101}) {
+        Ring twice;
+        for (int k = 0; k < points; ++k) {
+            const double angle = 4.0 * 3.141592653589793 * k / points;
+            twice.push_back({std::cos(angle), std::sin(angle)});
+        }
+        REQUIRE_THROWS_WITH(earClip(Rings{twice}, "twice round"), Contains("polygon 'twice round'") && Contains("crosses"));
     }
-    REQUIRE_THROWS_WITH(earClip(Rings{pentagram}, "pentagram"), Contains("polygon 'pentagram'") && Contains("crosses"));
     // A straight vertex stays a vertex.
     const Rings straight{{{0, 0}, {1, 0}, {2, 0}, {2, 1}, {0, 1}}};
     const PolygonTriangles kept = earClip(straight);

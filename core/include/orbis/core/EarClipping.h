@@ -46,12 +46,14 @@ struct PolygonTriangles {
 inline constexpr double kSpikeRepairRelativeArea = 1e-2;
 
 /// Triangulates a planar polygon by ear clipping (book section 8.2.1). Ears are clipped shortest
-/// diagonal first, each tested against the vertices in its triangle through a spatial index, and
-/// tested again only when a vertex near it goes; the rings are checked for crossing and touching
-/// edges through a grid, or, where long edges lie close together, a sweep line: about n log n for
-/// rings of similar edges (a ring of 100,000 vertices in a tenth of a second), whatever their
-/// shape. Polygons of up to 32 vertices are tested without an index, and each thread keeps the
-/// working memory between calls.
+/// diagonal first, each tested against the vertices in its triangle that could be in its way (the
+/// reflex ones, and those sharing a position) through a spatial index, and tested again only when
+/// a vertex near it goes; the rings are checked for crossing and touching edges through a grid,
+/// or, where long edges lie close together, a sweep line: about n log n for rings of similar edges
+/// (a ring of 100,000 vertices in a tenth of a second), whatever their shape. A strictly convex
+/// ring without holes needs no check; one of up to 32 vertices is triangulated at once (its
+/// triangles zig-zag across it). Polygons of up to 32 vertices are tested without an index, and
+/// each thread keeps the working memory between calls.
 ///
 /// rings[0] is the outer boundary, the others are holes inside it; either winding is accepted
 /// (the outer ring is made counter-clockwise, holes clockwise). A ring may repeat its first vertex
