@@ -1171,6 +1171,9 @@ private:
         if (orient2d(pa, pb, pc) <= 0) {
             return kNotConvex;
         }
+        if (_indexed && !node(b).twin) {
+            _index.remove(b); // turned convex: in no ear's way from now on (mayBlockEars)
+        }
         // The edges on either side of the ear must not enter it.
         if (inOpenWedge(pa, pb, pc, pos(node(a).prev)) || inOpenWedge(pc, pa, pb, pos(node(c).next))) {
             return kNotConvex;
@@ -1283,11 +1286,6 @@ private:
         --_remaining;
         if (_indexed) {
             _index.remove(b);
-            for (const int turned : {a, c}) {
-                if (!mayBlockEars(turned)) {
-                    _index.remove(turned);
-                }
-            }
         }
         enqueue(a); // new diagonals
         enqueue(c);
