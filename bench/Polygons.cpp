@@ -107,11 +107,13 @@ Table largeRings(const Options& options)
         "One polygon, or many small ones, triangulated in the plane; best of " + std::to_string(repeats) +
         " runs. earClip checks the rings first (edges that cross or touch, through a grid of cells sized from "
         "the edges; where the grid would compare more than 32 pairs an edge, a sweep line proves the rings touch "
-        "nothing instead), joins each hole to the outer ring by a bridge checked against the edges near it (a grid of "
-        "the edges), then clips ears shortest diagonal first (by the diagonal's binary order of magnitude, first in "
-        "first out within one), testing each candidate against the vertices in its bounding box (a Z-order walk, "
-        "or a k-d tree, which skips the cells the triangle misses, once walks have been long often enough to pay "
-        "for it) and again only when a vertex near it goes; predicates exact. earcut.hpp (mapbox, not part of Orbis; compiled in only when the build is given "
+        "nothing instead; a strictly convex ring without holes needs no check, and one of up to 32 vertices is "
+        "triangulated at once), joins each hole to the outer ring at a vertex it touches or by a bridge checked "
+        "against the edges near it (a grid of the edges), then clips ears shortest diagonal first (by the diagonal's "
+        "binary order of magnitude, first in first out within one), testing each candidate against the vertices in "
+        "its bounding box that could be in its way (reflex, straight, or sharing a position; a Z-order walk, or a "
+        "k-d tree, which skips the cells the triangle misses, once walks have been long often enough to pay for it) "
+        "and again only when a vertex near it goes; predicates exact. earcut.hpp (mapbox, not part of Orbis; compiled in only when the build is given "
         "its folder) clips in ring order, with a Z-order walk and floating-point predicates, and does not check "
         "the rings.";
     table.columns = {"polygon", "vertices", "holes", "earClip ms", "earcut.hpp ms", "triangles (both)"};
@@ -175,14 +177,12 @@ Table largeRings(const Options& options)
                               count});
     }
     table.notes =
-        "On one ring earcut's lighter checks (floating point, no check of the rings) win where ears are easy to "
-        "find: checking the rings takes a third to two fifths of earClip's time on the circle and the coast. Where every "
-        "other vertex is reflex (the star) earClip's order of clipping and its pruned queries win. earcut joins each "
-        "hole to the outer ring by a walk round the whole outer ring, the holes joined before included, so its "
-        "time grows with the holes times the vertices; earClip's bridges look only at the edges near them. On small polygons earcut's "
-        "lighter set-up still wins: earClip takes about 0.41 us a pentagon (its working memory kept between polygons on a "
-        "thread, and the ears of polygons of up to 32 vertices tested against all of them, without an index: 1.2 us before "
-        "both), earcut about 0.08.";
+        "A convex ring (the circle, the pentagons) is faster with earClip: it is known not to touch itself from its "
+        "turns alone, and a small one needs no queue of ears. On the coast earcut's lighter checks (floating point, no "
+        "check of the rings) still win: checking the rings, by the sweep line there, takes a fifth of earClip's time. "
+        "Where every other vertex is reflex (the star) earClip's order of clipping and its pruned queries win. earcut "
+        "joins each hole to the outer ring by a walk round the whole outer ring, the holes joined before included, so "
+        "its time grows with the holes times the vertices; earClip's bridges look only at the edges near them.";
     return table;
 }
 
