@@ -31,9 +31,19 @@ using detail::onSegment;
 using detail::orient2d;
 using detail::segmentsIntersect;
 
-// Ears thinner than this (twice the area over the longest edge squared, about the sine of the
-// smallest angle) are clipped only when no other ear is left.
+// Ears thinner than this (triangleQuality) are clipped only when no other ear is left.
 constexpr double kSliverQuality = 1e-9;
+
+// How full a triangle is: twice its area over its longest edge squared, about the sine of its
+// smallest angle; 0 for one with no extent.
+double triangleQuality(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) noexcept
+{
+    const glm::dvec2 ab = b - a;
+    const glm::dvec2 bc = c - b;
+    const glm::dvec2 ca = a - c;
+    const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
+    return longest > 0.0 ? std::abs(ab.x * bc.y - ab.y * bc.x) / longest : 0.0;
+}
 
 struct Node {
     glm::dvec2 p;
@@ -265,11 +275,7 @@ private:
             // order, so counter-clockwise.
             const std::array<std::size_t, 3> t = fromLow ? std::array<std::size_t, 3>{low, low + 1, high}
                                                          : std::array<std::size_t, 3>{low, high - 1, high};
-            const glm::dvec2 ab = at(t[1]) - at(t[0]);
-            const glm::dvec2 bc = at(t[2]) - at(t[1]);
-            const glm::dvec2 ca = at(t[0]) - at(t[2]);
-            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
-            if (!(std::abs(ab.x * bc.y - ab.y * bc.x) >= kSliverQuality * longest)) {
+            if (!(triangleQuality(at(t[0]), at(t[1]), at(t[2])) >= kSliverQuality)) {
                 indices.clear();
                 return false;
             }
@@ -1145,14 +1151,7 @@ private:
     // Ears thinner than kSliverQuality are clipped only when no other ear is left.
     bool isSliver(int b) const
     {
-        const glm::dvec2& pa = pos(node(b).prev);
-        const glm::dvec2& pb = pos(b);
-        const glm::dvec2& pc = pos(node(b).next);
-        const glm::dvec2 ab = pb - pa;
-        const glm::dvec2 bc = pc - pb;
-        const glm::dvec2 ca = pa - pc;
-        const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
-        return std::abs(ab.x * bc.y - ab.y * bc.x) < kSliverQuality * longest;
+        return triangleQuality(pos(node(b).prev), pos(b), pos(node(b).next)) < kSliverQuality;
     }
 
     static constexpr int kEar = -1;
@@ -1447,13 +1446,7 @@ private:
             where[n.index] = n.p;
         }
         auto at = [&](std::uint32_t i) -> const glm::dvec2& { return where[i]; };
-        auto quality = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-            const glm::dvec2 ab = at(b) - at(a);
-            const glm::dvec2 bc = at(c) - at(b);
-            const glm::dvec2 ca = at(a) - at(c);
-            const double longest = std::max({glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)});
-            return longest > 0.0 ? std::abs(ab.x * bc.y - ab.y * bc.x) / longest : 0.0;
-        };
+        auto quality = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { return triangleQuality(at(a), at(b), at(c)); };
         const std::size_t count = indices.size() / 3;
         auto corner = [&](std::size_t t, std::size_t k) -> std::uint32_t& { return indices[3 * t + k % 3]; };
         auto isSliverTriangle = [&](std::size_t t) { return quality(corner(t, 0), corner(t, 1), corner(t, 2)) < kSliverQuality; };
