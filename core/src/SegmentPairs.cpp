@@ -5,7 +5,6 @@
 
 #include <glm/geometric.hpp>
 
-#include <array>
 #include <bit>
 
 namespace orbis::detail {
