@@ -89,6 +89,22 @@ int convexTurn(std::size_t n, At&& at)
     return xChanges <= 2 ? turn : 0;
 }
 
+// The quarter round a point lies in, seen from c: 0 for angles in [0, 90) degrees, 1 for [90, 180),
+// 2 for [180, 270), 3 for [270, 360); -1 at c. Exact: comparisons only.
+int quadrantAround(const glm::dvec2& c, const glm::dvec2& p) noexcept
+{
+    if (p.x > c.x && p.y >= c.y) {
+        return 0;
+    }
+    if (p.x <= c.x && p.y > c.y) {
+        return 1;
+    }
+    if (p.x < c.x && p.y <= c.y) {
+        return 2;
+    }
+    return p.x >= c.x && p.y < c.y ? 3 : -1;
+}
+
 std::string describeEdge(const Node& from, const Node& to)
 {
     std::ostringstream out;
@@ -201,13 +217,17 @@ public:
         const bool convex = _cycles.size() == 1 && convexTurn(_nodes.size(), [&](std::size_t k) -> const glm::dvec2& {
                                 return _nodes[k % _nodes.size()].p;
                             }) != 0;
-        for (Split split = convex ? Split::Done : splitTouchingEdges(); split != Split::Done; split = splitTouchingEdges()) {
+        // So does a ring star-shaped round its vertices' mean (see starShaped), whose ears need no
+        // search either.
+        _starShaped = !convex && _cycles.size() == 1 && starShaped();
+        for (Split split = convex || _starShaped ? Split::Done : splitTouchingEdges(); split != Split::Done;
+             split = splitTouchingEdges()) {
             if (split == Split::RepairedVertex) {
                 ++result.repairedVertices;
                 --result.vertexCount;
             }
         }
-        for (std::size_t removed = convex ? 0 : removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
+        for (std::size_t removed = convex || _starShaped ? 0 : removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
             result.repairedVertices += removed;
             result.vertexCount -= std::min(removed, result.vertexCount);
         }
@@ -382,6 +402,35 @@ private:
             }
         }
         return true;
+    }
+
+    // Whether the outer ring (counter-clockwise, with no holes) is strictly star-shaped round its
+    // vertices' mean, which it then keeps as _centre: each edge turns strictly counter-clockwise
+    // round it, by less than half a turn, and all of them once round together (the quarters the
+    // vertices lie in, seen from it, advance by four). Then a ray from the centre meets the ring
+    // once: it touches nothing, and an ear needs no search (earBlocker). A round coast, or a
+    // star, is such a ring; few countries are.
+    bool starShaped()
+    {
+        glm::dvec2 sum(0.0);
+        for (const Node& n : _nodes) {
+            sum += n.p;
+        }
+        _centre = sum / static_cast<double>(_nodes.size());
+        int quarters = 0;
+        int i = _cycles[0];
+        int quadrant = quadrantAround(_centre, pos(i));
+        do {
+            const int next = node(i).next;
+            const int following = quadrantAround(_centre, pos(next));
+            if (quadrant < 0 || following < 0 || orient2d(_centre, pos(i), pos(next)) <= 0) {
+                return false;
+            }
+            quarters += (following - quadrant + 4) % 4; // 0 to 2: each step is less than half a turn
+            quadrant = following;
+            i = next;
+        } while (i != _cycles[0] && quarters <= 4);
+        return quarters == 4 && i == _cycles[0];
     }
 
     Node& node(int i) { return _nodes[static_cast<std::size_t>(i)]; }
@@ -1170,6 +1219,12 @@ private:
         if (orient2d(pa, pb, pc) <= 0) {
             return kNotConvex;
         }
+        if (_starShaped) {
+            // The ear lies in the wedge from the centre between a and c, if that is less than half a
+            // turn, and every other vertex outside it: the angles round the centre increase along
+            // the ring. Clipping it leaves the ring star-shaped. A wider wedge waits for a or c to go.
+            return orient2d(_centre, pa, pc) > 0 ? kEar : kNotConvex;
+        }
         if (_indexed && !node(b).twin) {
             _index.remove(b); // turned convex: in no ear's way from now on (mayBlockEars)
         }
@@ -1349,24 +1404,34 @@ private:
         return removed;
     }
 
+    // Indexes the vertices that may be in ears' way (mayBlockEars) among those given, the ring
+    // left; a small polygon's ears are tested against all its vertices: cheaper than indexing them.
+    void indexVertices(const std::vector<int>& vertices)
+    {
+        _indexed = vertices.size() > kSmallPolygon;
+        if (!_indexed) {
+            return;
+        }
+        _positions.clear();
+        for (const Node& n : _nodes) {
+            _positions.push_back(n.p);
+        }
+        _mayBlock.assign(_nodes.size(), 0);
+        for (const int i : vertices) {
+            _mayBlock[static_cast<std::size_t>(i)] = mayBlockEars(i);
+        }
+        _index.reset(_positions, vertices, _mayBlock);
+    }
+
     void clip(std::vector<std::uint32_t>& indices)
     {
         std::vector<int>& all = _cycleOrder;
         all.clear();
         forEachInCycle(_start, [&](int i) { all.push_back(i); });
         _remaining = all.size();
-        // A small polygon's ears are tested against all its vertices: cheaper than indexing them.
-        _indexed = all.size() > kSmallPolygon;
-        if (_indexed) {
-            _positions.clear();
-            for (const Node& n : _nodes) {
-                _positions.push_back(n.p);
-            }
-            _mayBlock.assign(_nodes.size(), 0);
-            for (const int i : all) {
-                _mayBlock[static_cast<std::size_t>(i)] = mayBlockEars(i);
-            }
-            _index.reset(_positions, all, _mayBlock);
+        _indexed = false;
+        if (!_starShaped) {
+            indexVertices(all);
         }
         _queue.clear();
         _queued.assign(_nodes.size(), kNotQueued);
@@ -1390,6 +1455,18 @@ private:
         };
 
         while (_remaining > 3) {
+            if (_queue.empty() && _starShaped) {
+                // Every convex vertex left spans half a turn or more round the centre: the rest is
+                // clipped as any ring is.
+                _starShaped = false;
+                all.clear();
+                forEachInCycle(_start, [&](int i) { all.push_back(i); });
+                indexVertices(all);
+                for (const int i : all) {
+                    enqueue(i);
+                }
+                continue;
+            }
             if (_queue.empty()) {
                 // No ear anywhere: vertices that bound no area are in the way.
                 if (!removeDegenerate(false) && !removeDegenerate(true)) {
@@ -1563,6 +1640,10 @@ private:
     std::vector<glm::dvec2> _positions;       // by node, for the index
     static constexpr std::size_t kSmallPolygon = 32;
     bool _indexed = false;     // whether _index is in use
+    // The outer ring, alone, is strictly star-shaped round _centre (starShaped): until the clipping
+    // finds no ear that way.
+    bool _starShaped = false;
+    glm::dvec2 _centre{0.0};
     detail::PointIndex _index; // the vertices left that may be in an ear's way
     std::vector<std::uint8_t> _mayBlock; // by node, when the clipping starts
     ClassQueue _queue;

@@ -698,6 +698,60 @@ TEST_CASE("earClip triangulates rings of 100,000 vertices, round, wavy and spiky
     }
 }
 
+TEST_CASE("earClip triangulates star-shaped rings, and what is left of them when no ear spans less than half a turn",
+          "[polygon][ear-clipping]")
+{
+    // Rings strictly star-shaped round their vertices' mean are clipped without searching for
+    // vertices in an ear's way (an ear's wedge from the centre holds no other vertex) until every
+    // convex vertex left spans half a turn or more; the rest is clipped as any ring is. Rings
+    // symmetric through their centre (so that the mean is the centre) with random radii; and triangles whose edges are dented in and out a little,
+    // whose corners span more than half a turn, so the second part always has work.
+    const auto seed = GENERATE(take(100, random(0u, 1000000u)));
+    INFO("seed " << seed);
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const glm::dvec2 centre(20.0 * unit(random) - 10.0, 20.0 * unit(random) - 10.0);
+    Ring ring;
+    if (seed % 2 == 0) {
+        const int half = 17 + static_cast<int>(200 * unit(random));
+        std::vector<double> angles;
+        for (int k = 0; k < half; ++k) {
+            angles.push_back(0.5 * kTwoPi * (k + 0.8 * unit(random)) / half);
+        }
+        Ring first;
+        for (const double angle : angles) {
+            const double radius = 0.2 + 0.8 * unit(random);
+            first.push_back(radius * glm::dvec2(std::cos(angle), std::sin(angle)));
+        }
+        for (const glm::dvec2& p : first) {
+            ring.push_back(centre + p);
+        }
+        for (const glm::dvec2& p : first) {
+            ring.push_back(centre - p);
+        }
+    } else {
+        const int perEdge = 12 + static_cast<int>(60 * unit(random));
+        for (int corner = 0; corner < 3; ++corner) {
+            const double a0 = kTwoPi * (corner / 3.0 + 0.25);
+            const double a1 = a0 + kTwoPi / 3;
+            const glm::dvec2 from(std::cos(a0), std::sin(a0));
+            const glm::dvec2 to(std::cos(a1), std::sin(a1));
+            ring.push_back(centre + from);
+            for (int k = 1; k < perEdge; ++k) {
+                const double t = static_cast<double>(k) / perEdge;
+                // In towards the centre by up to 3% of the way: reflex and convex vertices mixed.
+                ring.push_back(centre + (1.0 - 0.03 * unit(random)) * (from + t * (to - from)));
+            }
+        }
+    }
+    if (unit(random) < 0.5) {
+        std::reverse(ring.begin(), ring.end());
+    }
+    const PolygonTriangles result = earClip(Rings{ring});
+    REQUIRE(result.triangleCount() == ring.size() - 2);
+    requireTriangulation(Rings{ring}, result);
+}
+
 TEST_CASE("earClip triangulates random lattice polygons with collinear runs, pinches and holes", "[polygon][ear-clipping]")
 {
     // A random set of cells of a 10 x 10 grid (or, for every other seed, of a 24 x 24 one, whose
