@@ -108,7 +108,9 @@ Table largeRings(const Options& options)
         " runs. earClip checks the rings first (edges that cross or touch, through a grid of cells sized from "
         "the edges; where the grid would compare more than 32 pairs an edge, a sweep line proves the rings touch "
         "nothing instead; a strictly convex ring without holes needs no check, and one of up to 32 vertices is "
-        "triangulated at once), joins each hole to the outer ring at a vertex it touches or by a bridge checked "
+        "triangulated at once; nor does a ring without holes that is strictly star-shaped round its vertices' mean or "
+        "a point of its kernel, whose ears need no search until those left span half a turn or more from that "
+        "centre), joins each hole to the outer ring at a vertex it touches or by a bridge checked "
         "against the edges near it (a grid of the edges), then clips ears shortest diagonal first (by the diagonal's "
         "binary order of magnitude, first in first out within one), testing each candidate against the vertices in "
         "its bounding box that could be in its way (reflex, straight, or sharing a position; a Z-order walk, or a "
@@ -178,9 +180,9 @@ Table largeRings(const Options& options)
     }
     table.notes =
         "A convex ring (the circle, the pentagons) is faster with earClip: it is known not to touch itself from its "
-        "turns alone, and a small one needs no queue of ears. On the coast earcut's lighter checks (floating point, no "
-        "check of the rings) still win: checking the rings, by the sweep line there, takes a fifth of earClip's time. "
-        "Where every other vertex is reflex (the star) earClip's order of clipping and its pruned queries win. earcut "
+        "turns alone, and a small one needs no queue of ears. The coast and the star are star-shaped (the coast round "
+        "its vertices' mean, the star round its kernel's centre): their rings need no check and their ears no search, where "
+        "earcut searches every ear's box, which on the star, every other vertex reflex, holds many vertices. earcut "
         "joins each hole to the outer ring by a walk round the whole outer ring, the holes joined before included, so "
         "its time grows with the holes times the vertices; earClip's bridges look only at the edges near them.";
     return table;

@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -404,33 +405,122 @@ private:
         return true;
     }
 
-    // Whether the outer ring (counter-clockwise, with no holes) is strictly star-shaped round its
-    // vertices' mean, which it then keeps as _centre: each edge turns strictly counter-clockwise
-    // round it, by less than half a turn, and all of them once round together (the quarters the
-    // vertices lie in, seen from it, advance by four). Then a ray from the centre meets the ring
-    // once: it touches nothing, and an ear needs no search (earBlocker). A round coast, or a
-    // star, is such a ring; few countries are.
+    // Whether the outer ring (counter-clockwise, with no holes) is strictly star-shaped: round its
+    // vertices' mean, or, for a ring of kKernelSearchVertices or more, round the centre of the
+    // extreme points of its kernel (where every edge is seen counter-clockwise), found by linear
+    // programming. The centre is kept in _centre. A round coast or a star is such a ring; few
+    // countries are.
     bool starShaped()
     {
         glm::dvec2 sum(0.0);
         for (const Node& n : _nodes) {
             sum += n.p;
         }
-        _centre = sum / static_cast<double>(_nodes.size());
+        const glm::dvec2 mean = sum / static_cast<double>(_nodes.size());
+        if (starShapedRound(mean)) {
+            return true;
+        }
+        if (_nodes.size() < kKernelSearchVertices) {
+            return false;
+        }
+        const std::optional<glm::dvec2> centre = kernelCentre(mean);
+        return centre && starShapedRound(*centre);
+    }
+
+    // Whether each edge of the outer ring turns strictly counter-clockwise round c, by less than
+    // half a turn, and all of them once round together (the quarters the vertices lie in, seen
+    // from c, advance by four): then a ray from c meets the ring once, so it touches nothing, and
+    // an ear needs no search (earBlocker). Exact; keeps c as _centre when true.
+    bool starShapedRound(const glm::dvec2& c)
+    {
         int quarters = 0;
         int i = _cycles[0];
-        int quadrant = quadrantAround(_centre, pos(i));
+        int quadrant = quadrantAround(c, pos(i));
         do {
             const int next = node(i).next;
-            const int following = quadrantAround(_centre, pos(next));
-            if (quadrant < 0 || following < 0 || orient2d(_centre, pos(i), pos(next)) <= 0) {
+            const int following = quadrantAround(c, pos(next));
+            if (quadrant < 0 || following < 0 || orient2d(c, pos(i), pos(next)) <= 0) {
                 return false;
             }
             quarters += (following - quadrant + 4) % 4; // 0 to 2: each step is less than half a turn
             quadrant = following;
             i = next;
         } while (i != _cycles[0] && quarters <= 4);
-        return quarters == 4 && i == _cycles[0];
+        if (quarters != 4 || i != _cycles[0]) {
+            return false;
+        }
+        _centre = c;
+        return true;
+    }
+
+    // The mean of the westmost, eastmost, southmost and northmost points of the outer ring's
+    // kernel (the points left of every edge), which lies inside it where it has an inside; none
+    // where the search finds it empty. Seidel's randomized linear programming, in floating point
+    // (starShapedRound checks the answer exactly), relative to `origin`, in expected linear time.
+    std::optional<glm::dvec2> kernelCentre(const glm::dvec2& origin)
+    {
+        std::vector<HalfPlane>& planes = _halfPlanes;
+        planes.clear();
+        glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        forEachInCycle(_cycles[0], [&](int i) {
+            const glm::dvec2 p = pos(i) - origin;
+            const glm::dvec2 q = pos(node(i).next) - origin;
+            const glm::dvec2 normal(p.y - q.y, q.x - p.x); // the edge turned a quarter to its left
+            planes.push_back({normal, glm::dot(normal, p)});
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        });
+        // A fixed order, so that a polygon always gets the same triangles.
+        std::shuffle(planes.begin(), planes.end(), std::mt19937(static_cast<std::uint32_t>(planes.size())));
+        const HalfPlane box[4] = {{{1.0, 0.0}, lo.x}, {{-1.0, 0.0}, -hi.x}, {{0.0, 1.0}, lo.y}, {{0.0, -1.0}, -hi.y}};
+
+        // The point of the kernel within the ring's box farthest in `direction`.
+        auto farthest = [&](const glm::dvec2& direction) -> std::optional<glm::dvec2> {
+            glm::dvec2 x(direction.x > 0.0 ? hi.x : lo.x, direction.y > 0.0 ? hi.y : lo.y);
+            for (std::size_t k = 0; k < planes.size(); ++k) {
+                const HalfPlane& h = planes[k];
+                if (glm::dot(h.normal, x) >= h.offset) {
+                    continue;
+                }
+                // The best point moves onto this plane's line: the best of the line within the others.
+                const double lengthSquared = glm::dot(h.normal, h.normal);
+                const glm::dvec2 onLine = h.normal * (h.offset / lengthSquared);
+                const glm::dvec2 along(-h.normal.y, h.normal.x);
+                double low = -std::numeric_limits<double>::infinity();
+                double high = std::numeric_limits<double>::infinity();
+                auto limit = [&](const HalfPlane& g) {
+                    const double rate = glm::dot(g.normal, along);
+                    const double needed = g.offset - glm::dot(g.normal, onLine);
+                    if (rate > 0.0) {
+                        low = std::max(low, needed / rate);
+                    } else if (rate < 0.0) {
+                        high = std::min(high, needed / rate);
+                    } else if (needed > 0.0) {
+                        low = std::numeric_limits<double>::infinity(); // parallel, and outside it
+                    }
+                };
+                for (const HalfPlane& g : box) {
+                    limit(g);
+                }
+                for (std::size_t j = 0; j < k; ++j) {
+                    limit(planes[j]);
+                }
+                if (!(low <= high)) {
+                    return std::nullopt;
+                }
+                x = onLine + along * (glm::dot(direction, along) > 0.0 ? high : low);
+            }
+            return x;
+        };
+        glm::dvec2 sum(0.0);
+        for (const glm::dvec2 direction : {glm::dvec2(-1.0, 0.0), glm::dvec2(1.0, 0.0), glm::dvec2(0.0, -1.0), glm::dvec2(0.0, 1.0)}) {
+            const std::optional<glm::dvec2> x = farthest(direction);
+            if (!x) {
+                return std::nullopt;
+            }
+            sum += *x;
+        }
+        return origin + 0.25 * sum;
     }
 
     Node& node(int i) { return _nodes[static_cast<std::size_t>(i)]; }
@@ -1644,6 +1734,7 @@ private:
     // finds no ear that way.
     bool _starShaped = false;
     glm::dvec2 _centre{0.0};
+    static constexpr std::size_t kKernelSearchVertices = 256;
     detail::PointIndex _index; // the vertices left that may be in an ear's way
     std::vector<std::uint8_t> _mayBlock; // by node, when the clipping starts
     ClassQueue _queue;
@@ -1660,6 +1751,11 @@ private:
     std::vector<bool> _cycleIsFaulty;
     std::vector<int> _cycleOrder, _work;             // clip
     std::vector<glm::dvec2> _byOutputIndex;          // flipSlivers
+    struct HalfPlane {
+        glm::dvec2 normal; // inside: dot(normal, x) >= offset
+        double offset;
+    };
+    std::vector<HalfPlane> _halfPlanes; // kernelCentre
 };
 
 } // namespace

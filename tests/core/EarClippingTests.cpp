@@ -701,18 +701,22 @@ TEST_CASE("earClip triangulates rings of 100,000 vertices, round, wavy and spiky
 TEST_CASE("earClip triangulates star-shaped rings, and what is left of them when no ear spans less than half a turn",
           "[polygon][ear-clipping]")
 {
-    // Rings strictly star-shaped round their vertices' mean are clipped without searching for
-    // vertices in an ear's way (an ear's wedge from the centre holds no other vertex) until every
-    // convex vertex left spans half a turn or more; the rest is clipped as any ring is. Rings
-    // symmetric through their centre (so that the mean is the centre) with random radii; and triangles whose edges are dented in and out a little,
-    // whose corners span more than half a turn, so the second part always has work.
+    // Rings strictly star-shaped round a centre (their vertices' mean, or for rings of 256
+    // vertices or more, a point of their kernel found by linear programming) are clipped without
+    // searching for vertices in an ear's way (an ear's wedge from the centre holds no other vertex)
+    // until every convex vertex left spans half a turn or more; the rest is clipped as any ring
+    // is. Rings symmetric through their centre (so that the mean is the centre) with random radii;
+    // stars of up to 2,000 spikes of random length, longer on one side, whose kernel is too small
+    // to hold the mean;
+    // and triangles whose edges are dented in and out a little, whose corners span more than half
+    // a turn, so the second part always has work.
     const auto seed = GENERATE(take(100, random(0u, 1000000u)));
     INFO("seed " << seed);
     std::mt19937_64 random(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const glm::dvec2 centre(20.0 * unit(random) - 10.0, 20.0 * unit(random) - 10.0);
     Ring ring;
-    if (seed % 2 == 0) {
+    if (seed % 3 == 0) {
         const int half = 17 + static_cast<int>(200 * unit(random));
         std::vector<double> angles;
         for (int k = 0; k < half; ++k) {
@@ -728,6 +732,14 @@ TEST_CASE("earClip triangulates star-shaped rings, and what is left of them when
         }
         for (const glm::dvec2& p : first) {
             ring.push_back(centre - p);
+        }
+    } else if (seed % 3 == 1) {
+        const int n = 256 + static_cast<int>(1800 * unit(random));
+        for (int k = 0; k < n; ++k) {
+            const double angle = kTwoPi * k / n;
+            // Longer spikes eastwards: the mean lies well east of the centre, outside the kernel.
+            const double radius = 0.5 + 0.5 * unit(random) + 0.4 * std::cos(angle);
+            ring.push_back(centre + radius * glm::dvec2(std::cos(angle), std::sin(angle)));
         }
     } else {
         const int perEdge = 12 + static_cast<int>(60 * unit(random));

@@ -52,7 +52,11 @@ inline constexpr double kSpikeRepairRelativeArea = 1e-2;
 /// or, where long edges lie close together, a sweep line: about n log n for rings of similar edges
 /// (a ring of 100,000 vertices in a tenth of a second), whatever their shape. A strictly convex
 /// ring without holes needs no check; one of up to 32 vertices is triangulated at once (its
-/// triangles zig-zag across it). Polygons of up to 32 vertices are tested without an index, and
+/// triangles zig-zag across it). A ring without holes that is strictly star-shaped (round its
+/// vertices' mean, or, from 256 vertices, round a point of its kernel found by linear
+/// programming; checked exactly) needs no check either, and its ears no search, in the same order,
+/// until the ears left span half a turn or more from the centre: a round coast or a star of
+/// 100,000 vertices in some 30 ms. Polygons of up to 32 vertices are tested without an index, and
 /// each thread keeps the working memory between calls.
 ///
 /// rings[0] is the outer boundary, the others are holes inside it; either winding is accepted
