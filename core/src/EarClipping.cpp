@@ -218,8 +218,8 @@ public:
         const bool convex = _cycles.size() == 1 && convexTurn(_nodes.size(), [&](std::size_t k) -> const glm::dvec2& {
                                 return _nodes[k % _nodes.size()].p;
                             }) != 0;
-        // So does a ring star-shaped round its vertices' mean (see starShaped), whose ears need no
-        // search either.
+        // So does a strictly star-shaped ring without holes (starShaped), whose ears need no search
+        // either.
         _starShaped = !convex && _cycles.size() == 1 && starShaped();
         for (Split split = convex || _starShaped ? Split::Done : splitTouchingEdges(); split != Split::Done;
              split = splitTouchingEdges()) {
