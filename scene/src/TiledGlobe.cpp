@@ -371,6 +371,12 @@ struct TiledGlobe::Impl {
     }
     /// Whether tiles draw their water masks (TiledGlobeOptions::water needs terrain and lighting).
     bool waterMasks() const noexcept { return options->water && options->lighting && terrain; }
+    /// Whether a layer adjusts its colours: then every tile's program has the adjustment.
+    bool adjustsColors() const noexcept
+    {
+        return std::any_of(options->imagery.begin(), options->imagery.end(),
+                           [](const ImageryLayer& layer) { return layer.style.adjustsColors(); });
+    }
     std::optional<renderer::Sampler> sampler;
     /// With TiledGlobeOptions::water: one texel masks for the tiles all land or all water, and the
     /// masks' sampler (no mipmaps: a coastline stays as sharp as the data has it).
@@ -1326,6 +1332,9 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     if (water) {
         description.defines.push_back({"WATER_MASK"});
     }
+    if (adjustsColors()) {
+        description.defines.push_back({"COLOR_ADJUSTMENT"});
+    }
     for (renderer::ShaderDefine& define : depthStrategyDefines(frameState.depthStrategy, Pass::Opaque)) {
         description.defines.push_back(std::move(define));
     }
@@ -1696,6 +1705,9 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         }
         if (impl.waterMasks()) {
             command.tags = command.tags | Effect::Water;
+        }
+        if (impl.adjustsColors()) {
+            command.tags = command.tags | Effect::ColorAdjustment;
         }
         commands.push_back(std::move(command));
     }

@@ -706,6 +706,9 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     if (mipTail) {
         description.defines.push_back({"VT_MIP_TAIL"});
     }
+    if (!feedback && options->style.adjustsColors()) {
+        description.defines.push_back({"COLOR_ADJUSTMENT"});
+    }
     if (ramp) {
         description.defines.push_back({"VT_LOD_RAMP"});
     }
@@ -1082,6 +1085,9 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         command.ground = true;
         if (_options.lighting) {
             command.tags = command.tags | Effect::Lighting;
+        }
+        if (_options.style.adjustsColors()) {
+            command.tags = command.tags | Effect::ColorAdjustment;
         }
         commands.push_back(std::move(command));
     }

@@ -461,6 +461,63 @@ TEST_CASE("Virtual texture frames are the same whatever the loader's thread coun
     CHECK(run(2) == inline_);
 }
 
+TEST_CASE("An imagery layer's brightness or gamma adds the colour adjustment, which a layer as it is compiles out",
+          "[scene][virtual][tiles][gl]")
+{
+    // Both globes, converged over the Alps: as they are, no "colour adjustment" among the frame's
+    // effects; with brightness 0.5, or gamma 0.5, the effect, and every pixel of the ground the
+    // adjustment of the same pixel as it was (colours scaled, or squared), background untouched.
+    auto render = [](bool virtualTexture, const ImageryLayerStyle& style) {
+        Scene scene(kEarth);
+        scene.options().background = glm::vec4(1.0f, 0.0f, 1.0f, 1.0f);
+        if (virtualTexture) {
+            VirtualTextureGlobeOptions options = blueMarble();
+            options.style = style;
+            scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+        } else {
+            TiledGlobeOptions options;
+            options.imagery.push_back({world::openTileSource(dataPath("imagery/BlueMarble")), style});
+            scene.add(std::make_shared<TiledGlobe>(kEarth, options));
+        }
+        placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 300000.0), 0.0, -35.0);
+        return renderUntilTilesConverge(scene, 160, 90, 100);
+    };
+    auto adjusts = [](const RenderedFrame& frame) {
+        const std::vector<std::string> effects = frame.statistics.effectsRun();
+        return std::find(effects.begin(), effects.end(), "colour adjustment") != effects.end();
+    };
+    for (const bool virtualTexture : {false, true}) {
+        INFO((virtualTexture ? "virtual texture" : "tiled imagery"));
+        const RenderedFrame plain = render(virtualTexture, {});
+        CHECK_FALSE(adjusts(plain));
+        ImageryLayerStyle darker;
+        darker.brightness = 0.5;
+        ImageryLayerStyle squared;
+        squared.gamma = 0.5;
+        for (const auto& [style, expected] :
+             {std::pair<ImageryLayerStyle, double (*)(double)>{darker, [](double c) { return 0.5 * c; }},
+              std::pair<ImageryLayerStyle, double (*)(double)>{squared, [](double c) { return c * c; }}}) {
+            const RenderedFrame adjusted = render(virtualTexture, style);
+            CHECK(adjusts(adjusted));
+            int ground = 0;
+            for (int y = 0; y < 90; ++y) {
+                for (int x = 0; x < 160; ++x) {
+                    const std::uint8_t* before = plain.image.pixel(x, y);
+                    const std::uint8_t* after = adjusted.image.pixel(x, y);
+                    const bool background = before[0] == 255 && before[1] == 0 && before[2] == 255;
+                    ground += background ? 0 : 1;
+                    for (int c = 0; c < 3; ++c) {
+                        INFO("pixel " << x << ", " << y << " channel " << c);
+                        const double wanted = background ? before[c] : 255.0 * expected(before[c] / 255.0);
+                        REQUIRE(std::abs(after[c] - wanted) <= 2.0);
+                    }
+                }
+            }
+            CHECK(ground > 160 * 90 / 2);
+        }
+    }
+}
+
 TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a still view once converged", "[scene][virtual][gl]")
 {
     TiledGlobeOptions tiledOptions;

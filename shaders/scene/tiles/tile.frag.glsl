@@ -34,12 +34,16 @@ vec3 blendImagery(vec3 color, sampler2D imagery, vec4 transform, vec4 rectangle,
     }
     vec4 texel = texture(imagery, transform.xy + transform.zw * uv);
     vec3 adjusted = texel.rgb;
-    // The same for every fragment of a draw: layers left as they are skip the arithmetic (a pow
-    // per channel is a quarter of the cost of a tile's pixel on a software rasteriser).
+#ifdef COLOR_ADJUSTMENT
+    // Compiled in only for a globe with a layer that adjusts its colours: llvmpipe runs a
+    // branch's body for every pixel even where its condition is a uniform, and the pow per channel
+    // was a quarter of a tile's pixel. Among those layers, the ones left as they are skip it on a
+    // GPU.
     if (any(notEqual(adjustment.yzw, vec3(1.0)))) {
         adjusted = mix(vec3(0.5), adjusted * adjustment.y, adjustment.z);
         adjusted = pow(max(adjusted, vec3(0.0)), vec3(adjustment.w));
     }
+#endif
     return mix(color, adjusted, texel.a * adjustment.x);
 }
 

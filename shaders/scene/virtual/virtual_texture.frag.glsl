@@ -292,11 +292,12 @@ void main()
     }
     vec3 color = u_baseColor.rgb;
     vec3 adjusted = texel.rgb;
-    // The usual layer has no adjustment: a uniform branch saves the pow per pixel.
-    if (any(notEqual(u_textureAdjustment.yzw, vec3(1.0)))) {
-        adjusted = mix(vec3(0.5), adjusted * u_textureAdjustment.y, u_textureAdjustment.z);
-        adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
-    }
+#ifdef COLOR_ADJUSTMENT
+    // Compiled in only for a style that adjusts the colours: llvmpipe runs a branch's body for
+    // every pixel, even where its condition is a uniform (tile.frag.glsl's blendImagery).
+    adjusted = mix(vec3(0.5), adjusted * u_textureAdjustment.y, u_textureAdjustment.z);
+    adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
+#endif
     color = mix(color, adjusted, texel.a * u_textureAdjustment.x);
 #ifdef LIGHTING
     // In linear space, as models are lit: the imagery and colours are sRGB-encoded.

@@ -27,6 +27,7 @@ enum class Effect : std::uint32_t {
     ClipmapTerrain = 1u << 14, ///< terrain drawn as geometry clipmaps (with Terrain)
     DrapedPolygons = 1u << 15, ///< polygons draped over the terrain as shadow volumes (with Polygons)
     Water = 1u << 16,          ///< the terrain's water mask, level and mirroring the Sun (TiledGlobeOptions::water)
+    ColorAdjustment = 1u << 17, ///< an imagery layer's brightness, contrast or gamma (ImageryLayerStyle::adjustsColors)
 };
 
 constexpr std::uint32_t operator|(Effect a, Effect b) noexcept

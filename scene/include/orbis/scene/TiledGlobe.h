@@ -35,6 +35,10 @@ struct ImageryLayerStyle {
     double gamma = 1.0;      ///< > 0; colours raised to 1 / gamma
     /// Where the layer shows; empty: wherever its source has tiles. May cross the antimeridian.
     std::optional<GeodeticExtent> rectangle;
+
+    /// Whether brightness, contrast or gamma changes the colours: only then do the globe's
+    /// shaders compile the adjustment in (Effect::ColorAdjustment).
+    bool adjustsColors() const noexcept { return brightness != 1.0 || contrast != 1.0 || gamma != 1.0; }
 };
 
 /// An imagery layer: a tile source (TMS folder, URL template, MBTiles, HTTP) and its style.
