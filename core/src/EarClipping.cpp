@@ -221,14 +221,14 @@ public:
         // So does a strictly star-shaped ring without holes (starShaped), whose ears need no search
         // either.
         _starShaped = !convex && _cycles.size() == 1 && starShaped();
-        for (Split split = convex || _starShaped ? Split::Done : splitTouchingEdges(); split != Split::Done;
-             split = splitTouchingEdges()) {
+        const bool touchesNothing = convex || _starShaped;
+        for (Split split = touchesNothing ? Split::Done : splitTouchingEdges(); split != Split::Done; split = splitTouchingEdges()) {
             if (split == Split::RepairedVertex) {
                 ++result.repairedVertices;
                 --result.vertexCount;
             }
         }
-        for (std::size_t removed = convex || _starShaped ? 0 : removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
+        for (std::size_t removed = touchesNothing ? 0 : removeInvertedLobe(); removed > 0; removed = removeInvertedLobe()) {
             result.repairedVertices += removed;
             result.vertexCount -= std::min(removed, result.vertexCount);
         }

@@ -198,7 +198,7 @@ TEST_CASE("earClip triangulates convex rings without checking their edges, and o
     const int n = 3 + static_cast<int>(78 * unit(random));
     std::vector<double> angles(static_cast<std::size_t>(n));
     for (double& angle : angles) {
-        angle = 6.283185307179586 * unit(random);
+        angle = kTwoPi * unit(random);
     }
     std::sort(angles.begin(), angles.end());
     if (unit(random) < 0.5) {
@@ -232,7 +232,7 @@ TEST_CASE("earClip triangulates convex rings without checking their edges, and o
     for (const int points : {5, 101}) {
         Ring twice;
         for (int k = 0; k < points; ++k) {
-            const double angle = 4.0 * 3.141592653589793 * k / points;
+            const double angle = 2.0 * kTwoPi * k / points;
             twice.push_back({std::cos(angle), std::sin(angle)});
         }
         REQUIRE_THROWS_WITH(earClip(Rings{twice}, "twice round"), Contains("polygon 'twice round'") && Contains("crosses"));
@@ -707,9 +707,8 @@ TEST_CASE("earClip triangulates star-shaped rings, and what is left of them when
     // until every convex vertex left spans half a turn or more; the rest is clipped as any ring
     // is. Rings symmetric through their centre (so that the mean is the centre) with random radii;
     // stars of up to 2,000 spikes of random length, longer on one side, whose kernel is too small
-    // to hold the mean;
-    // and triangles whose edges are dented in and out a little, whose corners span more than half
-    // a turn, so the second part always has work.
+    // to hold the mean; and triangles whose edges are dented in and out a little, whose corners
+    // span more than half a turn, so the second part always has work.
     const auto seed = GENERATE(take(100, random(0u, 1000000u)));
     INFO("seed " << seed);
     std::mt19937_64 random(seed);
