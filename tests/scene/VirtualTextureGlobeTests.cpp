@@ -325,7 +325,8 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
                 REQUIRE(std::abs(static_cast<double>(got[1]) - expected.physical.y) * physicalHeight < 0.01);
                 REQUIRE(got[3] == Approx(expected.texelsPerTile).epsilon(1e-6));
             }
-            REQUIRE(gpu[8] == Approx(lod).margin(1e-4));
+            // The shader's log2 (vtLog2) is within 9e-4, a level of detail half that.
+            REQUIRE(gpu[8] == Approx(lod).margin(5e-4));
             fallbacks += reference(level).shownLevel < level ? 1 : 0;
             ++checked;
         }
