@@ -70,6 +70,7 @@ void VirtualTextureStatistics::add(const VirtualTextureStatistics& other) noexce
     lodBiasRaised = lodBiasRaised || other.lodBiasRaised;
     gpuBytes += other.gpuBytes;
     tilesWithMipTail += other.tilesWithMipTail;
+    tilesBlendingLevels += other.tilesBlendingLevels;
     converged = converged && other.converged;
 }
 
@@ -158,7 +159,7 @@ std::string FrameStatistics::toText() const
             << (v.lodBiasRaised ? " (raised: the view needs more pages than fit)" : "") << "\n"
             << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
             << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << v.tilesWithMipTail
-            << " tiles with the mip tail; " << (v.converged ? "converged" : "not converged") << "\n";
+            << " tiles with the mip tail, " << v.tilesBlendingLevels << " blending two levels; " << (v.converged ? "converged" : "not converged") << "\n";
     }
     if (clipmap) {
         const ClipmapStatistics& c = *clipmap;
@@ -240,6 +241,7 @@ std::string FrameStatistics::toJson() const
             << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
             << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
             << ", \"gpuBytes\": " << v.gpuBytes << ", \"tilesWithMipTail\": " << v.tilesWithMipTail
+            << ", \"tilesBlendingLevels\": " << v.tilesBlendingLevels
             << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
     }
     if (clipmap) {

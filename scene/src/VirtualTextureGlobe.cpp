@@ -147,6 +147,13 @@ void validate(const VirtualTextureGlobeOptions& options)
     }
 }
 
+/// The levels a tile's pixels may show (Impl::pixelLevels); its program reads only those.
+enum class PixelLevels {
+    Finest,      ///< every pixel magnifies the finest level, which is read alone
+    Blended,     ///< two levels blended (trilinear filtering): two reads a pixel
+    WithMipTail, ///< blended, and some pixels coarser than level 0: the mip tail's lookup too
+};
+
 } // namespace
 
 struct VirtualTextureGlobe::Impl {
@@ -190,15 +197,22 @@ struct VirtualTextureGlobe::Impl {
     void requestPages();
     void drawFeedback(FrameState& frameState, const FeedbackView& view);
     void ensureMeshes(FrameState& frameState);
-    /// The program of a pass; with `mipTail`, the mip tail for the pixels coarser than level 0;
+    /// The program of a pass: for the main pass, reading the levels a tile's pixels may show;
     /// with the LOD clamp's ramp while a page the view asks for is loading. Variants rather than
     /// branches: llvmpipe runs both sides of every branch for every pixel.
-    renderer::ShaderProgram& program(FrameState& frameState, bool feedback, bool mipTail);
+    renderer::ShaderProgram& program(FrameState& frameState, bool feedback, PixelLevels levels);
     /// How far from the point under the eye the view's pixels reach (radians at the centre):
-    /// past where a pixel may ask for a level coarser than 0, mayAskForMipTail says.
+    /// past where a pixel may ask for a coarser level, pixelLevels says.
     double viewReach(const FrameState& frameState) const;
-    /// Whether a pixel of a tile may ask for a level coarser than 0, within the view's reach.
-    bool mayAskForMipTail(const FrameState& frameState, const QuadtreeTile& tile, double reach) const;
+    /// The levels a tile's pixels may show, within the view's reach.
+    PixelLevels pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, double reach) const;
+    /// Whether the main pass blends two levels for a tile's pixels: with trilinear filtering,
+    /// unless every pixel magnifies the finest level and no page waits (the LOD clamp's ramp can
+    /// make any pixel coarser).
+    bool blendsLevels(PixelLevels levels) const
+    {
+        return options->virtualTexture.trilinear && (levels != PixelLevels::Finest || !waitingFootprints.empty());
+    }
     void setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double bias) const;
     bool evictable(const PageKey& page) const;
     double bias() const noexcept { return options->virtualTexture.lodBias + dynamicBias; }
@@ -251,7 +265,7 @@ struct VirtualTextureGlobe::Impl {
     std::unique_ptr<renderer::Framebuffer> feedbackTarget;
     std::deque<FeedbackRead> feedbackReads; ///< oldest first
     std::vector<renderer::PixelBuffer> spareBuffers;
-    std::map<std::tuple<bool, DepthStrategy, bool, bool>, std::shared_ptr<renderer::ShaderProgram>> programs;
+    std::map<std::tuple<bool, DepthStrategy, bool, bool, bool>, std::shared_ptr<renderer::ShaderProgram>> programs;
 
     // The surface.
     TileSelection selection;
@@ -677,14 +691,16 @@ void VirtualTextureGlobe::Impl::requestPages()
     statistics.pagesRequested = loader.startedLastFrame();
 }
 
-renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback, bool mipTail)
+renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback, PixelLevels levels)
 {
     // The feedback pass draws with its own plain projection, whatever the frame's depth strategy,
-    // and reads no texels: the mip tail is the main pass's only.
+    // and reads no texels: the mip tail is the main pass's only, and the level it asks for is
+    // the one trilinear filtering would blend from.
     const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
-    mipTail = mipTail && !feedback;
+    const bool mipTail = !feedback && levels == PixelLevels::WithMipTail;
     const bool ramp = !waitingFootprints.empty();
-    std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback, strategy, mipTail, ramp}];
+    const bool trilinear = feedback ? options->virtualTexture.trilinear : blendsLevels(levels);
+    std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback, strategy, mipTail, ramp, trilinear}];
     if (program) {
         return *program;
     }
@@ -697,7 +713,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     } else if (options->lighting) {
         description.defines.push_back({"LIGHTING"});
     }
-    if (options->virtualTexture.trilinear) {
+    if (trilinear) {
         description.defines.push_back({"VT_TRILINEAR"});
     }
     if (options->virtualTexture.maximumAnisotropy > 1.0f) {
@@ -766,23 +782,24 @@ double VirtualTextureGlobe::Impl::viewReach(const FrameState& frameState) const
     return reach;
 }
 
-bool VirtualTextureGlobe::Impl::mayAskForMipTail(const FrameState& frameState, const QuadtreeTile& tile, double reach) const
+PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, double reach) const
 {
-    // A pixel asks for a level coarser than 0 where its footprint's long axis spans more than a
-    // texel of level 0 (pi / P radians of longitude: a cos(latitude) metres, narrowest nearest the
-    // pole). On a sphere of radius R seen from D, the footprint at an angle t from the point under
+    // A pixel asks for a level coarser than l where its footprint's long axis spans more than a
+    // texel of level l (pi / (P 2^l) radians of longitude: a cos(latitude) metres, narrowest nearest
+    // the pole): coarser than the finest level it blends two, coarser than level 0 it reads the
+    // mip tail. On a sphere of radius R seen from D, the footprint at an angle t from the point under
     // the eye is d rho / sin(a) = rho d^2 / (D cos t - R) (d its distance, a the grazing angle,
     // rho a pixel's angle at the centre of the view, the largest): it grows with t, so a tile's
     // largest is at the farthest of its points that the view reaches. Its corners, edge midpoints
     // and centre stand for the tile (a margin of two); a tile wider than 45 degrees, or reaching
-    // within a degree of the horizon, may ask for it anywhere.
+    // within a degree of the horizon, may ask for any level.
     const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
     const glm::dvec3& eye = frameState.camera.eye();
     const double eyeDistance = glm::length(eye);
     const double radius = ellipsoid.minimumRadius();
     const double horizon = std::acos(std::min(1.0, radius / eyeDistance));
     if (extent.width() > toRadians(45.0)) {
-        return true;
+        return PixelLevels::WithMipTail;
     }
     const glm::dvec3 down = eye / eyeDistance;
     double farthest = 0.0;
@@ -794,14 +811,18 @@ bool VirtualTextureGlobe::Impl::mayAskForMipTail(const FrameState& frameState, c
     }
     const double t = std::min(farthest, reach);
     if (t > horizon - toRadians(1.0)) {
-        return true;
+        return PixelLevels::WithMipTail;
     }
     const double rho = 2.0 * std::tan(0.5 * frameState.camera.fieldOfViewY()) / std::max(frameState.height, 1);
     const double d2 = eyeDistance * eyeDistance + radius * radius - 2.0 * eyeDistance * radius * std::cos(t);
     const double footprint = rho * d2 / (eyeDistance * std::cos(t) - radius);
     const double poleward = std::max(std::abs(extent.south), std::abs(extent.north));
     const double texel0 = ellipsoid.maximumRadius() * std::cos(poleward) * kPi / layout.pageSize * std::exp2(-bias());
-    return 2.0 * footprint > texel0;
+    if (2.0 * footprint > texel0) {
+        return PixelLevels::WithMipTail;
+    }
+    const double finestTexel = texel0 * std::exp2(-static_cast<double>(layout.finestLevel));
+    return 2.0 * footprint > finestTexel ? PixelLevels::Blended : PixelLevels::Finest;
 }
 
 void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
@@ -847,7 +868,7 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     sceneState.nearDistance = nearDistance;
     sceneState.farDistance = farDistance;
 
-    renderer::ShaderProgram& feedbackProgram = program(frameState, true, false);
+    renderer::ShaderProgram& feedbackProgram = program(frameState, true, PixelLevels::Blended);
     const double shift = std::log2(static_cast<double>(divisor)); // the feedback's pixels are larger
     renderer::DrawCommand draw;
     draw.shaderProgram = &feedbackProgram;
@@ -1055,6 +1076,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
     // The commands: one per drawn tile, all reading the one virtual texture.
     const double reach = impl.viewReach(frameState);
     _statistics.tilesWithMipTail = 0;
+    _statistics.tilesBlendingLevels = 0;
     const glm::dvec3& eye = frameState.camera.eye();
     const double eyeHeight = impl.ellipsoid.toGeodetic3D(eye).height;
     const ImageryLayerStyle& style = _options.style;
@@ -1063,9 +1085,10 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         SceneCommand command;
         command.draw.debugName = "virtual texture tile " + pageName(tile->key);
         command.draw.vertexArray = &surface.mesh->array;
-        const bool mipTail = impl.mayAskForMipTail(frameState, *tile, reach);
-        _statistics.tilesWithMipTail += mipTail ? 1 : 0;
-        renderer::ShaderProgram& program = impl.program(frameState, false, mipTail);
+        const PixelLevels levels = impl.pixelLevels(frameState, *tile, reach);
+        _statistics.tilesWithMipTail += levels == PixelLevels::WithMipTail ? 1 : 0;
+        _statistics.tilesBlendingLevels += impl.blendsLevels(levels) ? 1 : 0;
+        renderer::ShaderProgram& program = impl.program(frameState, false, levels);
         command.draw.shaderProgram = &program;
         command.draw.renderState.facetCulling.enabled = false;
         impl.setUniforms(command.draw, *tile, impl.bias());

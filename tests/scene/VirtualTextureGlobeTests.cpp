@@ -134,6 +134,69 @@ TEST_CASE("Only tiles whose pixels may be coarser than level 0 read the mip tail
     }
 }
 
+TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[scene][virtual][gl]")
+{
+    // A tile reads one level where every pixel's level of detail is below 0 (the finest level's
+    // texels span more than a pixel), where blending two would draw the finest alone. Checked
+    // through the same view with the level of detail raised by one and its feedback drawn at full
+    // resolution (the main pass's pixels): where the tiles read one level, no pixel asks for a
+    // level coarser than the finest. Over Paris from 10 km the Blue Marble's finest texels (5 km)
+    // span many pixels: both tiles read one level; from 1,000 km over Europe the pixels span more
+    // than a texel, and from 20,000 km several: every tile blends.
+    struct View {
+        const char* name;
+        Geodetic3D position;
+        double pitch;
+        bool magnified;
+    };
+    const View views[] = {
+        {"Paris from 10 km", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), -60.0, true},
+        {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), -90.0, false},
+        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), -90.0, false},
+    };
+    for (const View& view : views) {
+        INFO(view.name);
+        Scene scene(kEarth);
+        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
+        placeCamera(scene, view.position, 0.0, view.pitch);
+        const RenderedFrame frame = renderUntilTilesConverge(scene, 256, 144, 100);
+        INFO(frame.statistics.toText());
+        REQUIRE(frame.statistics.virtualTexture->converged);
+        const std::size_t blending = frame.statistics.virtualTexture->tilesBlendingLevels;
+
+        VirtualTextureGlobeOptions raised = blueMarble();
+        raised.virtualTexture.lodBias = 1.0;
+        raised.virtualTexture.feedbackDivisor = 1;
+        auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, raised);
+        Scene raisedScene(kEarth);
+        raisedScene.add(globe);
+        placeCamera(raisedScene, view.position, 0.0, view.pitch);
+        REQUIRE(renderUntilTilesConverge(raisedScene, 256, 144, 100).statistics.virtualTexture->converged);
+        const Image feedback = globe->feedbackImage();
+        REQUIRE(feedback.width == 256);
+        const std::array<std::uint8_t, 4> finest = VirtualTextureGlobe::levelColor(globe->layout().finestLevel);
+        std::size_t coarser = 0;
+        std::size_t covered = 0;
+        for (int y = 0; y < feedback.height; ++y) {
+            for (int x = 0; x < feedback.width; ++x) {
+                const std::uint8_t* pixel = feedback.pixel(x, y);
+                if (pixel[0] == 0 && pixel[1] == 0 && pixel[2] == 0) {
+                    continue; // no globe there
+                }
+                ++covered;
+                coarser += std::memcmp(pixel, finest.data(), 4) != 0 ? 1 : 0;
+            }
+        }
+        INFO(blending << " tiles blending; " << coarser << " of " << covered << " pixels ask for a coarser level");
+        CHECK(covered > 1000);
+        if (blending == 0) {
+            CHECK(coarser == 0);
+        }
+        CHECK(blending == (view.magnified ? 0 : frame.statistics.tiles->drawn));
+        CHECK((coarser > 0) == !view.magnified);
+    }
+}
+
 namespace {
 
 /// The shader's functions (virtual_texture.frag.glsl) run per vertex: each point is a tile

@@ -37,6 +37,9 @@ struct VirtualTextureStatistics {
     /// Tiles drawn with the mip tail's lookup compiled in: those with pixels that may be coarser
     /// than level 0 (near the horizon, a pole, or from afar); the others leave it out.
     std::size_t tilesWithMipTail = 0;
+    /// Tiles drawn blending two levels (trilinear filtering: two reads of the physical texture a
+    /// pixel); the others have every pixel magnifying the finest level, which they read alone.
+    std::size_t tilesBlendingLevels = 0;
     /// Every page the view asks for is resident (or missing from the source), no load is pending,
     /// and the latest feedback, of the present view, shows no fallback.
     bool converged = false;
