@@ -1650,7 +1650,6 @@ void TiledGlobe::update(FrameState& frameState, CommandList& commands)
         command.draw.debugName = "globe tile " + keyName(tile.key);
         command.draw.vertexArray = &*surface.vertexArray;
         command.draw.shaderProgram = &program;
-        command.draw.renderState.facetCulling.enabled = false;
         if (program.hasUniform("u_baseColor")) { // not with a colour ramp in its place
             command.draw.uniforms.set("u_baseColor", _options.colorByLevel ? tileLevelColor(tile.key.level) : _options.baseColor);
         }

@@ -873,7 +873,6 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     renderer::DrawCommand draw;
     draw.shaderProgram = &feedbackProgram;
     draw.framebuffer = feedbackTarget.get();
-    draw.renderState.facetCulling.enabled = false;
     draw.textures = {{0, &*pageTableTexture, &*pointSampler}, {2, &*lodClamp, &*pointSampler}};
     for (const QuadtreeTile* tile : selection.drawn) {
         const SurfaceTile& surface = static_cast<const SurfaceTile&>(*tile->data);
@@ -1090,7 +1089,6 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         _statistics.tilesBlendingLevels += impl.blendsLevels(levels) ? 1 : 0;
         renderer::ShaderProgram& program = impl.program(frameState, false, levels);
         command.draw.shaderProgram = &program;
-        command.draw.renderState.facetCulling.enabled = false;
         impl.setUniforms(command.draw, *tile, impl.bias());
         command.draw.uniforms.set("u_baseColor", _options.baseColor);
         command.draw.uniforms.set("u_textureAdjustment",
