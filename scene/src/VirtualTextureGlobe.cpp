@@ -30,6 +30,7 @@
 #include <cstring>
 #include <deque>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -201,11 +202,15 @@ struct VirtualTextureGlobe::Impl {
     /// with the LOD clamp's ramp while a page the view asks for is loading. Variants rather than
     /// branches: llvmpipe runs both sides of every branch for every pixel.
     renderer::ShaderProgram& program(FrameState& frameState, bool feedback, PixelLevels levels);
-    /// How far from the point under the eye the view's pixels reach (radians at the centre):
-    /// past where a pixel may ask for a coarser level, pixelLevels says.
-    double viewReach(const FrameState& frameState) const;
+    /// How far from the point under the eye the view's pixels reach, and how large a pixel's
+    /// footprint on the ground is at most in the view (pixelLevels).
+    struct ViewReach {
+        double angle = 0.0;     ///< radians at the centre; the horizon's where the view reaches it
+        double footprint = 0.0; ///< metres, the long axis; infinite where the view reaches the horizon
+    };
+    ViewReach viewReach(const FrameState& frameState) const;
     /// The levels a tile's pixels may show, within the view's reach.
-    PixelLevels pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, double reach) const;
+    PixelLevels pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, const ViewReach& reach) const;
     /// Whether the main pass blends two levels for a tile's pixels: with trilinear filtering,
     /// unless every pixel magnifies the finest level and no page waits (the LOD clamp's ramp can
     /// make any pixel coarser).
@@ -759,14 +764,19 @@ void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const Q
     set("u_maximumAnisotropyLog2", std::log2(options->virtualTexture.maximumAnisotropy));
 }
 
-double VirtualTextureGlobe::Impl::viewReach(const FrameState& frameState) const
+VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const FrameState& frameState) const
 {
     // Rays through a 9 x 9 grid of the view's pixels, corners and edges included; one that misses
-    // the globe means the view reaches the horizon.
+    // the globe means the view reaches the horizon. A pixel's footprint along its ray's ground
+    // track is d rho cos(theta) / sin(a): d the distance to the ground, rho cos(theta) the pixel's
+    // angle across at theta from the view's axis (the larger of its two: cos^2 theta along the
+    // radius), a the angle between the ray and the ground.
     const Camera& camera = frameState.camera;
     const glm::dvec3 down = glm::normalize(camera.eye());
     const double radius = ellipsoid.minimumRadius();
-    double reach = 0.0;
+    const double rho = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / std::max(frameState.height, 1);
+    const glm::dvec3 axis = camera.direction();
+    ViewReach reach;
     constexpr int kSamples = 9;
     for (int j = 0; j < kSamples; ++j) {
         for (int i = 0; i < kSamples; ++i) {
@@ -774,15 +784,20 @@ double VirtualTextureGlobe::Impl::viewReach(const FrameState& frameState) const
             const Ray ray = camera.pickRay(pixel, frameState.width, frameState.height);
             const std::optional<RayInterval> hit = intersectRayEllipsoid(ray, ellipsoid);
             if (!hit) {
-                return std::acos(std::min(1.0, radius / glm::length(camera.eye())));
+                return {std::acos(std::min(1.0, radius / glm::length(camera.eye()))), std::numeric_limits<double>::infinity()};
             }
-            reach = std::max(reach, detail::centralAngle(down, ray.pointAt(hit->nearDistance)));
+            const glm::dvec3 ground = ray.pointAt(hit->nearDistance);
+            reach.angle = std::max(reach.angle, detail::centralAngle(down, ground));
+            const glm::dvec3 direction = glm::normalize(ray.direction);
+            const double grazing = std::abs(glm::dot(direction, ellipsoid.geodeticSurfaceNormal(ground)));
+            const double across = rho * glm::dot(direction, axis) * glm::length(ground - ray.origin);
+            reach.footprint = std::max(reach.footprint, grazing > 0.0 ? across / grazing : std::numeric_limits<double>::infinity());
         }
     }
     return reach;
 }
 
-PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, double reach) const
+PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, const ViewReach& reach) const
 {
     // A pixel asks for a level coarser than l where its footprint's long axis spans more than a
     // texel of level l (pi / (P 2^l) radians of longitude: a cos(latitude) metres, narrowest nearest
@@ -809,7 +824,7 @@ PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState,
             farthest = std::max(farthest, detail::centralAngle(down, ellipsoid.geodeticSurfaceNormal(g)));
         }
     }
-    const double t = std::min(farthest, reach);
+    const double t = std::min(farthest, reach.angle);
     if (t > horizon - toRadians(1.0)) {
         return PixelLevels::WithMipTail;
     }
@@ -821,8 +836,11 @@ PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState,
     if (2.0 * footprint > texel0) {
         return PixelLevels::WithMipTail;
     }
+    // The largest footprint in the view, from its rays, bounds every tile's too; it is tighter where
+    // the view's edge limits the tile (the footprint above takes the centre pixel's angle for every
+    // pixel), with a margin of 1.5 for the footprints between the rays.
     const double finestTexel = texel0 * std::exp2(-static_cast<double>(layout.finestLevel));
-    return 2.0 * footprint > finestTexel ? PixelLevels::Blended : PixelLevels::Finest;
+    return std::min(2.0 * footprint, 1.5 * reach.footprint) > finestTexel ? PixelLevels::Blended : PixelLevels::Finest;
 }
 
 void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
@@ -1073,7 +1091,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
     }
 
     // The commands: one per drawn tile, all reading the one virtual texture.
-    const double reach = impl.viewReach(frameState);
+    const auto reach = impl.viewReach(frameState);
     _statistics.tilesWithMipTail = 0;
     _statistics.tilesBlendingLevels = 0;
     const glm::dvec3& eye = frameState.camera.eye();

@@ -141,8 +141,10 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
     // through the same view with the level of detail raised by one and its feedback drawn at full
     // resolution (the main pass's pixels): where the tiles read one level, no pixel asks for a
     // level coarser than the finest. Over Paris from 10 km the Blue Marble's finest texels (5 km)
-    // span many pixels: both tiles read one level; from 1,000 km over Europe the pixels span more
-    // than a texel, and from 20,000 km several: every tile blends.
+    // span many pixels: both tiles read one level; over the antimeridian from 50 km, looking 45
+    // degrees down, too, where the tiles reach past the view's far edge (the footprints of rays
+    // through the view's pixels say so, not the bound at the view's reach alone); from 1,000 km
+    // over Europe the pixels span more than a texel, and from 20,000 km several: every tile blends.
     struct View {
         const char* name;
         Geodetic3D position;
@@ -151,6 +153,7 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
     };
     const View views[] = {
         {"Paris from 10 km", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), -60.0, true},
+        {"the antimeridian from 50 km, 45 degrees down", Geodetic3D::fromDegrees(177.0, -17.5, 50000.0), -45.0, true},
         {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), -90.0, false},
         {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), -90.0, false},
     };
