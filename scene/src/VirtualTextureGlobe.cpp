@@ -205,8 +205,9 @@ struct VirtualTextureGlobe::Impl {
     /// How far from the point under the eye the view's pixels reach, and how large a pixel's
     /// footprint on the ground is at most in the view (pixelLevels).
     struct ViewReach {
-        double angle = 0.0;     ///< radians at the centre; the horizon's where the view reaches it
-        double footprint = 0.0; ///< metres, the long axis; infinite where the view reaches the horizon
+        double angle = 0.0;      ///< radians at the centre; the horizon's where the view reaches it
+        double footprint = 0.0;  ///< metres, the long axis; infinite where the view reaches the horizon
+        double pixelAngle = 0.0; ///< radians across the pixel at the view's centre, the widest
     };
     ViewReach viewReach(const FrameState& frameState) const;
     /// The levels a tile's pixels may show, within the view's reach.
@@ -774,9 +775,10 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     const Camera& camera = frameState.camera;
     const glm::dvec3 down = glm::normalize(camera.eye());
     const double radius = ellipsoid.minimumRadius();
-    const double rho = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / std::max(frameState.height, 1);
-    const glm::dvec3 axis = camera.direction();
     ViewReach reach;
+    reach.pixelAngle = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / std::max(frameState.height, 1);
+    const double rho = reach.pixelAngle;
+    const glm::dvec3 axis = camera.direction();
     constexpr int kSamples = 9;
     for (int j = 0; j < kSamples; ++j) {
         for (int i = 0; i < kSamples; ++i) {
@@ -784,7 +786,9 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
             const Ray ray = camera.pickRay(pixel, frameState.width, frameState.height);
             const std::optional<RayInterval> hit = intersectRayEllipsoid(ray, ellipsoid);
             if (!hit) {
-                return {std::acos(std::min(1.0, radius / glm::length(camera.eye()))), std::numeric_limits<double>::infinity()};
+                reach.angle = std::acos(std::min(1.0, radius / glm::length(camera.eye())));
+                reach.footprint = std::numeric_limits<double>::infinity();
+                return reach;
             }
             const glm::dvec3 ground = ray.pointAt(hit->nearDistance);
             reach.angle = std::max(reach.angle, detail::centralAngle(down, ground));
@@ -828,7 +832,7 @@ PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState,
     if (t > horizon - toRadians(1.0)) {
         return PixelLevels::WithMipTail;
     }
-    const double rho = 2.0 * std::tan(0.5 * frameState.camera.fieldOfViewY()) / std::max(frameState.height, 1);
+    const double rho = reach.pixelAngle;
     const double d2 = eyeDistance * eyeDistance + radius * radius - 2.0 * eyeDistance * radius * std::cos(t);
     const double footprint = rho * d2 / (eyeDistance * std::cos(t) - radius);
     const double poleward = std::max(std::abs(extent.south), std::abs(extent.north));

@@ -157,12 +157,17 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
         {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), -90.0, false},
         {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), -90.0, false},
     };
+    // A globe with the options converged on the view: the globe, and its last frame.
+    auto converged = [](const VirtualTextureGlobeOptions& options, const View& view) {
+        auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
+        Scene scene(kEarth);
+        scene.add(globe);
+        placeCamera(scene, view.position, 0.0, view.pitch);
+        return std::pair(globe, renderUntilTilesConverge(scene, 256, 144, 100));
+    };
     for (const View& view : views) {
         INFO(view.name);
-        Scene scene(kEarth);
-        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
-        placeCamera(scene, view.position, 0.0, view.pitch);
-        const RenderedFrame frame = renderUntilTilesConverge(scene, 256, 144, 100);
+        const RenderedFrame frame = converged(blueMarble(), view).second;
         INFO(frame.statistics.toText());
         REQUIRE(frame.statistics.virtualTexture->converged);
         const std::size_t blending = frame.statistics.virtualTexture->tilesBlendingLevels;
@@ -170,11 +175,8 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
         VirtualTextureGlobeOptions raised = blueMarble();
         raised.virtualTexture.lodBias = 1.0;
         raised.virtualTexture.feedbackDivisor = 1;
-        auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, raised);
-        Scene raisedScene(kEarth);
-        raisedScene.add(globe);
-        placeCamera(raisedScene, view.position, 0.0, view.pitch);
-        REQUIRE(renderUntilTilesConverge(raisedScene, 256, 144, 100).statistics.virtualTexture->converged);
+        const auto [globe, raisedFrame] = converged(raised, view);
+        REQUIRE(raisedFrame.statistics.virtualTexture->converged);
         const Image feedback = globe->feedbackImage();
         REQUIRE(feedback.width == 256);
         const std::array<std::uint8_t, 4> finest = VirtualTextureGlobe::levelColor(globe->layout().finestLevel);
