@@ -213,6 +213,22 @@ std::vector<float> TileMesh::normals(std::vector<float> normals) const
     return normals;
 }
 
+TileMesh::IndexLayout TileMesh::indexLayout(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt) noexcept
+{
+    const std::size_t quads = std::size_t{1} << samplesLog2; // a side
+    IndexLayout layout;
+    layout.innerRowQuads = quads - 2;
+    layout.ringFirst = layout.quadIndices * layout.innerRowQuads * layout.innerRowQuads;
+    const std::array<int, 4> levels{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
+    for (std::size_t edge = 0; edge < 4; ++edge) {
+        // As indices() zips them: a triangle for each outer and each inner segment, and a skirt's
+        // two for each outer one.
+        const std::size_t outerSegments = quads / std::min(std::size_t{1} << std::min(std::max(levels[edge], 0), 30), quads);
+        layout.edgeIndices[edge] = 3 * (outerSegments + quads - 2) + (skirt ? 6 * outerSegments : 0);
+    }
+    return layout;
+}
+
 std::vector<std::uint32_t> TileMesh::indices(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt)
 {
     assert(samplesLog2 >= 1 && samplesLog2 <= 8);

@@ -210,8 +210,25 @@ struct VirtualTextureGlobe::Impl {
         double pixelAngle = 0.0; ///< radians across the pixel at the view's centre, the widest
     };
     ViewReach viewReach(const FrameState& frameState) const;
-    /// The levels a tile's pixels may show, within the view's reach.
-    PixelLevels pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, const ViewReach& reach) const;
+    /// The largest angle at the Earth's centre between the point under the eye (`down`, a unit
+    /// vector) and a point of a latitude between two longitudes.
+    double farthestAlong(const glm::dvec3& down, double latitude, double west, double east) const;
+    /// The levels the pixels of a part of the surface may show, within the view's reach; farthest:
+    /// the part's largest angle from the point under the eye (farthestAlong its north and south edges).
+    PixelLevels pixelLevels(const FrameState& frameState, const GeodeticExtent& extent, double farthest,
+                            const ViewReach& reach) const;
+    /// A run of a tile's triangles drawn with one program (TileMesh::indexLayout).
+    struct TilePart {
+        std::size_t first = 0;
+        std::size_t count = 0;
+        PixelLevels levels = PixelLevels::Finest;
+    };
+    /// A tile's triangles in runs whose pixels show the same levels: the inner grid's quads a row
+    /// at a time, the ring an edge at a time. The programs that read more (the mip
+    /// tail's lookup, the second level) then run only where the view needs them, near the horizon
+    /// or the limb, rather than over every tile reaching there: llvmpipe runs a program's every
+    /// instruction for every pixel.
+    std::vector<TilePart> tileParts(const FrameState& frameState, const QuadtreeTile& tile, const ViewReach& reach) const;
     /// Whether the main pass blends two levels for a tile's pixels: with trilinear filtering,
     /// unless every pixel magnifies the finest level and no page waits (the LOD clamp's ramp can
     /// make any pixel coarser).
@@ -801,32 +818,35 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     return reach;
 }
 
-PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState, const QuadtreeTile& tile, const ViewReach& reach) const
+double VirtualTextureGlobe::Impl::farthestAlong(const glm::dvec3& down, double latitude, double west, double east) const
+{
+    // Along a latitude the angle grows with the longitude's distance from down's: it is largest at
+    // the end farther from it, or on the opposite meridian where the run crosses that.
+    const double opposite = std::remainder(std::atan2(down.y, down.x) + kPi, kTwoPi);
+    double farthest = 0.0;
+    for (const double longitude : {west, east, std::clamp(opposite, west, east)}) {
+        farthest = std::max(farthest, detail::centralAngle(down, ellipsoid.geodeticSurfaceNormal(Geodetic2D{longitude, latitude})));
+    }
+    return farthest;
+}
+
+PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState, const GeodeticExtent& extent, double farthest,
+                                                   const ViewReach& reach) const
 {
     // A pixel asks for a level coarser than l where its footprint's long axis spans more than a
     // texel of level l (pi / (P 2^l) radians of longitude: a cos(latitude) metres, narrowest nearest
     // the pole): coarser than the finest level it blends two, coarser than level 0 it reads the
     // mip tail. On a sphere of radius R seen from D, the footprint at an angle t from the point under
     // the eye is d rho / sin(a) = rho d^2 / (D cos t - R) (d its distance, a the grazing angle,
-    // rho a pixel's angle at the centre of the view, the largest): it grows with t, so a tile's
-    // largest is at the farthest of its points that the view reaches. Its corners, edge midpoints
-    // and centre stand for the tile (a margin of two); a tile wider than 45 degrees, or reaching
-    // within a degree of the horizon, may ask for any level.
-    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
+    // rho a pixel's angle at the centre of the view, the largest): it grows with t, so a part's
+    // largest is at the farthest of its points that the view reaches (a margin of two); a part
+    // wider than 45 degrees, or reaching within a degree of the horizon, may ask for any level.
     const glm::dvec3& eye = frameState.camera.eye();
     const double eyeDistance = glm::length(eye);
     const double radius = ellipsoid.minimumRadius();
     const double horizon = std::acos(std::min(1.0, radius / eyeDistance));
     if (extent.width() > toRadians(45.0)) {
         return PixelLevels::WithMipTail;
-    }
-    const glm::dvec3 down = eye / eyeDistance;
-    double farthest = 0.0;
-    for (int i = 0; i <= 2; ++i) {
-        for (int j = 0; j <= 2; ++j) {
-            const Geodetic2D g{extent.west + 0.5 * i * extent.width(), extent.south + 0.5 * j * extent.height()};
-            farthest = std::max(farthest, detail::centralAngle(down, ellipsoid.geodeticSurfaceNormal(g)));
-        }
     }
     const double t = std::min(farthest, reach.angle);
     if (t > horizon - toRadians(1.0)) {
@@ -845,6 +865,62 @@ PixelLevels VirtualTextureGlobe::Impl::pixelLevels(const FrameState& frameState,
     // pixel), with a margin of 1.5 for the footprints between the rays.
     const double finestTexel = texel0 * std::exp2(-static_cast<double>(layout.finestLevel));
     return std::min(2.0 * footprint, 1.5 * reach.footprint) > finestTexel ? PixelLevels::Blended : PixelLevels::Finest;
+}
+
+std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tileParts(const FrameState& frameState,
+                                                                                     const QuadtreeTile& tile,
+                                                                                     const ViewReach& reach) const
+{
+    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
+    const SurfaceTile& surface = static_cast<const SurfaceTile&>(*tile.data);
+    const TileMesh::IndexLayout indices = TileMesh::indexLayout(options->samplesLog2, *surface.mesh->coarsening, false);
+    // The farthest angle along each row of vertices, from the north: a run of rows reaches its
+    // largest on its northern or southern row (along a meridian the angle has its one extreme
+    // between the poles at the nearest point, so the farthest is at an end).
+    const int quads = 1 << options->samplesLog2;
+    const glm::dvec3 down = glm::normalize(frameState.camera.eye());
+    std::array<double, (1 << 7) + 1> farthest{}; // samplesLog2 is at most 7 (validate)
+    for (int row = 0; row <= quads; ++row) {
+        const double latitude = TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, row);
+        farthest[static_cast<std::size_t>(row)] = farthestAlong(down, latitude, extent.west, extent.east);
+    }
+    // Quad rows first .. last - 1 (from the north).
+    auto rows = [&](int first, int last) {
+        const auto north = static_cast<std::size_t>(first), south = static_cast<std::size_t>(last);
+        const GeodeticExtent band{extent.west, TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, last),
+                                  extent.east, TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, first)};
+        return pixelLevels(frameState, band, std::max(farthest[north], farthest[south]), reach);
+    };
+    const std::size_t total = indices.ringFirst + indices.edgeIndices[0] + indices.edgeIndices[1] + indices.edgeIndices[2] +
+                              indices.edgeIndices[3];
+    if (!options->programsPerRow) {
+        return {{0, total, rows(0, quads)}};
+    }
+    // Each quad row's band spans the tile's width: its levels hold for the ring's quads in it too.
+    std::array<PixelLevels, 1 << 7> rowLevels{};
+    PixelLevels demanding = PixelLevels::Finest;
+    for (int row = 0; row < quads; ++row) {
+        rowLevels[static_cast<std::size_t>(row)] = rows(row, row + 1);
+        demanding = std::max(demanding, rowLevels[static_cast<std::size_t>(row)]);
+    }
+    std::vector<TilePart> parts;
+    auto add = [&](std::size_t count, PixelLevels levels) {
+        if (!parts.empty() && parts.back().levels == levels) {
+            parts.back().count += count;
+        } else {
+            parts.push_back({parts.empty() ? 0 : parts.back().first + parts.back().count, count, levels});
+        }
+    };
+    for (int row = 1; row + 1 < quads; ++row) {
+        add(indices.quadIndices * indices.innerRowQuads, rowLevels[static_cast<std::size_t>(row)]);
+    }
+    // The ring: its north and south edges in the first and last rows, its east and west edges in
+    // every row.
+    add(indices.edgeIndices[0], rowLevels.front());
+    add(indices.edgeIndices[1], demanding);
+    add(indices.edgeIndices[2], rowLevels[static_cast<std::size_t>(quads) - 1]);
+    add(indices.edgeIndices[3], demanding);
+    return parts;
 }
 
 void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
@@ -1094,7 +1170,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         _tileStatistics = tiles;
     }
 
-    // The commands: one per drawn tile, all reading the one virtual texture.
+    // The commands: a drawn tile's parts (tileParts), all reading the one virtual texture.
     const auto reach = impl.viewReach(frameState);
     _statistics.tilesWithMipTail = 0;
     _statistics.tilesBlendingLevels = 0;
@@ -1103,22 +1179,18 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
     const ImageryLayerStyle& style = _options.style;
     for (QuadtreeTile* tile : impl.selection.drawn) {
         SurfaceTile& surface = surfaceOf(*tile);
+        const std::vector<Impl::TilePart> parts = impl.tileParts(frameState, *tile, reach);
+        bool withMipTail = false, blending = false;
+        for (const Impl::TilePart& part : parts) {
+            withMipTail = withMipTail || part.levels == PixelLevels::WithMipTail;
+            blending = blending || impl.blendsLevels(part.levels);
+        }
+        _statistics.tilesWithMipTail += withMipTail ? 1 : 0;
+        _statistics.tilesBlendingLevels += blending ? 1 : 0;
+        // What the tile's parts share.
         SceneCommand command;
         command.draw.debugName = "virtual texture tile " + pageName(tile->key);
         command.draw.vertexArray = &surface.mesh->array;
-        const PixelLevels levels = impl.pixelLevels(frameState, *tile, reach);
-        _statistics.tilesWithMipTail += levels == PixelLevels::WithMipTail ? 1 : 0;
-        _statistics.tilesBlendingLevels += impl.blendsLevels(levels) ? 1 : 0;
-        renderer::ShaderProgram& program = impl.program(frameState, false, levels);
-        command.draw.shaderProgram = &program;
-        impl.setUniforms(command.draw, *tile, impl.bias());
-        command.draw.uniforms.set("u_baseColor", _options.baseColor);
-        command.draw.uniforms.set("u_textureAdjustment",
-                                  glm::vec4(static_cast<float>(style.alpha), static_cast<float>(style.brightness),
-                                            static_cast<float>(style.contrast), static_cast<float>(1.0 / style.gamma)));
-        if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
-            command.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
-        }
         command.draw.textures = {{0, &*impl.pageTableTexture, &*impl.pointSampler},
                                  {1, impl.physical.get(), &*impl.physicalSampler},
                                  {2, &*impl.lodClamp, &*impl.pointSampler}};
@@ -1132,7 +1204,22 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         if (_options.style.adjustsColors()) {
             command.tags = command.tags | Effect::ColorAdjustment;
         }
-        commands.push_back(std::move(command));
+        for (const Impl::TilePart& part : parts) {
+            SceneCommand partCommand = command;
+            partCommand.draw.first = part.first;
+            partCommand.draw.count = part.count;
+            renderer::ShaderProgram& program = impl.program(frameState, false, part.levels);
+            partCommand.draw.shaderProgram = &program;
+            impl.setUniforms(partCommand.draw, *tile, impl.bias());
+            partCommand.draw.uniforms.set("u_baseColor", _options.baseColor);
+            partCommand.draw.uniforms.set("u_textureAdjustment",
+                                          glm::vec4(static_cast<float>(style.alpha), static_cast<float>(style.brightness),
+                                                    static_cast<float>(style.contrast), static_cast<float>(1.0 / style.gamma)));
+            if (program.hasUniform("u_oneOverRadiiSquared")) { // for the lighting's normals only
+                partCommand.draw.uniforms.set("u_oneOverRadiiSquared", glm::vec3(impl.ellipsoid.oneOverRadiiSquared()));
+            }
+            commands.push_back(std::move(partCommand));
+        }
     }
 }
 

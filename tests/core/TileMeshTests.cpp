@@ -130,6 +130,55 @@ TEST_CASE("TileMesh triangles cover the tile once, counter-clockwise, closed ins
     }
 }
 
+TEST_CASE("TileMesh's index layout finds each quad row of the inner grid and each edge of the ring", "[core][tiles]")
+{
+    for (int samplesLog2 : {1, 2, 4, 6}) {
+        const int size = (1 << samplesLog2) + 1;
+        for (int coarse : {0, 1, 3, 7}) {
+            for (bool skirt : {false, true}) {
+                const EdgeCoarsening coarsening{coarse, 0, coarse == 0 ? 0 : 1, coarse};
+                const std::vector<std::uint32_t> indices = TileMesh::indices(samplesLog2, coarsening, skirt);
+                const TileMesh::IndexLayout layout = TileMesh::indexLayout(samplesLog2, coarsening, skirt);
+                INFO("samples log2 " << samplesLog2 << ", coarsening " << coarse << ", skirt " << skirt);
+                const std::size_t rowIndices = layout.quadIndices * layout.innerRowQuads;
+                REQUIRE(layout.ringFirst == rowIndices * layout.innerRowQuads);
+                REQUIRE(layout.ringFirst + layout.edgeIndices[0] + layout.edgeIndices[1] + layout.edgeIndices[2] +
+                            layout.edgeIndices[3] ==
+                        indices.size());
+                // Quad row r lies between vertex rows r and r + 1, inside the ring's columns.
+                for (std::size_t r = 1; r <= layout.innerRowQuads; ++r) {
+                    for (std::size_t k = (r - 1) * rowIndices; k < r * rowIndices; ++k) {
+                        const int i = static_cast<int>(indices[k]) % size, j = static_cast<int>(indices[k]) / size;
+                        REQUIRE((j == static_cast<int>(r) || j == static_cast<int>(r) + 1));
+                        REQUIRE((i >= 1 && i <= size - 2));
+                    }
+                }
+                // Each of the ring's triangles has a vertex on its own edge (or that edge's skirt),
+                // and none beyond the row inside it.
+                std::size_t first = layout.ringFirst;
+                for (int edge = 0; edge < 4; ++edge) {
+                    for (std::size_t t = first; t < first + layout.edgeIndices[edge]; t += 3) {
+                        bool onEdge = false;
+                        for (std::size_t k = t; k < t + 3; ++k) {
+                            const int v = static_cast<int>(indices[k]);
+                            if (v >= size * size) { // a skirt vertex: the edges' copies in order
+                                onEdge = onEdge || (v - size * size) / size == edge;
+                                continue;
+                            }
+                            const int i = v % size, j = v / size;
+                            const int inset = edge == 0 ? j : edge == 1 ? size - 1 - i : edge == 2 ? size - 1 - j : i;
+                            REQUIRE(inset <= 1);
+                            onEdge = onEdge || inset == 0;
+                        }
+                        REQUIRE(onEdge);
+                    }
+                    first += layout.edgeIndices[edge];
+                }
+            }
+        }
+    }
+}
+
 TEST_CASE("A tile next to a coarser one shares every edge segment with it, position for position", "[core][tiles]")
 {
     const Ellipsoid wgs84 = Ellipsoid::wgs84();

@@ -134,6 +134,52 @@ TEST_CASE("Only tiles whose pixels may be coarser than level 0 read the mip tail
     }
 }
 
+TEST_CASE("A tile's rows read only the levels their pixels show: the picture of whole tiles, pixel for pixel",
+          "[scene][virtual][gl]")
+{
+    // Over the Alps towards the horizon a tile's far rows read the mip tail and its near rows do
+    // not; over Europe from 1,000 km some rows read one level, others blend two; over the whole
+    // Earth every row of the 90-degree tiles reaches the limb: the tiles are drawn whole. Drawn
+    // again with each tile whole, in the program its most demanding part needs, the frame is the
+    // same.
+    struct View {
+        const char* name;
+        Geodetic3D position;
+        double heading;
+        double pitch;
+        bool splits;
+    };
+    const View views[] = {
+        {"the Alps from 300 km, the horizon in view", Geodetic3D::fromDegrees(8.0, 43.5, 300000.0), 10.0, -35.0, true},
+        {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), 0.0, -90.0, true},
+        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -90.0, false},
+    };
+    auto render = [](const View& view, bool programsPerRow) {
+        VirtualTextureGlobeOptions options = blueMarble();
+        options.programsPerRow = programsPerRow;
+        Scene scene(kEarth);
+        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
+        placeCamera(scene, view.position, view.heading, view.pitch);
+        return renderUntilTilesConverge(scene, 256, 144, 100);
+    };
+    for (const View& view : views) {
+        INFO(view.name);
+        const RenderedFrame rows = render(view, true);
+        const RenderedFrame whole = render(view, false);
+        REQUIRE(rows.statistics.virtualTexture->converged);
+        REQUIRE(whole.statistics.virtualTexture->converged);
+        const std::size_t drawn = rows.statistics.tiles->drawn;
+        CHECK(whole.statistics.tiles->drawn == drawn);
+        CHECK(whole.statistics.commandsExecuted == drawn);
+        // The commands beyond one a tile are its runs of rows with another program.
+        INFO(rows.statistics.commandsExecuted << " commands for " << drawn << " tiles; with the mip tail "
+             << rows.statistics.virtualTexture->tilesWithMipTail << " tiles, whole "
+             << whole.statistics.virtualTexture->tilesWithMipTail);
+        CHECK((rows.statistics.commandsExecuted > drawn) == view.splits);
+        CHECK(compareImages(rows.image, whole.image, 0).differingPixels == 0);
+    }
+}
+
 TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[scene][virtual][gl]")
 {
     // A tile reads one level where every pixel's level of detail is below 0 (the finest level's
@@ -609,8 +655,11 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a s
     const std::vector<std::string> withEffects = first.statistics.effectsRun();
     CHECK(std::find(withEffects.begin(), withEffects.end(), "virtual texture") != withEffects.end());
     CHECK(std::find(withEffects.begin(), withEffects.end(), "feedback pass") != withEffects.end());
-    // Each tile twice: into the feedback buffer, then into the frame.
-    CHECK(first.statistics.renderer.drawCalls == 2 * first.statistics.commandsExecuted);
+    // Each tile into the feedback buffer, then into the frame (in parts, each with the program its
+    // pixels need).
+    REQUIRE(first.statistics.tiles);
+    CHECK(first.statistics.renderer.drawCalls == first.statistics.tiles->drawn + first.statistics.commandsExecuted);
+    CHECK(first.statistics.commandsExecuted > first.statistics.tiles->drawn);
     CHECK(first.statistics.toJson().find("\"virtualTexture\": {\"pagesWanted\"") != std::string::npos);
     CHECK(first.statistics.toText().find("virtual texture:") != std::string::npos);
 
@@ -631,7 +680,7 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a s
     placeCamera(virtualScene, Geodetic3D::fromDegrees(8.01, 44.0, 300000.0), 0.0, -35.0);
     const RenderedFrame moved = renderFrame(virtualScene, 160, 90);
     CHECK(moved.statistics.virtualTexture->feedbackWidth == 40);
-    CHECK(moved.statistics.renderer.drawCalls == 2 * moved.statistics.commandsExecuted);
+    CHECK(moved.statistics.renderer.drawCalls == moved.statistics.tiles->drawn + moved.statistics.commandsExecuted);
 }
 
 TEST_CASE("A scene without a virtual texture compiles no virtual-texture program", "[scene][virtual][gl]")

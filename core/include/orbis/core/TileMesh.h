@@ -93,6 +93,18 @@ struct TileMesh {
     /// with the same coarsening (the course's shared index buffer). With a skirt, each edge's
     /// vertices in use are joined to their skirt copies.
     static std::vector<std::uint32_t> indices(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt);
+
+    /// Where indices() puts each part of the tile, so that a part can be drawn alone: first the
+    /// inner grid's quads a row at a time, from the north (quad rows 1 .. 2^samplesLog2 - 2, between
+    /// vertex rows j and j + 1, their quads from the west), then the ring an edge at a time (north,
+    /// east, south, west), each edge with its skirt.
+    struct IndexLayout {
+        std::size_t quadIndices = 6;     ///< a quad of the inner grid: two triangles
+        std::size_t innerRowQuads = 0;   ///< quads in a row of the inner grid, as many rows
+        std::size_t ringFirst = 0;       ///< the inner grid's indices: where the ring starts
+        std::size_t edgeIndices[4] = {}; ///< the ring's north, east, south and west edges' indices
+    };
+    static IndexLayout indexLayout(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt) noexcept;
 };
 
 } // namespace orbis

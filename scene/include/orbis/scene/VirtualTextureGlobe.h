@@ -72,6 +72,10 @@ struct VirtualTextureGlobeOptions {
     /// be compared pixel for pixel).
     double maximumScreenSpaceError = 2.0;
     int samplesLog2 = 4;
+    /// Each tile's rows drawn with the program their pixels need, so that the mip tail's lookup
+    /// and the second level's read run only near the horizon or the limb; false: a whole tile with
+    /// the program its most demanding rows need. The same picture either way; false is slower.
+    bool programsPerRow = true;
     /// Loads pages on worker threads; maximumStartsPerFrame is the loader's budget in pages.
     world::TileLoaderOptions loader;
     /// Surface tiles' meshes kept on the GPU at most (bytes); the least recently drawn go first.

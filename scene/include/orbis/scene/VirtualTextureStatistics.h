@@ -34,11 +34,12 @@ struct VirtualTextureStatistics {
     double lodBias = 0.0;
     bool lodBiasRaised = false;      ///< the dynamic bias is above the configured one
     std::size_t gpuBytes = 0;        ///< physical texture, page table, LOD clamp, feedback buffers: fixed
-    /// Tiles drawn with the mip tail's lookup compiled in: those with pixels that may be coarser
-    /// than level 0 (near the horizon, a pole, or from afar); the others leave it out.
+    /// Tiles with rows drawn with the mip tail's lookup compiled in: the rows with pixels that may
+    /// be coarser than level 0 (near the horizon, a pole, or from afar); the others leave it out.
     std::size_t tilesWithMipTail = 0;
-    /// Tiles drawn blending two levels (trilinear filtering: two reads of the physical texture a
-    /// pixel); the others have every pixel magnifying the finest level, which they read alone.
+    /// Tiles with rows drawn blending two levels (trilinear filtering: two reads of the physical
+    /// texture a pixel); the other rows have every pixel magnifying the finest level, which they
+    /// read alone.
     std::size_t tilesBlendingLevels = 0;
     /// Every page the view asks for is resident (or missing from the source), no load is pending,
     /// and the latest feedback, of the present view, shows no fallback.
