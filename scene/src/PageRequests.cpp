@@ -6,7 +6,7 @@
 
 namespace orbis::scene {
 
-FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples)
+FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples, std::uint32_t finestLevel)
 {
     FeedbackSummary summary;
     summary.pixels = samples.size();
@@ -36,7 +36,13 @@ FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples)
     }
     summary.pages.reserve(counts.size());
     for (const auto& [bits, pixels] : counts) {
-        summary.pages.push_back({unpackFeedback(bits).page, pixels});
+        const PageKey page = unpackFeedback(bits).page;
+        if (page.level > finestLevel || page.x >= VirtualTextureLayout::pagesX(page.level) ||
+            page.y >= VirtualTextureLayout::pagesY(page.level)) {
+            summary.outside += pixels;
+            continue;
+        }
+        summary.pages.push_back({page, pixels});
     }
     std::sort(summary.pages.begin(), summary.pages.end(),
               [](const PageCount& a, const PageCount& b) { return a.page < b.page; });

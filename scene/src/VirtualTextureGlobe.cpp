@@ -255,6 +255,7 @@ struct VirtualTextureGlobe::Impl {
     std::optional<std::uint64_t> streamedFrame;
     VirtualTextureStatistics statistics; ///< this frame's, being filled
     std::size_t missingCount = 0;
+    bool warnedOutside = false; ///< a feedback naming pages beyond the texture was reported
     std::size_t failedCount = 0;
 
     // Pages on their way: loads started, and pages loaded and waiting for their upload.
@@ -638,7 +639,12 @@ void VirtualTextureGlobe::Impl::readFeedback(FrameState& frameState)
     spareBuffers.push_back(std::move(ready->buffer));
     statistics.feedbackLatencyFrames = frameState.frameNumber - ready->frame;
 
-    summary = reduceFeedback(feedbackSamples);
+    summary = reduceFeedback(feedbackSamples, layout.finestLevel);
+    if (summary.outside > 0 && !warnedOutside) {
+        warnedOutside = true; // named once
+        warn("virtual texture: " + std::to_string(summary.outside) +
+             " feedback pixels name no page of the texture (a read-back gone wrong); they are left out");
+    }
     needed = withAncestors(summary);
     neededSet.clear();
     for (const PageCount& count : needed) {

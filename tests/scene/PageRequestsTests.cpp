@@ -27,7 +27,7 @@ TEST_CASE("A feedback buffer reduces to each page once with its pixel count", "[
     samples.push_back(sample({3, 2, 1}, true));
     samples.push_back(sample({4, 10, 5}, true)); // the same page, shown coarser
     samples.push_back(sample({3, 2, 1}));
-    const FeedbackSummary summary = reduceFeedback(samples);
+    const FeedbackSummary summary = reduceFeedback(samples, 4);
     CHECK(summary.pixels == 12);
     CHECK(summary.covered == 10);
     CHECK(summary.fallback == 2);
@@ -35,7 +35,16 @@ TEST_CASE("A feedback buffer reduces to each page once with its pixel count", "[
     REQUIRE(summary.pages.size() == 2);
     CHECK(summary.pages[0] == PageCount{{3, 2, 1}, 2});
     CHECK(summary.pages[1] == PageCount{{4, 10, 5}, 8});
-    CHECK(reduceFeedback({}).fallbackFraction() == 0.0);
+    CHECK(summary.outside == 0);
+    CHECK(reduceFeedback({}, 4).fallbackFraction() == 0.0);
+    // Pages beyond the texture (a read-back gone wrong) are counted, not asked for.
+    samples.push_back(sample({5, 0, 0}));
+    samples.push_back(sample({3, 16, 0}));
+    samples.push_back(sample({3, 0, 8}));
+    const FeedbackSummary corrupted = reduceFeedback(samples, 4);
+    CHECK(corrupted.outside == 3);
+    CHECK(corrupted.covered == 13);
+    CHECK(corrupted.pages == summary.pages);
 }
 
 TEST_CASE("Pages needed include every ancestor, counting the pixels below it", "[scene][virtual]")

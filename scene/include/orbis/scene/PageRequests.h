@@ -25,6 +25,7 @@ struct FeedbackSummary {
     std::size_t pixels = 0;   ///< every sample, covered or not
     std::size_t covered = 0;  ///< samples on the virtually textured surface
     std::size_t fallback = 0; ///< covered samples that showed a coarser page than they asked for
+    std::size_t outside = 0;  ///< covered samples naming no page of the texture (left out)
     /// fallback / pixels: the share of the picture drawn from a coarser page than it asked for;
     /// 0 for an empty buffer.
     double fallbackFraction() const noexcept
@@ -33,8 +34,9 @@ struct FeedbackSummary {
     }
 };
 
-/// Reduces packed feedback samples (orbis::packFeedback) to their pages.
-FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples);
+/// Reduces packed feedback samples (orbis::packFeedback) of a texture `finestLevel` deep to their
+/// pages; a sample naming a page beyond that (a corrupted read-back) counts as `outside` only.
+FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples, std::uint32_t finestLevel);
 
 /// Each page asked for and every ancestor of it, each counting the pixels of all the asked-for
 /// pages at or below it: what the view needs resident, since a page is only drawn once its
