@@ -809,6 +809,9 @@ struct ClipmapTerrain::Impl {
         ImageRow(const Image& image_, double v)
             : image(image_)
             , east(image_.width > 1 ? 4 : 0)
+            , columnScale(256.0 * image_.width)
+            , columnLimit(256.0 * (image_.width - 1))
+            , lastColumn(std::max(image_.width - 2, 0))
         {
             const int qy = fixedPoint(1.0 - v, image.height);
             const int iy = std::min(qy >> 8, std::max(image.height - 2, 0));
@@ -827,8 +830,9 @@ struct ClipmapTerrain::Impl {
         /// u 0 west .. 1 east, clamped.
         std::uint32_t at(double u) const noexcept
         {
-            const int qx = fixedPoint(u, image.width);
-            const int ix = std::min(qx >> 8, std::max(image.width - 2, 0));
+            // fixedPoint(u, image.width), its constants found once for the row's posts.
+            const int qx = static_cast<int>(std::clamp(u * columnScale - 127.5, 0.0, columnLimit));
+            const int ix = std::min(qx >> 8, lastColumn);
             const auto fx = static_cast<std::uint32_t>(qx - (ix << 8));
             const std::uint8_t* p = north + static_cast<std::size_t>(ix) * 4;
             auto texel = [](const std::uint8_t* q) {
@@ -852,6 +856,8 @@ struct ClipmapTerrain::Impl {
         const std::uint8_t* north;
         std::size_t south; ///< bytes to the row below
         std::size_t east;  ///< bytes to the next texel: none in a one-texel-wide image
+        double columnScale, columnLimit; ///< fixedPoint's for the image's width
+        int lastColumn;                  ///< the western texel of the last pair
         std::uint32_t fy;
     };
 
