@@ -26,6 +26,7 @@
 #include <orbis/world/VirtualTextureSource.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <deque>

@@ -39,6 +39,26 @@ VirtualTextureGlobeOptions blueMarble()
     return options;
 }
 
+/// A camera placement the tests share.
+struct CameraView {
+    const char* name;
+    Geodetic3D position;
+    double heading;
+    double pitch;
+};
+const CameraView kAlpsToTheHorizon{"the Alps from 300 km, the horizon in view", Geodetic3D::fromDegrees(8.0, 43.5, 300000.0),
+                                   10.0, -35.0};
+const CameraView kWholeEarth{"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -90.0};
+
+/// A scene of one primitive converged on a view at 256 x 144: its last frame.
+RenderedFrame convergedOn(std::shared_ptr<Primitive> primitive, const CameraView& view)
+{
+    Scene scene(kEarth);
+    scene.add(std::move(primitive));
+    placeCamera(scene, view.position, view.heading, view.pitch);
+    return renderUntilTilesConverge(scene, 256, 144, 100);
+}
+
 } // namespace
 
 TEST_CASE("A virtual texture over the Alps converges to the Blue Marble's deepest level", "[scene][virtual][gl]")
@@ -93,24 +113,18 @@ TEST_CASE("Only tiles whose pixels may be coarser than level 0 read the mip tail
     // grazing footprints differently; the whole Earth 18 pixels) and for none (the Alps at most 69,
     // the whole Earth 1,940 pixels: the limb aliased).
     struct View {
-        const char* name;
-        Geodetic3D position;
-        double heading;
-        double pitch;
+        CameraView camera;
         double differingFraction;
         int largestDifference;
     };
     const View views[] = {
-        {"Paris from 10 km, no horizon", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0, 0.0, 4},
-        {"the Alps from 300 km, the horizon in view", Geodetic3D::fromDegrees(8.0, 43.5, 300000.0), 10.0, -35.0, 0.09, 30},
-        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -90.0, 0.001, 255},
+        {{"Paris from 10 km, no horizon", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0}, 0.0, 4},
+        {kAlpsToTheHorizon, 0.09, 30},
+        {kWholeEarth, 0.001, 255},
     };
     for (const View& view : views) {
-        INFO(view.name);
-        Scene virtualScene(kEarth);
-        virtualScene.add(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()));
-        placeCamera(virtualScene, view.position, view.heading, view.pitch);
-        const RenderedFrame frame = renderUntilTilesConverge(virtualScene, 256, 144, 100);
+        INFO(view.camera.name);
+        const RenderedFrame frame = convergedOn(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()), view.camera);
         REQUIRE(frame.statistics.virtualTexture->converged);
         const std::size_t withTail = frame.statistics.virtualTexture->tilesWithMipTail;
         const std::size_t drawn = frame.statistics.tiles->drawn;
@@ -123,10 +137,7 @@ TEST_CASE("Only tiles whose pixels may be coarser than level 0 read the mip tail
         }
         TiledGlobeOptions tiledOptions;
         tiledOptions.imagery.push_back({blueMarble().source, {}});
-        Scene tiled(kEarth);
-        tiled.add(std::make_shared<TiledGlobe>(kEarth, tiledOptions));
-        placeCamera(tiled, view.position, view.heading, view.pitch);
-        const RenderedFrame expected = renderUntilTilesConverge(tiled, 256, 144, 100);
+        const RenderedFrame expected = convergedOn(std::make_shared<TiledGlobe>(kEarth, tiledOptions), view.camera);
         const ImageDifference difference = compareImages(frame.image, expected.image, 4);
         INFO("beyond 4: " << difference.differingPixels << ", largest " << difference.maxChannelDifference);
         CHECK(difference.differingFraction <= view.differingFraction);
@@ -143,27 +154,21 @@ TEST_CASE("A tile's rows read only the levels their pixels show: the picture of 
     // again with each tile whole, in the program its most demanding part needs, the frame is the
     // same.
     struct View {
-        const char* name;
-        Geodetic3D position;
-        double heading;
-        double pitch;
+        CameraView camera;
         bool splits;
     };
     const View views[] = {
-        {"the Alps from 300 km, the horizon in view", Geodetic3D::fromDegrees(8.0, 43.5, 300000.0), 10.0, -35.0, true},
-        {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), 0.0, -90.0, true},
-        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -90.0, false},
+        {kAlpsToTheHorizon, true},
+        {{"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), 0.0, -90.0}, true},
+        {kWholeEarth, false},
     };
     auto render = [](const View& view, bool programsPerRow) {
         VirtualTextureGlobeOptions options = blueMarble();
         options.programsPerRow = programsPerRow;
-        Scene scene(kEarth);
-        scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
-        placeCamera(scene, view.position, view.heading, view.pitch);
-        return renderUntilTilesConverge(scene, 256, 144, 100);
+        return convergedOn(std::make_shared<VirtualTextureGlobe>(kEarth, options), view.camera);
     };
     for (const View& view : views) {
-        INFO(view.name);
+        INFO(view.camera.name);
         const RenderedFrame rows = render(view, true);
         const RenderedFrame whole = render(view, false);
         REQUIRE(rows.statistics.virtualTexture->converged);
