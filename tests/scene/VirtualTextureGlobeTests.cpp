@@ -150,10 +150,10 @@ TEST_CASE("A tile's rows read only the levels their pixels show: the picture of 
 {
     // Over the Alps towards the horizon a tile's far rows read the mip tail and its near rows do
     // not; over Europe from 1,000 km some rows read one level, others blend two; near the North Pole
-    // (where a texel's width narrows to nothing) some rows read the tail and others not; over the whole
-    // Earth every row of the 90-degree tiles reaches the limb: the tiles are drawn whole. Drawn
-    // again with each tile whole, in the program its most demanding part needs, the frame is the
-    // same.
+    // (where a texel's width narrows to nothing) and across the antimeridian, looking east over it,
+    // some rows read the tail and others not; over the whole Earth every row of the 90-degree
+    // tiles reaches the limb: the tiles are drawn whole. Drawn again with each tile whole, in the
+    // program its most demanding part needs, the frame is the same.
     struct View {
         CameraView camera;
         bool splits;
@@ -162,6 +162,8 @@ TEST_CASE("A tile's rows read only the levels their pixels show: the picture of 
         {kAlpsToTheHorizon, true},
         {{"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), 0.0, -90.0}, true},
         {{"the North Pole from 300 km", Geodetic3D::fromDegrees(30.0, 87.0, 300000.0), 180.0, -50.0}, true},
+        {{"the antimeridian from 300 km, looking east across it", Geodetic3D::fromDegrees(178.0, -17.5, 300000.0), 90.0, -35.0},
+         true},
         {kWholeEarth, false},
     };
     auto render = [](const View& view, bool programsPerRow) {
