@@ -37,8 +37,7 @@ FeedbackSummary reduceFeedback(std::span<const std::uint32_t> samples, std::uint
     summary.pages.reserve(counts.size());
     for (const auto& [bits, pixels] : counts) {
         const PageKey page = unpackFeedback(bits).page;
-        if (page.level > finestLevel || page.x >= VirtualTextureLayout::pagesX(page.level) ||
-            page.y >= VirtualTextureLayout::pagesY(page.level)) {
+        if (!VirtualTextureLayout::hasPage(finestLevel, page)) {
             summary.outside += pixels;
             continue;
         }

@@ -18,8 +18,7 @@ PageTable::PageTable(std::uint32_t finestLevel)
 
 const PageTableEntry& PageTable::entry(const PageKey& page) const noexcept
 {
-    assert(page.level <= _finestLevel && page.x < VirtualTextureLayout::pagesX(page.level) &&
-           page.y < VirtualTextureLayout::pagesY(page.level));
+    assert(VirtualTextureLayout::hasPage(_finestLevel, page));
     return _levels[page.level][static_cast<std::size_t>(page.y) * VirtualTextureLayout::pagesX(page.level) + page.x];
 }
 

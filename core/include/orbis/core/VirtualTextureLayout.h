@@ -35,6 +35,11 @@ struct VirtualTextureLayout {
 
     static constexpr std::uint32_t pagesX(std::uint32_t level) noexcept { return 2u << level; }
     static constexpr std::uint32_t pagesY(std::uint32_t level) noexcept { return 1u << level; }
+    /// Whether a texture down to level `deepest` has the page: its level, and the page inside it.
+    static constexpr bool hasPage(std::uint32_t deepest, const PageKey& page) noexcept
+    {
+        return page.level <= deepest && page.x < pagesX(page.level) && page.y < pagesY(page.level);
+    }
     /// Pages at one level: 2 x 4^level.
     static constexpr std::uint64_t pageCount(std::uint32_t level) noexcept
     {
