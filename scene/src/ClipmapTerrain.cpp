@@ -806,34 +806,42 @@ struct ClipmapTerrain::Impl {
     /// (the red and blue, then the green and alpha bytes apart in one word), for the level's posts
     /// are many.
     struct ImageRow {
+        /// Where t (0..1 across `size` texels) lies, in 1/256 of a texel from the first texel's
+        /// centre, rounded, clamped to the outer texels' centres (where one texel gives the
+        /// colour): the first texel of the pair to blend and the second's weight, of 256. The
+        /// constants are worked out once, for the row's many posts.
+        struct Axis {
+            explicit Axis(int size)
+                : scale(256.0 * size)
+                , limit(256.0 * (size - 1))
+                , lastPair(std::max(size - 2, 0))
+            {
+            }
+            std::pair<int, std::uint32_t> at(double t) const noexcept
+            {
+                const int q = static_cast<int>(std::clamp(t * scale - 127.5, 0.0, limit));
+                const int first = std::min(q >> 8, lastPair);
+                return {first, static_cast<std::uint32_t>(q - (first << 8))};
+            }
+            double scale, limit;
+            int lastPair;
+        };
+
         ImageRow(const Image& image_, double v)
             : image(image_)
             , east(image_.width > 1 ? 4 : 0)
-            , columnScale(256.0 * image_.width)
-            , columnLimit(256.0 * (image_.width - 1))
-            , lastColumn(std::max(image_.width - 2, 0))
+            , columns(image_.width)
         {
-            const int qy = fixedPoint(1.0 - v, image.height);
-            const int iy = std::min(qy >> 8, std::max(image.height - 2, 0));
-            fy = static_cast<std::uint32_t>(qy - (iy << 8));
+            const auto [iy, weight] = Axis(image.height).at(1.0 - v);
+            fy = weight;
             north = &image.pixels[static_cast<std::size_t>(iy) * static_cast<std::size_t>(image.width) * 4];
             south = image.height > 1 ? static_cast<std::size_t>(image.width) * 4 : 0;
-        }
-
-        /// Where t (0..1 across `size` texels) lies, in 1/256 of a texel from the first texel's
-        /// centre, rounded; clamped to the outer texels' centres, where one texel gives the colour.
-        static int fixedPoint(double t, int size) noexcept
-        {
-            return static_cast<int>(std::clamp(t * (256.0 * size) - 127.5, 0.0, 256.0 * (size - 1)));
         }
 
         /// u 0 west .. 1 east, clamped.
         std::uint32_t at(double u) const noexcept
         {
-            // fixedPoint(u, image.width), its constants found once for the row's posts.
-            const int qx = static_cast<int>(std::clamp(u * columnScale - 127.5, 0.0, columnLimit));
-            const int ix = std::min(qx >> 8, lastColumn);
-            const auto fx = static_cast<std::uint32_t>(qx - (ix << 8));
+            const auto [ix, fx] = columns.at(u);
             const std::uint8_t* p = north + static_cast<std::size_t>(ix) * 4;
             auto texel = [](const std::uint8_t* q) {
                 std::uint32_t abgr;
@@ -856,8 +864,7 @@ struct ClipmapTerrain::Impl {
         const std::uint8_t* north;
         std::size_t south; ///< bytes to the row below
         std::size_t east;  ///< bytes to the next texel: none in a one-texel-wide image
-        double columnScale, columnLimit; ///< fixedPoint's for the image's width
-        int lastColumn;                  ///< the western texel of the last pair
+        Axis columns;
         std::uint32_t fy;
     };
 
