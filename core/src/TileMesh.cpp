@@ -218,7 +218,7 @@ TileMesh::IndexLayout TileMesh::indexLayout(int samplesLog2, const EdgeCoarsenin
     const std::size_t quads = std::size_t{1} << samplesLog2; // a side
     IndexLayout layout;
     layout.innerRowQuads = quads - 2;
-    layout.ringFirst = layout.quadIndices * layout.innerRowQuads * layout.innerRowQuads;
+    layout.ringFirst = IndexLayout::kQuadIndices * layout.innerRowQuads * layout.innerRowQuads;
     const std::array<int, 4> levels{coarsening.north, coarsening.east, coarsening.south, coarsening.west};
     for (std::size_t edge = 0; edge < 4; ++edge) {
         // As indices() zips them: a triangle for each outer and each inner segment, and a skirt's

@@ -209,11 +209,13 @@ struct VirtualTextureGlobe::Impl {
         double angle = 0.0;      ///< radians at the centre; the horizon's where the view reaches it
         double footprint = 0.0;  ///< metres, the long axis; infinite where the view reaches the horizon
         double pixelAngle = 0.0; ///< radians across the pixel at the view's centre, the widest
+        glm::dvec3 down{0.0};    ///< the unit vector from the Earth's centre towards the eye
+        double opposite = 0.0;   ///< the meridian opposite the eye's (radians)
     };
     ViewReach viewReach(const FrameState& frameState) const;
-    /// The largest angle at the Earth's centre between the point under the eye (`down`, a unit
-    /// vector) and a point of a latitude between two longitudes.
-    double farthestAlong(const glm::dvec3& down, double latitude, double west, double east) const;
+    /// The largest angle at the Earth's centre between the point under the eye and a point of a
+    /// latitude between two longitudes.
+    double farthestAlong(const ViewReach& reach, double latitude, double west, double east) const;
     /// The levels the pixels of a part of the surface may show, within the view's reach; farthest:
     /// the part's largest angle from the point under the eye (farthestAlong its north and south edges).
     PixelLevels pixelLevels(const FrameState& frameState, const GeodeticExtent& extent, double farthest,
@@ -797,9 +799,11 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     // angle across at theta from the view's axis (the larger of its two: cos^2 theta along the
     // radius), a the angle between the ray and the ground.
     const Camera& camera = frameState.camera;
-    const glm::dvec3 down = glm::normalize(camera.eye());
     const double radius = ellipsoid.minimumRadius();
     ViewReach reach;
+    reach.down = glm::normalize(camera.eye());
+    reach.opposite = std::remainder(std::atan2(reach.down.y, reach.down.x) + kPi, kTwoPi);
+    const glm::dvec3& down = reach.down;
     reach.pixelAngle = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / std::max(frameState.height, 1);
     const double rho = reach.pixelAngle;
     const glm::dvec3 axis = camera.direction();
@@ -825,14 +829,13 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     return reach;
 }
 
-double VirtualTextureGlobe::Impl::farthestAlong(const glm::dvec3& down, double latitude, double west, double east) const
+double VirtualTextureGlobe::Impl::farthestAlong(const ViewReach& reach, double latitude, double west, double east) const
 {
-    // Along a latitude the angle grows with the longitude's distance from down's: it is largest at
-    // the end farther from it, or on the opposite meridian where the run crosses that.
-    const double opposite = std::remainder(std::atan2(down.y, down.x) + kPi, kTwoPi);
+    // Along a latitude the angle grows with the longitude's distance from the eye's: it is largest
+    // at the end farther from it, or on the opposite meridian where the run crosses that.
     double farthest = 0.0;
-    for (const double longitude : {west, east, std::clamp(opposite, west, east)}) {
-        farthest = std::max(farthest, detail::centralAngle(down, ellipsoid.geodeticSurfaceNormal(Geodetic2D{longitude, latitude})));
+    for (const double longitude : {west, east, std::clamp(reach.opposite, west, east)}) {
+        farthest = std::max(farthest, detail::centralAngle(reach.down, ellipsoid.geodeticSurfaceNormal(Geodetic2D{longitude, latitude})));
     }
     return farthest;
 }
@@ -885,23 +888,20 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
     // largest on its northern or southern row (along a meridian the angle has its one extreme
     // between the poles at the nearest point, so the farthest is at an end).
     const int quads = 1 << options->samplesLog2;
-    const glm::dvec3 down = glm::normalize(frameState.camera.eye());
-    std::array<double, (1 << 7) + 1> farthest{}; // samplesLog2 is at most 7 (validate)
-    for (int row = 0; row <= quads; ++row) {
-        const double latitude = TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, row);
-        farthest[static_cast<std::size_t>(row)] = farthestAlong(down, latitude, extent.west, extent.east);
+    std::array<double, (1 << 7) + 1> latitude{}; // samplesLog2 is at most 7 (validate)
+    std::array<double, (1 << 7) + 1> farthest{};
+    for (std::size_t row = 0; row <= static_cast<std::size_t>(quads); ++row) {
+        latitude[row] = TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, static_cast<int>(row));
+        farthest[row] = farthestAlong(reach, latitude[row], extent.west, extent.east);
     }
     // Quad rows first .. last - 1 (from the north).
     auto rows = [&](int first, int last) {
         const auto north = static_cast<std::size_t>(first), south = static_cast<std::size_t>(last);
-        const GeodeticExtent band{extent.west, TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, last),
-                                  extent.east, TileMesh::latticeLatitude(quadtree.scheme(), tile.key, options->samplesLog2, first)};
+        const GeodeticExtent band{extent.west, latitude[south], extent.east, latitude[north]};
         return pixelLevels(frameState, band, std::max(farthest[north], farthest[south]), reach);
     };
-    const std::size_t total = indices.ringFirst + indices.edgeIndices[0] + indices.edgeIndices[1] + indices.edgeIndices[2] +
-                              indices.edgeIndices[3];
     if (!options->programsPerRow) {
-        return {{0, total, rows(0, quads)}};
+        return {{0, indices.indexCount(), rows(0, quads)}};
     }
     // Each quad row's band spans the tile's width: its levels hold for the ring's quads in it too.
     std::array<PixelLevels, 1 << 7> rowLevels{};
@@ -919,7 +919,7 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
         }
     };
     for (int row = 1; row + 1 < quads; ++row) {
-        add(indices.quadIndices * indices.innerRowQuads, rowLevels[static_cast<std::size_t>(row)]);
+        add(TileMesh::IndexLayout::kQuadIndices * indices.innerRowQuads, rowLevels[static_cast<std::size_t>(row)]);
     }
     // The ring: its north and south edges in the first and last rows, its east and west edges in
     // every row.

@@ -140,11 +140,12 @@ TEST_CASE("TileMesh's index layout finds each quad row of the inner grid and eac
                 const std::vector<std::uint32_t> indices = TileMesh::indices(samplesLog2, coarsening, skirt);
                 const TileMesh::IndexLayout layout = TileMesh::indexLayout(samplesLog2, coarsening, skirt);
                 INFO("samples log2 " << samplesLog2 << ", coarsening " << coarse << ", skirt " << skirt);
-                const std::size_t rowIndices = layout.quadIndices * layout.innerRowQuads;
+                const std::size_t rowIndices = TileMesh::IndexLayout::kQuadIndices * layout.innerRowQuads;
                 REQUIRE(layout.ringFirst == rowIndices * layout.innerRowQuads);
                 REQUIRE(layout.ringFirst + layout.edgeIndices[0] + layout.edgeIndices[1] + layout.edgeIndices[2] +
                             layout.edgeIndices[3] ==
                         indices.size());
+                REQUIRE(layout.indexCount() == indices.size());
                 // Quad row r lies between vertex rows r and r + 1, inside the ring's columns.
                 for (std::size_t r = 1; r <= layout.innerRowQuads; ++r) {
                     for (std::size_t k = (r - 1) * rowIndices; k < r * rowIndices; ++k) {

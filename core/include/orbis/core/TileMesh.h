@@ -99,10 +99,15 @@ struct TileMesh {
     /// vertex rows j and j + 1, their quads from the west), then the ring an edge at a time (north,
     /// east, south, west), each edge with its skirt.
     struct IndexLayout {
-        std::size_t quadIndices = 6;     ///< a quad of the inner grid: two triangles
+        static constexpr std::size_t kQuadIndices = 6; ///< a quad of the inner grid: two triangles
         std::size_t innerRowQuads = 0;   ///< quads in a row of the inner grid, as many rows
         std::size_t ringFirst = 0;       ///< the inner grid's indices: where the ring starts
         std::size_t edgeIndices[4] = {}; ///< the ring's north, east, south and west edges' indices
+        /// Every index: indices().size().
+        std::size_t indexCount() const noexcept
+        {
+            return ringFirst + edgeIndices[0] + edgeIndices[1] + edgeIndices[2] + edgeIndices[3];
+        }
     };
     static IndexLayout indexLayout(int samplesLog2, const EdgeCoarsening& coarsening, bool skirt) noexcept;
 };
