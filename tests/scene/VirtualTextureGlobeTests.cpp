@@ -201,28 +201,18 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
     // through the view's pixels say so, not the bound at the view's reach alone); from 1,000 km
     // over Europe the pixels span more than a texel, and from 20,000 km several: every tile blends.
     struct View {
-        const char* name;
-        Geodetic3D position;
-        double pitch;
+        CameraView camera;
         bool magnified;
     };
     const View views[] = {
-        {"Paris from 10 km", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), -60.0, true},
-        {"the antimeridian from 50 km, 45 degrees down", Geodetic3D::fromDegrees(177.0, -17.5, 50000.0), -45.0, true},
-        {"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), -90.0, false},
-        {"the whole Earth from 20,000 km", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), -90.0, false},
-    };
-    // A globe with the options converged on the view: the globe, and its last frame.
-    auto converged = [](const VirtualTextureGlobeOptions& options, const View& view) {
-        auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
-        Scene scene(kEarth);
-        scene.add(globe);
-        placeCamera(scene, view.position, 0.0, view.pitch);
-        return std::pair(globe, renderUntilTilesConverge(scene, 256, 144, 100));
+        {{"Paris from 10 km", Geodetic3D::fromDegrees(2.35, 48.75, 10000.0), 0.0, -60.0}, true},
+        {{"the antimeridian from 50 km, 45 degrees down", Geodetic3D::fromDegrees(177.0, -17.5, 50000.0), 0.0, -45.0}, true},
+        {{"Europe from 1,000 km", Geodetic3D::fromDegrees(10.0, 48.0, 1.0e6), 0.0, -90.0}, false},
+        {kWholeEarth, false},
     };
     for (const View& view : views) {
-        INFO(view.name);
-        const RenderedFrame frame = converged(blueMarble(), view).second;
+        INFO(view.camera.name);
+        const RenderedFrame frame = convergedOn(std::make_shared<VirtualTextureGlobe>(kEarth, blueMarble()), view.camera);
         INFO(frame.statistics.toText());
         REQUIRE(frame.statistics.virtualTexture->converged);
         const std::size_t blending = frame.statistics.virtualTexture->tilesBlendingLevels;
@@ -230,7 +220,8 @@ TEST_CASE("Tiles whose every pixel magnifies the finest level read it alone", "[
         VirtualTextureGlobeOptions raised = blueMarble();
         raised.virtualTexture.lodBias = 1.0;
         raised.virtualTexture.feedbackDivisor = 1;
-        const auto [globe, raisedFrame] = converged(raised, view);
+        const auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, raised);
+        const RenderedFrame raisedFrame = convergedOn(globe, view.camera);
         REQUIRE(raisedFrame.statistics.virtualTexture->converged);
         const Image feedback = globe->feedbackImage();
         REQUIRE(feedback.width == 256);
