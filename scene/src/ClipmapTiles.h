@@ -11,8 +11,11 @@
 #include <orbis/world/TileLoader.h>
 
 #include <algorithm>
+#include <array>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <list>
 #include <memory>
 #include <optional>
@@ -21,15 +24,30 @@
 
 namespace orbis::scene::detail {
 
-/// A decoded imagery tile, RGBA.
+/// A decoded imagery tile as one RGBA word a texel (its four bytes in memory order), so that a
+/// batch of bilinear lookups loads a texel as one word (vector gathers).
+struct ImageTexels {
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> texels; ///< row by row from the north
+
+    explicit ImageTexels(const Image& rgba)
+        : width(rgba.width)
+        , height(rgba.height)
+        , texels(static_cast<std::size_t>(rgba.width) * static_cast<std::size_t>(rgba.height))
+    {
+        assert(rgba.channels == 4);
+        std::memcpy(texels.data(), rgba.pixels.data(), texels.size() * sizeof(std::uint32_t));
+    }
+};
+
 class ImageryContent final : public world::TileContent {
 public:
-    explicit ImageryContent(Image image_)
-        : image(std::move(image_))
+    explicit ImageryContent(const Image& rgba)
+        : image(std::make_shared<const ImageTexels>(rgba))
     {
     }
-    std::size_t byteSize() const noexcept override { return image.pixels.size(); }
-    Image image;
+    std::size_t byteSize() const noexcept override { return image->texels.size() * sizeof(std::uint32_t); }
+    std::shared_ptr<const ImageTexels> image;
 };
 
 /// A terrain tile as a 129 x 129 lattice of its surface (world::TerrainSampler: on a mesh's triangles),
@@ -44,34 +62,6 @@ struct TerrainGrid {
     /// where the lattice's bilinear cells (or the four-point filter of them) would cut across its
     /// creases. Null for grid tiles: below their spacing the four-point filter is as good.
     std::shared_ptr<const world::TerrainSampler> mesh;
-
-    /// Bilinear heights along the lattice at one v (a row of posts of one latitude crosses a tile
-    /// at one v): the two lattice rows and their weight found once.
-    struct Row {
-        const float* north;
-        const float* south;
-        double weight; ///< of the southern row
-
-        /// u 0 west .. 1 east, clamped.
-        double at(double u) const noexcept
-        {
-            const double column = std::clamp(u, 0.0, 1.0) * (kSize - 1);
-            const int c = std::min(static_cast<int>(column), kSize - 2);
-            const double fc = column - c;
-            return (1.0 - weight) * ((1.0 - fc) * static_cast<double>(north[c]) + fc * static_cast<double>(north[c + 1])) +
-                   weight * ((1.0 - fc) * static_cast<double>(south[c]) + fc * static_cast<double>(south[c + 1]));
-        }
-    };
-    /// v 0 south .. 1 north, clamped.
-    Row row(double v) const noexcept
-    {
-        const double row = (1.0 - std::clamp(v, 0.0, 1.0)) * (kSize - 1);
-        const int r = std::min(static_cast<int>(row), kSize - 2);
-        const float* north = &heights[static_cast<std::size_t>(r) * kSize];
-        return {north, north + kSize, row - r};
-    }
-    /// u 0 west .. 1 east, v 0 south .. 1 north, clamped.
-    double height(double u, double v) const noexcept { return row(v).at(u); }
 };
 
 class TerrainContent final : public world::TileContent {
@@ -138,87 +128,131 @@ private:
     std::size_t _bytes = 0;
 };
 
-/// The finest tile in a cache over a point, from `level` up, remembering the last answer and where
-/// it holds, so that a row of posts looks a tile up once.
+/// The finest tile in a cache over a point, from `level` up, remembering its last few answers and
+/// where each holds, so that the posts of a row look a tile up once, and the next row's again
+/// not at all. Its answers point into the cache: it lives while nothing is inserted (one frame's
+/// writes).
 template <typename Value>
-struct TileFinder {
-    TileFinder(TileCache<Value>* cache_, TilingScheme scheme_, std::uint32_t minimumLevel_)
-        : cache(cache_)
-        , scheme(scheme_)
-        , minimumLevel(minimumLevel_)
+class TileFinder {
+public:
+    TileFinder(TileCache<Value>* cache, TilingScheme scheme, std::uint32_t minimumLevel)
+        : _cache(cache)
+        , _scheme(scheme)
+        , _minimumLevel(minimumLevel)
     {
     }
-
-    TileCache<Value>* cache;
-    TilingScheme scheme;
-    std::uint32_t minimumLevel;
-    TileKey lastKey{};
-    GeodeticExtent lastExtent{};
-    const Value* last = nullptr;
 
     /// The finest tile over g from `level` up, and where g lies in it (0..1 west to east, south
     /// to north); null where none is loaded.
     const Value* find(const Geodetic2D& g, std::uint32_t level, glm::dvec2& uv)
     {
-        if (!(level == _askedLevel && holds(g))) {
-            search(g, level);
+        if (!(level == _answer.askedLevel && holds(g))) {
+            recall(g, level);
         }
-        if (last) {
+        if (_answer.value) {
             uv = positionInLast(g);
         }
-        return last;
+        return _answer.value;
     }
+
+    /// The last tile found's key (find returned non-null).
+    const TileKey& lastKey() const noexcept { return _answer.key; }
 
     /// Whether the last answer holds at g too.
     bool holds(const Geodetic2D& g) const noexcept
     {
-        return g.longitude >= _holds.west && g.longitude <= _holds.east && g.latitude >= _holds.south &&
-               g.latitude <= _holds.north;
+        const GeodeticExtent& e = _answer.holds;
+        return g.longitude >= e.west && g.longitude <= e.east && g.latitude >= e.south && g.latitude <= e.north;
     }
 
     /// Where g lies in the last tile found (g inside it).
     glm::dvec2 positionInLast(const Geodetic2D& g) const noexcept
     {
-        if (scheme.projection() == TilingProjection::Geographic) {
+        glm::dvec2 uv;
+        positionsInLast(&g, 1, &uv.x, &uv.y);
+        return uv;
+    }
+
+    /// Where each of `count` points lies in the last tile found (all inside it): u, v.
+    void positionsInLast(const Geodetic2D* g, std::size_t count, double* u, double* v) const noexcept
+    {
+        if (_scheme.projection() == TilingProjection::Geographic) {
             // From the extent found, without the scheme's general arithmetic.
-            return {(g.longitude - lastExtent.west) * _perRadian.x, (g.latitude - lastExtent.south) * _perRadian.y};
+            const GeodeticExtent& e = _answer.extent;
+            for (std::size_t k = 0; k < count; ++k) {
+                u[k] = (g[k].longitude - e.west) * _answer.perRadian.x;
+                v[k] = (g[k].latitude - e.south) * _answer.perRadian.y;
+            }
+            return;
         }
-        return scheme.positionInTile(lastKey, g);
+        for (std::size_t k = 0; k < count; ++k) {
+            const glm::dvec2 uv = _scheme.positionInTile(_answer.key, g[k]);
+            u[k] = uv.x;
+            v[k] = uv.y;
+        }
     }
 
 private:
-    void search(const Geodetic2D& g, std::uint32_t level)
+    static constexpr GeodeticExtent kNowhere{0.0, 1.0, 0.0, -1.0}; ///< south above north: holds no point
+
+    struct Answer {
+        std::uint32_t askedLevel = ~0u;
+        GeodeticExtent holds = kNowhere; ///< where it holds
+        const Value* value = nullptr;    ///< null: no tile loaded there
+        TileKey key{};
+        GeodeticExtent extent{};
+        glm::dvec2 perRadian{0.0}; ///< 1 / the tile's width and height: a point's position a multiply
+    };
+
+    /// Makes the answer at g current: a recent one that holds there, or a new search.
+    void recall(const Geodetic2D& g, std::uint32_t level)
+    {
+        for (Answer& recent : _recent) {
+            std::swap(recent, _answer);
+            if (level == _answer.askedLevel && holds(g)) {
+                return;
+            }
+        }
+        // None holds: the oldest (now current) gives way to a search.
+        _answer = search(g, level);
+    }
+
+    Answer search(const Geodetic2D& g, std::uint32_t level)
     {
         // The answer holds over the tile of the level asked for at g: every point of it has the
         // same ancestors, so the same finest loaded one (a coarser tile found holds only there,
         // not over its whole extent, where finer tiles may be loaded).
-        _askedLevel = level;
-        _holds = kNowhere;
-        last = nullptr;
+        Answer answer;
+        answer.askedLevel = level;
         bool first = true;
-        for (std::int64_t l = level; l >= static_cast<std::int64_t>(minimumLevel); --l) {
-            const std::optional<TileKey> at = scheme.tileAt(g, static_cast<std::uint32_t>(l));
+        for (std::int64_t l = level; l >= static_cast<std::int64_t>(_minimumLevel); --l) {
+            const std::optional<TileKey> at = _scheme.tileAt(g, static_cast<std::uint32_t>(l));
             if (!at) {
                 continue;
             }
             if (first) {
-                _holds = scheme.tileExtent(*at);
+                answer.holds = _scheme.tileExtent(*at);
                 first = false;
             }
-            if (const Value* value = cache->find(*at)) {
-                last = value;
-                lastKey = *at;
-                lastExtent = scheme.tileExtent(*at);
-                _perRadian = {1.0 / (lastExtent.east - lastExtent.west), 1.0 / (lastExtent.north - lastExtent.south)};
-                return;
+            if (const Value* value = _cache->find(*at)) {
+                answer.value = value;
+                answer.key = *at;
+                answer.extent = _scheme.tileExtent(*at);
+                answer.perRadian = {1.0 / (answer.extent.east - answer.extent.west),
+                                    1.0 / (answer.extent.north - answer.extent.south)};
+                break;
             }
         }
+        return answer;
     }
 
-    static constexpr GeodeticExtent kNowhere{0.0, 1.0, 0.0, -1.0}; ///< south above north: holds no point
-    std::uint32_t _askedLevel = ~0u;
-    GeodeticExtent _holds = kNowhere; ///< where the last search's answer holds
-    glm::dvec2 _perRadian{0.0};       ///< 1 / the last tile's width and height: a post's position a multiply
+    TileCache<Value>* _cache;
+    TilingScheme _scheme;
+    std::uint32_t _minimumLevel;
+    Answer _answer;
+    /// The answers before it, the most recent first: a row of posts crosses a few tiles, the next
+    /// row the same ones.
+    std::array<Answer, 7> _recent;
 };
 
 } // namespace orbis::scene::detail
