@@ -220,6 +220,29 @@ ORBIS_BATCHED void sampleLattice(const TerrainGrid& grid, const double* u, const
     }
 }
 
+/// Widens [lowest, highest] to `count` heights: in eight lanes, whose minima and maxima are
+/// independent and vectorize, where one running minimum would wait on the last.
+ORBIS_BATCHED void widenRange(const float* __restrict heights, std::size_t count, float& lowest, float& highest)
+{
+    constexpr std::size_t kLanes = 8;
+    std::array<float, kLanes> low, high;
+    low.fill(lowest);
+    high.fill(highest);
+    std::size_t k = 0;
+    for (; k + kLanes <= count; k += kLanes) {
+        for (std::size_t j = 0; j < kLanes; ++j) {
+            low[j] = heights[k + j] < low[j] ? heights[k + j] : low[j];
+            high[j] = heights[k + j] > high[j] ? heights[k + j] : high[j];
+        }
+    }
+    for (; k < count; ++k) {
+        low[0] = heights[k] < low[0] ? heights[k] : low[0];
+        high[0] = heights[k] > high[0] ? heights[k] : high[0];
+    }
+    lowest = *std::min_element(low.begin(), low.end());
+    highest = *std::max_element(high.begin(), high.end());
+}
+
 /// Where t (0..1 across `size` texels) lies, in 1/256 of a texel from the first texel's centre,
 /// rounded, clamped to the outer texels' centres (where one texel gives the colour): the first
 /// texel of the pair to blend and the second's weight, of 256. The constants are worked out once
@@ -813,12 +836,10 @@ struct ClipmapTerrain::Impl {
         };
         MeshHint left;
         // The heights' range, kept in registers rather than in the level while its posts are written.
-        double lowest = level.minimumHeight, highest = level.maximumHeight;
+        float lowest = static_cast<float>(level.minimumHeight), highest = static_cast<float>(level.maximumHeight);
         std::vector<Geodetic2D> row(static_cast<std::size_t>(x1 - x0));
         std::vector<MeshHint> below(row.size());
         std::vector<double> rowU(row.size()), rowV(row.size()); ///< a batch's places in its tile
-        std::vector<float> rowHeights(row.size());
-        std::vector<std::uint32_t> rowColors(row.size());
         RotatedRow rotated;
         // Most of a lattice met is read, by many rows: its lines are fetched in one sweep when the
         // write first meets it, streaming in rather than each post waiting for its own (a rotated
@@ -857,10 +878,16 @@ struct ClipmapTerrain::Impl {
                     }
                 }
             }
-            // The posts over one tile are looked up in a batch: their places in it, then its samples.
+            // The posts over one tile are looked up in a batch: their places in it, then its
+            // samples, written straight into the level's texels (a batch ends where they wrap).
+            float* const heightTexels = &level.heights.at(0, y);
+            std::uint32_t* const colorTexels = &level.colors.at(0, y);
+            auto texel = [&](std::size_t i) { return static_cast<std::size_t>((x0 + static_cast<std::int64_t>(i)) & (size - 1)); };
+            const std::size_t wrap = static_cast<std::size_t>(size) - texel(0);
             auto runEnd = [&](const auto& finder, std::size_t i) {
+                const std::size_t limit = i < wrap ? std::min(wrap, row.size()) : row.size();
                 std::size_t end = i + 1;
-                while (end < row.size() && finder.holds(row[end])) {
+                while (end < limit && finder.holds(row[end])) {
                     ++end;
                 }
                 return end;
@@ -875,7 +902,7 @@ struct ClipmapTerrain::Impl {
                     warm(**grid);
                     const std::size_t end = runEnd(terrainFinder, i);
                     terrainFinder.positionsInLast(&row[i], end - i, &rowU[i], &rowV[i]);
-                    sampleLattice(**grid, &rowU[i], &rowV[i], end - i, &rowHeights[i]);
+                    sampleLattice(**grid, &rowU[i], &rowV[i], end - i, heightTexels + texel(i));
                     i = end;
                     continue;
                 }
@@ -890,7 +917,7 @@ struct ClipmapTerrain::Impl {
                 } else if (hasCoarser) {
                     height = fourPointUpsample(coarse, x0 + static_cast<std::int64_t>(i), y);
                 }
-                rowHeights[i] = static_cast<float>(height);
+                heightTexels[texel(i)] = static_cast<float>(height);
                 ++i;
             }
             for (std::size_t i = 0; i < row.size();) {
@@ -898,24 +925,21 @@ struct ClipmapTerrain::Impl {
                 if (const auto* image = imagery ? imageryFinder.find(row[i], level.imageryLevel, uv) : nullptr) {
                     const std::size_t end = runEnd(imageryFinder, i);
                     imageryFinder.positionsInLast(&row[i], end - i, &rowU[i], &rowV[i]);
-                    sampleImage(**image, &rowU[i], &rowV[i], end - i, &rowColors[i]);
+                    sampleImage(**image, &rowU[i], &rowV[i], end - i, colorTexels + texel(i));
                     i = end;
                     continue;
                 }
                 const std::int64_t x = x0 + static_cast<std::int64_t>(i);
-                rowColors[i] = imagery && hasCoarser ? coarser->colors.at(x >> 1, y >> 1) : baseColor;
+                colorTexels[texel(i)] = imagery && hasCoarser ? coarser->colors.at(x >> 1, y >> 1) : baseColor;
                 ++i;
             }
-            for (std::size_t i = 0; i < row.size(); ++i) {
-                const std::int64_t x = x0 + static_cast<std::int64_t>(i);
-                level.heights.at(x, y) = rowHeights[i];
-                level.colors.at(x, y) = rowColors[i];
-                lowest = std::min(lowest, static_cast<double>(rowHeights[i]));
-                highest = std::max(highest, static_cast<double>(rowHeights[i]));
+            widenRange(heightTexels + texel(0), std::min(wrap, row.size()), lowest, highest);
+            if (wrap < row.size()) {
+                widenRange(heightTexels, row.size() - wrap, lowest, highest);
             }
         }
-        level.minimumHeight = lowest;
-        level.maximumHeight = highest;
+        level.minimumHeight = static_cast<double>(lowest);
+        level.maximumHeight = static_cast<double>(highest);
         // Normals from central differences (one-sided at the window's edges, where the blend
         // takes the coarser level's anyway), for the region and the posts next to it.
         const std::int64_t gx0 = std::max(x0 - 1, originX(l)), gy0 = std::max(y0 - 1, originY(l));
