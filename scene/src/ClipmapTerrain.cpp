@@ -964,18 +964,30 @@ struct ClipmapTerrain::Impl {
     }
 
     template <typename T>
-    std::size_t upload(renderer::Texture2D& texture, const ToroidalGrid<T>& grid, const GridRegion& region)
+    std::size_t upload(renderer::Texture2D& texture, const ToroidalGrid<T>& grid, GridRegion region)
     {
+        // A region as wide as the window covers whole rows of texels, which go up as they lie
+        // (its start moved to a multiple of the size names the same texels); narrower ones'
+        // rows are gathered first.
+        if (region.width >= size) {
+            region.x &= ~static_cast<std::int64_t>(size - 1);
+        }
         std::size_t bytes = 0;
         for (const TexelRectangle& r : grid.texelRectangles(region)) {
-            scratch.resize(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height) * sizeof(T));
-            T* out = reinterpret_cast<T*>(scratch.data());
-            for (int y = 0; y < r.height; ++y) {
-                const T* row = &grid.texels()[static_cast<std::size_t>(r.y + y) * static_cast<std::size_t>(size) + static_cast<std::size_t>(r.x)];
-                std::copy(row, row + r.width, out + static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width));
+            const std::size_t count = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+            const T* first = &grid.texels()[static_cast<std::size_t>(r.y) * static_cast<std::size_t>(size) + static_cast<std::size_t>(r.x)];
+            std::span<const T> texels(first, count);
+            if (r.width != size) {
+                scratch.resize(count * sizeof(T));
+                T* out = reinterpret_cast<T*>(scratch.data());
+                for (int y = 0; y < r.height; ++y) {
+                    const T* row = first + static_cast<std::size_t>(y) * static_cast<std::size_t>(size);
+                    std::copy(row, row + r.width, out + static_cast<std::size_t>(y) * static_cast<std::size_t>(r.width));
+                }
+                texels = {out, count};
             }
-            texture.copyFromSystemMemory(scratch, {r.x, r.y, r.width, r.height});
-            bytes += scratch.size();
+            texture.copyFromSystemMemory(std::as_bytes(texels), {r.x, r.y, r.width, r.height});
+            bytes += texels.size_bytes();
         }
         return bytes;
     }
