@@ -220,6 +220,21 @@ ORBIS_BATCHED void sampleLattice(const TerrainGrid& grid, const double* u, const
     }
 }
 
+/// A texel row's slopes east and north (per metre) at texels first .. last - 1 from central
+/// differences: its neighbours in the row (eastSpan: metres between two posts) and the rows north
+/// and south (northSpan: metres between those), as float pairs.
+ORBIS_BATCHED void centralDifferences(const float* __restrict row, const float* __restrict north,
+                                      const float* __restrict south, std::size_t first, std::size_t last, double eastSpan,
+                                      double northSpan, float* __restrict slopes)
+{
+    for (std::size_t t = first; t < last; ++t) {
+        const double dx = (static_cast<double>(row[t + 1]) - static_cast<double>(row[t - 1])) / (2.0 * eastSpan);
+        const double dy = (static_cast<double>(north[t]) - static_cast<double>(south[t])) / northSpan;
+        slopes[2 * t] = static_cast<float>(dx);
+        slopes[2 * t + 1] = static_cast<float>(dy);
+    }
+}
+
 /// Widens [lowest, highest] to `count` heights: in eight lanes, whose minima and maxima are
 /// independent and vectorize, where one running minimum would wait on the last.
 ORBIS_BATCHED void widenRange(const float* __restrict heights, std::size_t count, float& lowest, float& highest)
@@ -947,15 +962,38 @@ struct ClipmapTerrain::Impl {
         const double radius = ellipsoid.maximumRadius();
         const std::int64_t firstX = originX(l), lastX = originX(l) + size - 1;
         const std::int64_t firstY = originY(l), lastY = originY(l) + size - 1;
+        const std::size_t mask = static_cast<std::size_t>(size - 1);
+        const std::size_t first = static_cast<std::size_t>(gx0) & mask, count = static_cast<std::size_t>(gx1 - gx0);
         for (std::int64_t y = gy0; y < gy1; ++y) {
             const std::int64_t ys = std::max(y - 1, firstY), yn = std::min(y + 1, lastY);
             const double north = radius * s * static_cast<double>(yn - ys);
             const double east = std::max(radius * s * std::cos(static_cast<double>(y) * s), 1e-3);
-            for (std::int64_t x = gx0; x < gx1; ++x) {
+            auto slopeAt = [&](std::int64_t x) {
                 const std::int64_t xw = std::max(x - 1, firstX), xe = std::min(x + 1, lastX);
                 const double dx = (static_cast<double>(level.heights.at(xe, y)) - static_cast<double>(level.heights.at(xw, y))) / (static_cast<double>(xe - xw) * east);
                 const double dy = (static_cast<double>(level.heights.at(x, yn)) - static_cast<double>(level.heights.at(x, ys))) / north;
                 level.gradients.at(x, y) = glm::vec2(static_cast<float>(dx), static_cast<float>(dy));
+            };
+            // The posts whose neighbours lie beside them in the row's texels in a batch (the
+            // region's texels: one run, or two where they wrap); then one by one those at the
+            // texels' ends, whose neighbours lie across the wrap, and at the window's, one-sided.
+            float* const slopes = reinterpret_cast<float*>(&level.gradients.at(0, y));
+            const std::size_t wrapped = first + count > mask + 1 ? first + count - mask - 1 : 0;
+            for (const auto& [begin, end] : {std::pair{first, first + count - wrapped}, std::pair{std::size_t{0}, wrapped}}) {
+                if (std::min(end, mask) > std::max<std::size_t>(begin, 1)) {
+                    centralDifferences(&level.heights.at(0, y), &level.heights.at(0, yn), &level.heights.at(0, ys),
+                                       std::max<std::size_t>(begin, 1), std::min(end, mask), east, north, slopes);
+                }
+            }
+            for (const std::size_t t : {std::size_t{0}, mask}) {
+                if (const std::int64_t x = gx0 + static_cast<std::int64_t>((t - first) & mask); x < gx1) {
+                    slopeAt(x);
+                }
+            }
+            for (const std::int64_t x : {firstX, lastX}) {
+                if (x >= gx0 && x < gx1) {
+                    slopeAt(x);
+                }
             }
         }
         const GridRegion written{gx0, gy0, static_cast<int>(gx1 - gx0), static_cast<int>(gy1 - gy0)};
