@@ -921,18 +921,20 @@ struct ClipmapTerrain::Impl {
                     i = end;
                     continue;
                 }
-                double height = 0.0;
                 if (grid && (*grid)->mesh) {
                     const TerrainGrid* tile = grid->get();
-                    MeshHint& before = below[i];
-                    std::array<std::uint32_t, 2> hints{left.tile == tile ? left.triangle : ~0u,
-                                                       before.tile == tile ? before.triangle : ~0u};
-                    height = tile->mesh->height(uv.x, uv.y, hints);
-                    left = before = {tile, hints[0]};
-                } else if (hasCoarser) {
-                    height = fourPointUpsample(coarse, x0 + static_cast<std::int64_t>(i), y);
+                    const std::size_t end = runEnd(terrainFinder, i);
+                    terrainFinder.positionsInLast(&row[i], end - i, &rowU[i], &rowV[i]);
+                    for (; i < end; ++i) {
+                        MeshHint& before = below[i];
+                        std::array<std::uint32_t, 2> hints{left.tile == tile ? left.triangle : ~0u,
+                                                           before.tile == tile ? before.triangle : ~0u};
+                        heightTexels[texel(i)] = static_cast<float>(tile->mesh->height(rowU[i], rowV[i], hints));
+                        left = before = {tile, hints[0]};
+                    }
+                    continue;
                 }
-                heightTexels[texel(i)] = static_cast<float>(height);
+                heightTexels[texel(i)] = hasCoarser ? static_cast<float>(fourPointUpsample(coarse, x0 + static_cast<std::int64_t>(i), y)) : 0.0f;
                 ++i;
             }
             for (std::size_t i = 0; i < row.size();) {
