@@ -91,3 +91,35 @@ TEST_CASE("Tiles cut from terrain data meet in heights and normals: within one d
     CHECK(plain.latticeNormals({2, 1, 1}, 4).empty());
     CHECK(plain.latticeHeights({2, 1, 1}, 4) == std::vector<float>(17 * 17, 100.0f));
 }
+
+TEST_CASE("A mesh's height with hints equals its height without, whatever the hints name", "[world][terrain][sampler]")
+{
+    // ETOPO5's quantized-mesh tile over the Alps, asked for as a clipmap finer than the data asks:
+    // rows in order, the last post's and the post a row before's triangles as hints (mostly the
+    // point's, else the buckets' search), and every seventh post a hint far away instead.
+    const auto etopo5 = world::openTerrainSource(dataPath("terrain/etopo5"));
+    const TerrainSampler mesh = samplerOf(*etopo5, {5, 33, 24});
+    REQUIRE(mesh.data().isMesh());
+    const auto triangles = static_cast<std::uint32_t>(mesh.data().indices.size() / 3);
+    REQUIRE(triangles > 500);
+    constexpr int kPosts = 301;
+    std::vector<std::uint32_t> below(kPosts, ~0u);
+    std::uint32_t random = 12345u;
+    double largest = 0.0;
+    int found = 0;
+    for (int j = 0; j < kPosts; ++j) {
+        std::uint32_t left = ~0u;
+        for (int i = 0; i < kPosts; ++i) {
+            const double u = i / (kPosts - 1.0), v = j / (kPosts - 1.0);
+            random = random * 1664525u + 1013904223u;
+            std::array<std::uint32_t, 2> hints{i % 7 == 3 ? random % triangles : left, below[static_cast<std::size_t>(i)]};
+            const double hinted = mesh.height(u, v, hints);
+            largest = std::max(largest, std::abs(hinted - mesh.height(u, v)));
+            found += hints[0] < triangles ? 1 : 0;
+            left = below[static_cast<std::size_t>(i)] = hints[0];
+        }
+    }
+    // Only a point on an edge shared by two triangles may differ, by their planes' roundings.
+    CHECK(largest <= 1e-6);
+    CHECK(found == kPosts * kPosts); // the mesh covers its tile: every point's triangle is left as a hint
+}
