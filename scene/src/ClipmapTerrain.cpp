@@ -119,8 +119,9 @@ double threadCpuMilliseconds() noexcept
     return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
 }
 
-// The batched lookups below are a level's write's inner loops: compiled a second time for AVX2,
-// whose gathers vectorize them (three times faster), the processor choosing at load time.
+// The batched loops below are a level's write's inner loops: compiled a second time for AVX2,
+// whose gathers vectorize its lookups (three times faster), the processor choosing at load time.
+// Both give the same values: AVX2 brings no fused multiply-add to contract to.
 #if defined(__x86_64__) && defined(__GNUC__)
 #define ORBIS_BATCHED __attribute__((target_clones("avx2", "default")))
 #else
@@ -128,8 +129,7 @@ double threadCpuMilliseconds() noexcept
 #endif
 
 /// The Earth-fixed unit normals of a row's posts from their grid longitudes' cosines and sines
-/// and the row's latitude's (gridX, gridY, gridZ: where toEarth puts the grid's components), and
-/// the cosines of their latitudes.
+/// and the row's latitude's (gridX, gridY, gridZ: where toEarth puts the grid's components).
 ORBIS_BATCHED void rowNormals(double cosLatitude, double sinLatitude, const double* __restrict cosLongitude,
                               const double* __restrict sinLongitude, std::size_t count, double* __restrict gridX,
                               double* __restrict gridY, double* __restrict gridZ)
@@ -156,7 +156,7 @@ ORBIS_BATCHED void equatorialLengths(const double* __restrict x, const double* _
 /// large beyond that (near the Earth's poles).
 ORBIS_BATCHED void stepsBetween(const double* __restrict x, const double* __restrict y, const double* __restrict z,
                                 const double* __restrict equatorial, std::size_t count, double* __restrict longitudeStep,
-                                double* __restrict latitudeStep, std::uint8_t* __restrict tooLarge)
+                                double* __restrict latitudeStep, std::uint64_t* __restrict tooLarge)
 {
     for (std::size_t k = 1; k < count; ++k) {
         const double cross = x[k - 1] * y[k] - y[k - 1] * x[k];
@@ -175,7 +175,7 @@ ORBIS_BATCHED void stepsBetween(const double* __restrict x, const double* __rest
 /// the steps in longitude and latitude between them.
 struct RotatedRow {
     std::vector<double> x, y, z, equatorial, longitudeStep, latitudeStep;
-    std::vector<std::uint8_t> stepTooLarge;
+    std::vector<std::uint64_t> stepTooLarge; ///< words as wide as the doubles: bytes cost the vectorized loop a third more
 
     void compute(int frame, double cosLatitude, double sinLatitude, const std::vector<double>& cosLongitude,
                  const std::vector<double>& sinLongitude)
