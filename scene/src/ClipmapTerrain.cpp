@@ -279,9 +279,40 @@ struct TexelAxis {
     int lastPair;
 };
 
+/// Which of `count` points (u 0 west .. 1 east, v 0 south .. 1 north) of a tile of width x height
+/// texels lie within half a texel of its edge, where sampleImage holds to the edge texels: their
+/// flags (1; words, as wide as the doubles, for the loop to vectorize) and their number.
+ORBIS_BATCHED std::size_t nearImageEdges(const double* __restrict u, const double* __restrict v, std::size_t count, int width,
+                                         int height, std::uint64_t* __restrict nearEdge)
+{
+    const double nearU = 0.5 / width, farU = 1.0 - nearU, nearV = 0.5 / height, farV = 1.0 - nearV;
+    std::uint64_t found = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        nearEdge[k] = (u[k] < nearU) | (u[k] > farU) | (v[k] < nearV) | (v[k] > farV);
+        found += nearEdge[k];
+    }
+    return found;
+}
+
+/// Four packed texels (a north-west, b north-east, c south-west, d south-east) blended by the
+/// weights of the eastern and southern ones, of 256: the four weighted at once, two channels a
+/// multiply (the red and blue, then the green and alpha bytes apart in one word).
+inline std::uint32_t blendTexels(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d, std::uint32_t fx,
+                                 std::uint32_t fy) noexcept
+{
+    // Weights of 256 in all; the south-east one rounded, the others what remains of theirs.
+    const std::uint32_t wse = (fx * fy + 128) >> 8, wne = fx - wse, wsw = fy - wse, wnw = 256 - fx - fy + wse;
+    constexpr std::uint32_t kPairs = 0x00ff00ffu;
+    const std::uint32_t redBlue =
+        (((a & kPairs) * wnw + (b & kPairs) * wne + (c & kPairs) * wsw + (d & kPairs) * wse + 0x00800080u) >> 8) & kPairs;
+    const std::uint32_t greenAlpha = (((a >> 8) & kPairs) * wnw + ((b >> 8) & kPairs) * wne + ((c >> 8) & kPairs) * wsw +
+                                      ((d >> 8) & kPairs) * wse + 0x00800080u) &
+                                     ~kPairs;
+    return redBlue | greenAlpha;
+}
+
 /// An image's bilinear samples at `count` points (u 0 west .. 1 east, v 0 south .. 1 north,
-/// clamped), packed: positions and weights in 1/256 of a texel, the four texels weighted at once,
-/// two channels a multiply (the red and blue, then the green and alpha bytes apart in one word).
+/// clamped), packed: positions and weights in 1/256 of a texel (blendTexels).
 ORBIS_BATCHED void sampleImage(const detail::ImageTexels& image, const double* u, const double* v, std::size_t count,
                                std::uint32_t* __restrict colors)
 {
@@ -293,16 +324,7 @@ ORBIS_BATCHED void sampleImage(const detail::ImageTexels& image, const double* u
         const auto [ix, fx] = columns.at(u[k]);
         const auto [iy, fy] = rows.at(1.0 - v[k]);
         const int nw = iy * image.width + ix;
-        // Weights of 256 in all; the south-east one rounded, the others what remains of theirs.
-        const std::uint32_t wse = (fx * fy + 128) >> 8, wne = fx - wse, wsw = fy - wse, wnw = 256 - fx - fy + wse;
-        const std::uint32_t a = texels[nw], b = texels[nw + east], c = texels[nw + south], d = texels[nw + south + east];
-        constexpr std::uint32_t kPairs = 0x00ff00ffu;
-        const std::uint32_t redBlue =
-            (((a & kPairs) * wnw + (b & kPairs) * wne + (c & kPairs) * wsw + (d & kPairs) * wse + 0x00800080u) >> 8) & kPairs;
-        const std::uint32_t greenAlpha = (((a >> 8) & kPairs) * wnw + ((b >> 8) & kPairs) * wne + ((c >> 8) & kPairs) * wsw +
-                                          ((d >> 8) & kPairs) * wse + 0x00800080u) &
-                                         ~kPairs;
-        colors[k] = redBlue | greenAlpha;
+        colors[k] = blendTexels(texels[nw], texels[nw + east], texels[nw + south], texels[nw + south + east], fx, fy);
     }
 }
 
@@ -814,6 +836,78 @@ struct ClipmapTerrain::Impl {
         }
     }
 
+    /// An imagery tile with the tiles beside it at its level, looked up when a post first needs
+    /// them: where a post's bilinear footprint crosses the tile's edge (within half a texel of it)
+    /// the texels beyond come from the neighbour where it is loaded, else from the tile's own edge
+    /// (as sampleImage clamps), so that no line shows at the boundary where imagery is magnified.
+    class ImageAcrossEdges {
+    public:
+        ImageAcrossEdges(Impl& impl, const TileKey& key, const ImageTexels& own)
+            : _impl(impl)
+            , _key(key)
+            , _own(own)
+        {
+        }
+
+        const TileKey& key() const noexcept { return _key; }
+
+        /// The colour at (u, v) of the tile (0..1 west to east, south to north).
+        std::uint32_t at(double u, double v)
+        {
+            // In 1/256 of a texel from the first texel's centre, as TexelAxis, but not clamped.
+            auto axis = [](double t, int texels) {
+                const int q = static_cast<int>(std::floor(t * 256.0 * texels - 127.5));
+                return std::pair{q >> 8, static_cast<std::uint32_t>(q & 255)};
+            };
+            const auto [ix, fx] = axis(u, _own.width);
+            const auto [iy, fy] = axis(1.0 - v, _own.height); // rows from the north
+            return blendTexels(texel(ix, iy), texel(ix + 1, iy), texel(ix, iy + 1), texel(ix + 1, iy + 1), fx, fy);
+        }
+
+    private:
+        std::uint32_t texel(int x, int y)
+        {
+            const int east = x < 0 ? -1 : (x >= _own.width ? 1 : 0), south = y < 0 ? -1 : (y >= _own.height ? 1 : 0);
+            const ImageTexels* tile = &_own;
+            if (const ImageTexels* next = east != 0 || south != 0 ? beside(east, south) : nullptr) {
+                tile = next;
+                x -= east * _own.width;
+                y -= south * _own.height;
+            }
+            x = std::clamp(x, 0, tile->width - 1);
+            y = std::clamp(y, 0, tile->height - 1);
+            return tile->texels[static_cast<std::size_t>(y) * static_cast<std::size_t>(tile->width) + static_cast<std::size_t>(x)];
+        }
+
+        /// The loaded tile of the same size beside this one, `east` and `south` tiles on; null where none.
+        const ImageTexels* beside(int east, int south)
+        {
+            const std::size_t slot = static_cast<std::size_t>(3 * (south + 1) + east + 1);
+            if (!_looked[slot]) {
+                _looked[slot] = true;
+                const TilingScheme& scheme = _impl.imagery->info().scheme;
+                // A quarter of the tile beyond its edge lies inside the neighbour in either scheme
+                // (a Web Mercator tile's neighbours are nearly as tall as it).
+                const GeodeticExtent e = scheme.tileExtent(_key);
+                const double across = 0.25 * (e.east - e.west), up = 0.25 * (e.north - e.south);
+                const double longitude = east > 0 ? e.east + across : (east < 0 ? e.west - across : 0.5 * (e.west + e.east));
+                const double latitude = south > 0 ? e.south - up : (south < 0 ? e.north + up : 0.5 * (e.south + e.north));
+                const std::optional<TileKey> key = scheme.tileAt({std::remainder(longitude, kTwoPi), latitude}, _key.level);
+                const std::shared_ptr<const ImageTexels>* found = key && *key != _key ? _impl.imageryTiles.find(*key) : nullptr;
+                if (found && (*found)->width == _own.width && (*found)->height == _own.height) {
+                    _beside[slot] = found->get();
+                }
+            }
+            return _beside[slot];
+        }
+
+        Impl& _impl;
+        TileKey _key;
+        const ImageTexels& _own;
+        std::array<const ImageTexels*, 9> _beside{};
+        std::array<bool, 9> _looked{};
+    };
+
     /// Heights, colours and then normals of a region's posts (inside the window), and their upload.
     std::size_t write(int l, GridRegion region, TileFinder<std::shared_ptr<const TerrainGrid>>& terrainFinder,
                       TileFinder<std::shared_ptr<const ImageTexels>>& imageryFinder)
@@ -855,7 +949,15 @@ struct ClipmapTerrain::Impl {
         std::vector<Geodetic2D> row(static_cast<std::size_t>(x1 - x0));
         std::vector<MeshHint> below(row.size());
         std::vector<double> rowU(row.size()), rowV(row.size()); ///< a batch's places in its tile
+        std::vector<std::uint64_t> rowNearEdge(row.size());      ///< and which lie near its edge (nearImageEdges)
         RotatedRow rotated;
+        // Each imagery tile met at an edge, with its neighbours once looked up, for the whole write
+        // (a column of rows crosses the same edge).
+        std::vector<ImageAcrossEdges> edges;
+        auto edgesOf = [&](const TileKey& key, const ImageTexels& image) -> ImageAcrossEdges& {
+            const auto found = std::find_if(edges.begin(), edges.end(), [&](const ImageAcrossEdges& e) { return e.key() == key; });
+            return found != edges.end() ? *found : edges.emplace_back(*this, key, image);
+        };
         // Most of a lattice met is read, by many rows: its lines are fetched in one sweep when the
         // write first meets it, streaming in rather than each post waiting for its own (a rotated
         // level 0.15 ms faster; the imagery's larger tiles gain nothing from it).
@@ -943,6 +1045,30 @@ struct ClipmapTerrain::Impl {
                     const std::size_t end = runEnd(imageryFinder, i);
                     imageryFinder.positionsInLast(&row[i], end - i, &rowU[i], &rowV[i]);
                     sampleImage(**image, &rowU[i], &rowV[i], end - i, colorTexels + texel(i));
+                    // Within half a texel of the tile's edge sampleImage held to its edge texels.
+                    // They mostly begin and end a run (its posts nearest the tile's west and east
+                    // edges), or make all of it: those are found from its ends; others by a search.
+                    if (std::size_t toMend = nearImageEdges(&rowU[i], &rowV[i], end - i, (*image)->width, (*image)->height,
+                                                          &rowNearEdge[i]);
+                        toMend > 0) {
+                        ImageAcrossEdges& acrossEdges = edgesOf(imageryFinder.lastKey(), **image);
+                        auto mend = [&](std::size_t k) {
+                            colorTexels[texel(k)] = acrossEdges.at(rowU[k], rowV[k]);
+                            rowNearEdge[k] = 0;
+                            --toMend;
+                        };
+                        for (std::size_t k = i; k < end && rowNearEdge[k] != 0; ++k) {
+                            mend(k);
+                        }
+                        for (std::size_t k = end; k > i && rowNearEdge[k - 1] != 0; --k) {
+                            mend(k - 1);
+                        }
+                        for (std::size_t k = i; k < end && toMend > 0; ++k) {
+                            if (rowNearEdge[k] != 0) {
+                                mend(k);
+                            }
+                        }
+                    }
                     i = end;
                     continue;
                 }

@@ -1,5 +1,6 @@
 #include "GoldenImage.h"
 #include "PrecisionMeasurement.h"
+#include "ProceduralTileSource.h"
 #include "RendererTestSupport.h"
 #include "SceneTestSupport.h"
 
@@ -325,6 +326,47 @@ TEST_CASE("Clipmap levels take the finest tile loaded at every post, also beside
     }
     // The finest levels interpolate the DEM's 80 m grids, bilinearly on 129 x 129 lattices.
     CHECK(largest < 10.0);
+}
+
+TEST_CASE("Clipmap colours blend across imagery tiles' edges: no line where the imagery is magnified", "[scene][clipmap][gl]")
+{
+    // Tiles of 2 x 2 texels, a texel 5.6 degrees across: from 400 km over the corner of four
+    // tiles (11.25 E, 11.25 N) about one texel fills the view. The pattern is continuous across
+    // tiles and its red and green rise steadily there (11 levels a degree, a third of a level a
+    // pixel), so bilinear colours change by a few levels over 12 pixels; a post within half a
+    // texel of a tile's edge held to that tile's edge texels instead makes a step of a texel's
+    // difference (64 levels) along the boundaries, spread over a post or two (63 levels over 12
+    // pixels when it was so).
+    test::ProceduralTileSourceOptions tiles;
+    tiles.tileSize = 2;
+    tiles.maximumLevel = 4;
+    ClipmapTerrainOptions options;
+    options.imagery.push_back({std::make_shared<test::ProceduralTileSource>(tiles), {}});
+    options.posts = 63;
+    options.loader = deterministicLoader(1);
+    auto terrain = std::make_shared<ClipmapTerrain>(kEarth, options);
+    Scene scene(kEarth);
+    scene.add(terrain);
+    placeCamera(scene, Geodetic3D::fromDegrees(11.55, 11.45, 400000.0), 0.0, -90.0);
+    const RenderedFrame frame = renderConverged(scene, *terrain, 160, 120);
+    REQUIRE(terrain->converged());
+    const Image& image = frame.image;
+    // The boundaries cross the view.
+    const glm::ivec2 corner = projectToPixel(scene, kEarth.toCartesian(Geodetic3D::fromDegrees(11.25, 11.25, 0.0)), 160, 120);
+    REQUIRE((corner.x > 10 && corner.x < 150 && corner.y > 10 && corner.y < 110));
+    constexpr int kApart = 12;
+    int largest = 0;
+    for (int y = 0; y + kApart < image.height; ++y) {
+        for (int x = 0; x + kApart < image.width; ++x) {
+            const std::uint8_t* p = image.pixel(x, y);
+            for (const std::uint8_t* q : {image.pixel(x + kApart, y), image.pixel(x, y + kApart)}) {
+                for (int c = 0; c < 3; ++c) {
+                    largest = std::max(largest, std::abs(static_cast<int>(p[c]) - static_cast<int>(q[c])));
+                }
+            }
+        }
+    }
+    CHECK(largest <= 10); // 4 as written
 }
 
 TEST_CASE("In a rotated grid the posts are written at their own geodetic positions, stepped from post to post",
