@@ -275,6 +275,12 @@ struct TexelAxis {
         const int first = std::min(q >> 8, lastPair);
         return {first, static_cast<std::uint32_t>(q - (first << 8))};
     }
+    /// The same, not clamped: near an edge the pair reaches a texel beyond it (-1 or size).
+    std::pair<int, std::uint32_t> beyond(double t) const noexcept
+    {
+        const int q = static_cast<int>(std::floor(t * scale - 127.5));
+        return {q >> 8, static_cast<std::uint32_t>(q & 255)};
+    }
     double scale, limit;
     int lastPair;
 };
@@ -846,6 +852,8 @@ struct ClipmapTerrain::Impl {
             : _impl(impl)
             , _key(key)
             , _own(own)
+            , _columns(own.width)
+            , _rows(own.height)
         {
         }
 
@@ -854,13 +862,8 @@ struct ClipmapTerrain::Impl {
         /// The colour at (u, v) of the tile (0..1 west to east, south to north).
         std::uint32_t at(double u, double v)
         {
-            // In 1/256 of a texel from the first texel's centre, as TexelAxis, but not clamped.
-            auto axis = [](double t, int texels) {
-                const int q = static_cast<int>(std::floor(t * 256.0 * texels - 127.5));
-                return std::pair{q >> 8, static_cast<std::uint32_t>(q & 255)};
-            };
-            const auto [ix, fx] = axis(u, _own.width);
-            const auto [iy, fy] = axis(1.0 - v, _own.height); // rows from the north
+            const auto [ix, fx] = _columns.beyond(u);
+            const auto [iy, fy] = _rows.beyond(1.0 - v); // rows from the north
             return blendTexels(texel(ix, iy), texel(ix + 1, iy), texel(ix, iy + 1), texel(ix + 1, iy + 1), fx, fy);
         }
 
@@ -904,6 +907,7 @@ struct ClipmapTerrain::Impl {
         Impl& _impl;
         TileKey _key;
         const ImageTexels& _own;
+        TexelAxis _columns, _rows;
         std::array<const ImageTexels*, 9> _beside{};
         std::array<bool, 9> _looked{};
     };
@@ -1046,26 +1050,14 @@ struct ClipmapTerrain::Impl {
                     imageryFinder.positionsInLast(&row[i], end - i, &rowU[i], &rowV[i]);
                     sampleImage(**image, &rowU[i], &rowV[i], end - i, colorTexels + texel(i));
                     // Within half a texel of the tile's edge sampleImage held to its edge texels.
-                    // They mostly begin and end a run (its posts nearest the tile's west and east
-                    // edges), or make all of it: those are found from its ends; others by a search.
                     if (std::size_t toMend = nearImageEdges(&rowU[i], &rowV[i], end - i, (*image)->width, (*image)->height,
                                                           &rowNearEdge[i]);
                         toMend > 0) {
                         ImageAcrossEdges& acrossEdges = edgesOf(imageryFinder.lastKey(), **image);
-                        auto mend = [&](std::size_t k) {
-                            colorTexels[texel(k)] = acrossEdges.at(rowU[k], rowV[k]);
-                            rowNearEdge[k] = 0;
-                            --toMend;
-                        };
-                        for (std::size_t k = i; k < end && rowNearEdge[k] != 0; ++k) {
-                            mend(k);
-                        }
-                        for (std::size_t k = end; k > i && rowNearEdge[k - 1] != 0; --k) {
-                            mend(k - 1);
-                        }
-                        for (std::size_t k = i; k < end && toMend > 0; ++k) {
+                        for (std::size_t k = i; toMend > 0; ++k) {
                             if (rowNearEdge[k] != 0) {
-                                mend(k);
+                                colorTexels[texel(k)] = acrossEdges.at(rowU[k], rowV[k]);
+                                --toMend;
                             }
                         }
                     }
