@@ -74,11 +74,10 @@ struct FeedbackView {
     friend bool operator==(const FeedbackView&, const FeedbackView&) = default;
 };
 
-/// What a feedback pass draws from: the view, the tiles drawn and the page table's and LOD
-/// clamp's contents (their version). A frame with the same inputs would draw the same feedback.
+/// What a feedback pass draws from: the view and the page table's and LOD clamp's contents
+/// (their version). A frame with the same inputs would draw the same feedback.
 struct FeedbackInputs {
     FeedbackView view;
-    std::vector<TileKey> tiles;
     std::uint64_t tablesVersion = 0;
     friend bool operator==(const FeedbackInputs&, const FeedbackInputs&) = default;
 };
@@ -197,7 +196,19 @@ struct VirtualTextureGlobe::Impl {
     int tailStripY() const noexcept { return cache->slotsY() * layout.slotSize(); }
     void adjustBias();
     void requestPages();
-    void drawFeedback(FrameState& frameState, const FeedbackView& view);
+    void drawFeedback(FrameState& frameState, const FeedbackView& drawnFrom);
+    /// The view's axis, the unit vectors across and up it, and its half extents at unit distance.
+    struct ViewFrame {
+        glm::dvec3 forward{0.0};
+        glm::dvec3 right{0.0};
+        glm::dvec3 up{0.0};
+        double halfWidth = 0.0;
+        double halfHeight = 0.0;
+    };
+    /// The rectangle of the view, in clip coordinates (x and y of its lower left and upper right
+    /// corners), holding the globe's outline with a margin of two of a width x height target's
+    /// pixels; the whole view where the outline reaches behind the eye.
+    glm::vec4 globeBounds(const glm::dvec3& eye, const ViewFrame& view, int width, int height) const;
     void ensureMeshes(FrameState& frameState);
     /// The program of a pass: for the main pass, reading the levels a tile's pixels may show;
     /// with the LOD clamp's ramp while a page the view asks for is loading. Variants rather than
@@ -239,7 +250,8 @@ struct VirtualTextureGlobe::Impl {
     {
         return options->virtualTexture.trilinear && (levels != PixelLevels::Finest || !waitingFootprints.empty());
     }
-    void setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double bias) const;
+    /// The uniforms both passes share.
+    void setUniforms(renderer::DrawCommand& draw, double bias) const;
     bool evictable(const PageKey& page) const;
     double bias() const noexcept { return options->virtualTexture.lodBias + dynamicBias; }
     void warn(const std::string& message) const;
@@ -290,6 +302,8 @@ struct VirtualTextureGlobe::Impl {
     std::optional<renderer::Sampler> physicalSampler;
     std::optional<renderer::Sampler> pointSampler;
     std::unique_ptr<renderer::Framebuffer> feedbackTarget;
+    std::optional<renderer::VertexBuffer> feedbackRectangleVertices; ///< two triangles, corners 0..1
+    std::optional<renderer::VertexArray> feedbackRectangle;
     std::deque<FeedbackRead> feedbackReads; ///< oldest first
     std::vector<renderer::PixelBuffer> spareBuffers;
     std::map<std::tuple<bool, DepthStrategy, bool, bool, bool>, std::shared_ptr<renderer::ShaderProgram>> programs;
@@ -725,7 +739,7 @@ void VirtualTextureGlobe::Impl::requestPages()
 
 renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameState, bool feedback, PixelLevels levels)
 {
-    // The feedback pass draws with its own plain projection, whatever the frame's depth strategy,
+    // The feedback pass casts its pixels' rays, with no depth, whatever the frame's depth strategy,
     // and reads no texels: the mip tail is the main pass's only, and the level it asks for is
     // the one trilinear filtering would blend from.
     const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
@@ -738,7 +752,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     }
     renderer::ShaderProgramDescription description;
     description.name = feedback ? "virtual texture feedback" : "virtual texture";
-    description.vertex = renderer::ShaderSource::embedded("scene/tiles/tile.vert.glsl");
+    description.vertex = renderer::ShaderSource::embedded(feedback ? "scene/virtual/feedback.vert.glsl" : "scene/tiles/tile.vert.glsl");
     description.fragment = renderer::ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl");
     if (feedback) {
         description.defines.push_back({"VT_FEEDBACK"});
@@ -772,7 +786,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     return *program;
 }
 
-void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const QuadtreeTile& tile, double lodBias) const
+void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, double lodBias) const
 {
     // Each variant (feedback, filtering, lighting) reads its own subset.
     const renderer::ShaderProgram& program = *draw.shaderProgram;
@@ -781,7 +795,6 @@ void VirtualTextureGlobe::Impl::setUniforms(renderer::DrawCommand& draw, const Q
             draw.uniforms.set(name, value);
         }
     };
-    set("u_tileKey", glm::ivec3(static_cast<int>(tile.key.level), static_cast<int>(tile.key.x), static_cast<int>(tile.key.y)));
     set("u_layout", glm::ivec4(static_cast<int>(layout.finestLevel), layout.pageSize, layout.border, layout.slotSize()));
     set("u_physicalTexelSize",
         glm::vec2(1.0f / static_cast<float>(physical->width()), 1.0f / static_cast<float>(physical->height())));
@@ -930,7 +943,50 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
     return parts;
 }
 
-void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& view)
+glm::vec4 VirtualTextureGlobe::Impl::globeBounds(const glm::dvec3& eye, const ViewFrame& view, int width, int height) const
+{
+    // Where the rays from the eye graze the ellipsoid: in its radii's units (a unit sphere) the
+    // circle of points q with q . e = 1, e the eye there; its picture on the screen is the
+    // globe's outline, sampled at kSamples points.
+    const glm::vec4 wholeView(-1.0f, -1.0f, 1.0f, 1.0f);
+    const glm::dvec3 eyeScaled = eye * ellipsoid.oneOverRadii();
+    const double distanceSquared = glm::dot(eyeScaled, eyeScaled);
+    if (distanceSquared <= 1.0) {
+        return wholeView;
+    }
+    const glm::dvec3 centre = eyeScaled / distanceSquared;
+    const double radius = std::sqrt(1.0 - 1.0 / distanceSquared);
+    const glm::dvec3 axis = glm::normalize(eyeScaled);
+    const glm::dvec3 other = std::abs(axis.z) < 0.9 ? glm::dvec3(0.0, 0.0, 1.0) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 u = glm::normalize(glm::cross(axis, other));
+    const glm::dvec3 v = glm::cross(axis, u);
+    constexpr int kSamples = 64;
+    glm::dvec2 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+    for (int k = 0; k < kSamples; ++k) {
+        const double angle = kTwoPi * k / kSamples;
+        const glm::dvec3 onOutline = (centre + radius * (std::cos(angle) * u + std::sin(angle) * v)) * ellipsoid.radii();
+        const glm::dvec3 toPoint = onOutline - eye;
+        const double depth = glm::dot(toPoint, view.forward);
+        if (depth <= 0.0) {
+            return wholeView; // the outline reaches behind the eye
+        }
+        const glm::dvec2 clip(glm::dot(toPoint, view.right) / (depth * view.halfWidth),
+                              glm::dot(toPoint, view.up) / (depth * view.halfHeight));
+        low = glm::min(low, clip);
+        high = glm::max(high, clip);
+    }
+    // Between two samples the outline bulges out by less than 1 - cos(pi / kSamples) of its size
+    // (0.12 %): 1 % of the size, and two of the feedback's pixels, more.
+    const glm::dvec2 margin = 0.01 * (high - low) + glm::dvec2(4.0 / width, 4.0 / height);
+    low = glm::max(low - margin, glm::dvec2(-1.0));
+    high = glm::min(high + margin, glm::dvec2(1.0));
+    if (low.x >= high.x || low.y >= high.y) {
+        return glm::vec4(0.0f); // the globe is out of view: an empty rectangle
+    }
+    return glm::vec4(glm::vec2(low), glm::vec2(high));
+}
+
+void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const FeedbackView& drawnFrom)
 {
     renderer::Context& context = frameState.context;
     renderer::Device& device = frameState.device;
@@ -938,7 +994,9 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     const int width = std::max(1, (frameState.width + divisor - 1) / divisor);
     const int height = std::max(1, (frameState.height + divisor - 1) / divisor);
     if (!feedbackTarget || feedbackTarget->width() != width || feedbackTarget->height() != height) {
-        feedbackTarget = std::make_unique<renderer::Framebuffer>(context.createFramebuffer(width, height));
+        renderer::FramebufferOptions colourOnly;
+        colourOnly.hasDepth = false; // one rectangle, its pixels' rays: nothing to order
+        feedbackTarget = std::make_unique<renderer::Framebuffer>(context.createFramebuffer(width, height, colourOnly));
         spareBuffers.clear();
         feedbackReads.clear();
     }
@@ -951,43 +1009,53 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
         buffer = device.createPixelBuffer(bytes);
     }
 
-    renderer::ClearState clear;
-    clear.color = glm::vec4(0.0f); // an uncovered pixel packs to 0
-    context.clear(clear, feedbackTarget.get());
-
-    // Depth only has to order the globe's own surfaces: from a little above the nearest point
-    // (the eye's height) to the horizon's far side.
+    if (!feedbackRectangle) {
+        const std::array<glm::vec3, 6> corners{glm::vec3(0.0f, 0.0f, 0.0f), glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f),
+                                               glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(1.0f, 1.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)};
+        feedbackRectangleVertices = device.createVertexBuffer(std::as_bytes(std::span(corners)));
+        feedbackRectangle = context.createVertexArray();
+        feedbackRectangle->setAttribute(renderer::VertexAttributeLocation::Position, *feedbackRectangleVertices,
+                                        {renderer::ComponentType::Float, 3, false, false, 0, 0});
+    }
     const Camera& camera = frameState.camera;
-    const double eyeHeight = ellipsoid.toGeodetic3D(camera.eye()).height;
-    const double nearDistance = std::max(1.0, 0.9 * eyeHeight);
-    const double radius = ellipsoid.minimumRadius();
-    const double eyeDistance = glm::length(camera.eye());
-    const double horizon = std::sqrt(std::max(eyeDistance * eyeDistance - radius * radius, 0.0));
-    const double farDistance = std::max(nearDistance * 2.0, horizon + ellipsoid.maximumRadius() - radius + 1000.0);
+    ViewFrame view;
+    view.forward = camera.direction();
+    view.right = glm::normalize(glm::cross(view.forward, camera.up()));
+    view.up = glm::cross(view.right, view.forward);
+    view.halfHeight = std::tan(0.5 * camera.fieldOfViewY());
+    view.halfWidth = view.halfHeight * frameState.width / std::max(frameState.height, 1);
+    const double pixel = 2.0 * view.halfHeight / std::max(frameState.height, 1); // the frame's own pixels
+    const glm::dvec3 eyeScaled = camera.eye() * ellipsoid.oneOverRadii();
+    const double flattening = ellipsoid.radii().z / ellipsoid.radii().x;
+    renderer::ClearState clear;
+    clear.color = glm::vec4(0.0f); // a pixel outside the rectangle packs to 0, as one whose ray misses the globe
+    context.clear(clear, feedbackTarget.get());
     renderer::SceneState sceneState;
-    sceneState.viewMatrix = camera.viewMatrix();
-    sceneState.projectionMatrix = camera.projectionMatrix(
-        static_cast<double>(frameState.width) / std::max(frameState.height, 1), nearDistance, farDistance);
     sceneState.cameraEye = camera.eye();
     sceneState.viewport = {0, 0, width, height};
-    sceneState.nearDistance = nearDistance;
-    sceneState.farDistance = farDistance;
-
-    renderer::ShaderProgram& feedbackProgram = program(frameState, true, PixelLevels::Blended);
-    const double shift = std::log2(static_cast<double>(divisor)); // the feedback's pixels are larger
     renderer::DrawCommand draw;
-    draw.shaderProgram = &feedbackProgram;
+    draw.debugName = "virtual texture feedback";
+    draw.shaderProgram = &program(frameState, true, PixelLevels::Blended);
     draw.framebuffer = feedbackTarget.get();
+    draw.vertexArray = &*feedbackRectangle;
+    draw.renderState.depthTest.enabled = false;
     draw.textures = {{0, &*pageTableTexture, &*pointSampler}, {2, &*lodClamp, &*pointSampler}};
-    for (const QuadtreeTile* tile : selection.drawn) {
-        const SurfaceTile& surface = static_cast<const SurfaceTile&>(*tile->data);
-        draw.debugName = "virtual texture feedback " + pageName(tile->key);
-        draw.vertexArray = &surface.mesh->array;
-        setUniforms(draw, *tile, bias() - shift);
-        context.draw(draw, sceneState);
-    }
+    setUniforms(draw, bias());
+    draw.uniforms.set("u_bounds", globeBounds(camera.eye(), view, width, height));
+    draw.uniforms.set("u_rayCentre", glm::vec3(view.forward));
+    draw.uniforms.set("u_rayRight", glm::vec3(view.right * view.halfWidth));
+    draw.uniforms.set("u_rayUp", glm::vec3(view.up * view.halfHeight));
+    draw.uniforms.set("u_pixelRight", glm::vec3(view.right * pixel));
+    draw.uniforms.set("u_pixelUp", glm::vec3(view.up * pixel));
+    draw.uniforms.set("u_cameraScaled", glm::vec3(eyeScaled));
+    draw.uniforms.set("u_cameraScaledLengthSquaredMinusOne", static_cast<float>(glm::dot(eyeScaled, eyeScaled) - 1.0));
+    draw.uniforms.set("u_oneOverRadii", glm::vec3(ellipsoid.oneOverRadii()));
+    draw.uniforms.set("u_polarOverEquatorialSquared", static_cast<float>(flattening * flattening));
+    draw.uniforms.set("u_texelsPerMetre", static_cast<float>(layout.pageSize * std::exp2(layout.finestLevel) /
+                                                           (kPi * ellipsoid.radii().x)));
+    context.draw(draw, sceneState);
     context.readPixels(buffer, feedbackTarget.get());
-    feedbackReads.push_back({frameState.frameNumber, std::move(buffer), device.createFence(), width, height, view});
+    feedbackReads.push_back({frameState.frameNumber, std::move(buffer), device.createFence(), width, height, drawnFrom});
     statistics.feedbackWidth = width;
     statistics.feedbackHeight = height;
 }
@@ -1118,11 +1186,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
 
         const FeedbackView current{camera.eye(), camera.target(), camera.up(), camera.fieldOfViewY(),
                                    frameState.width, frameState.height, impl.bias()};
-        FeedbackInputs inputs{current, {}, impl.tablesVersion};
-        inputs.tiles.reserve(impl.selection.drawn.size());
-        for (const QuadtreeTile* tile : impl.selection.drawn) {
-            inputs.tiles.push_back(tile->key);
-        }
+        FeedbackInputs inputs{current, impl.tablesVersion};
         if (inputs != impl.lastFeedbackInputs) {
             impl.drawFeedback(frameState, current);
             impl.lastFeedbackInputs = std::move(inputs);
@@ -1217,7 +1281,9 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
             partCommand.draw.count = part.count;
             renderer::ShaderProgram& program = impl.program(frameState, false, part.levels);
             partCommand.draw.shaderProgram = &program;
-            impl.setUniforms(partCommand.draw, *tile, impl.bias());
+            impl.setUniforms(partCommand.draw, impl.bias());
+            partCommand.draw.uniforms.set(
+                "u_tileKey", glm::ivec3(static_cast<int>(tile->key.level), static_cast<int>(tile->key.x), static_cast<int>(tile->key.y)));
             partCommand.draw.uniforms.set("u_baseColor", _options.baseColor);
             partCommand.draw.uniforms.set("u_textureAdjustment",
                                           glm::vec4(static_cast<float>(style.alpha), static_cast<float>(style.brightness),
@@ -1264,14 +1330,24 @@ Image VirtualTextureGlobe::pageTableImage() const
     return image;
 }
 
-Image VirtualTextureGlobe::feedbackImage() const
+VirtualTextureGlobe::Feedback VirtualTextureGlobe::feedback() const
 {
     const Impl& impl = *_impl;
-    Image image(impl.feedbackSamplesWidth, impl.feedbackSamplesHeight, 4);
+    Feedback feedback{impl.feedbackSamplesWidth, impl.feedbackSamplesHeight, {}};
+    feedback.samples.reserve(impl.feedbackSamples.size());
+    for (const std::uint32_t bits : impl.feedbackSamples) {
+        feedback.samples.push_back(unpackFeedback(bits));
+    }
+    return feedback;
+}
+
+Image VirtualTextureGlobe::feedbackImage() const
+{
+    const Feedback feedback = this->feedback();
+    Image image(feedback.width, feedback.height, 4);
     for (int y = 0; y < image.height; ++y) {
         for (int x = 0; x < image.width; ++x) {
-            const FeedbackSample sample =
-                unpackFeedback(impl.feedbackSamples[static_cast<std::size_t>(y) * image.width + x]);
+            const FeedbackSample& sample = feedback.samples[static_cast<std::size_t>(y) * image.width + x];
             std::array<std::uint8_t, 4> color{0, 0, 0, 255};
             if (sample.fallback) {
                 color = {255, 255, 255, 255};

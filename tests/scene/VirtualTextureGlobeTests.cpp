@@ -3,6 +3,7 @@
 #include "GoldenImage.h"
 #include "ProceduralTileSource.h"
 
+#include <orbis/core/IntersectionTests.h>
 #include <orbis/core/Transforms.h>
 #include <orbis/scene/PageTable.h>
 #include <orbis/scene/TiledGlobe.h>
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <set>
 
 using namespace orbis;
 using namespace orbis::scene;
@@ -451,6 +453,138 @@ TEST_CASE("The shader's address translation and level of detail match a CPU refe
     CHECK(fallbacks < checked - 100);
 }
 
+TEST_CASE("Each feedback pixel names the page and level its own ray asks for, against a CPU reference",
+          "[scene][virtual][gl]")
+{
+    // A virtual texture 12 levels deep (the deepest a feedback sample names: 19 m texels), so
+    // that the views below ask for many levels. Pages need not load: the feedback names the page
+    // each pixel asks for whether or not it is resident.
+    ProceduralTileSourceOptions tiles;
+    tiles.maximumLevel = kMaximumVirtualTextureLevel;
+    VirtualTextureGlobeOptions options;
+    options.source = std::make_shared<ProceduralTileSource>(tiles);
+    options.loader.workerThreads = 0;
+    options.loader.latencyFrames = 1;
+    const int width = 256, height = 144;
+    struct View {
+        CameraView camera;
+        float maximumAnisotropy;
+        std::size_t levels; ///< at least so many levels among the pixels checked
+    };
+    // The whole Earth at 256 x 144 asks for one level; its views check the rectangle drawn
+    // around the outline (off the view's centre too).
+    const View views[] = {
+        {{"1 km up, the horizon in view", Geodetic3D::fromDegrees(8.0, 45.0, 1000.0), 30.0, -8.0}, 1.0f, 6},
+        {{"the same, anisotropic", Geodetic3D::fromDegrees(8.0, 45.0, 1000.0), 30.0, -8.0}, 8.0f, 4},
+        {{"the north pole from 300 km", Geodetic3D::fromDegrees(30.0, 86.0, 300000.0), 0.0, -50.0}, 1.0f, 2},
+        {{"the antimeridian from 150 km", Geodetic3D::fromDegrees(179.5, -17.5, 150000.0), 90.0, -45.0}, 1.0f, 3},
+        {kWholeEarth, 1.0f, 1},
+        {{"the whole Earth, off the view's centre", Geodetic3D::fromDegrees(15.0, 30.0, 2.0e7), 0.0, -75.0}, 1.0f, 1},
+    };
+    for (const View& view : views) {
+        INFO(view.camera.name);
+        options.virtualTexture.maximumAnisotropy = view.maximumAnisotropy;
+        auto globe = std::make_shared<VirtualTextureGlobe>(kEarth, options);
+        Scene scene(kEarth);
+        scene.add(globe);
+        placeCamera(scene, view.camera.position, view.camera.heading, view.camera.pitch);
+        for (int frame = 0; frame < 3; ++frame) {
+            renderFrame(scene, width, height); // the feedback drawn in the first comes back a frame late
+        }
+        const VirtualTextureGlobe::Feedback feedback = globe->feedback();
+        REQUIRE(feedback.width == width / 4);
+        REQUIRE(feedback.height == height / 4);
+        const VirtualTextureLayout& layout = globe->layout();
+        const Camera& camera = scene.camera();
+
+        // The reference: the frame's own pixel there cast in double, its footprint from the rays a
+        // pixel apart, the level of detail as the shader defines it (vtLevelOfDetail).
+        struct Hit {
+            bool hit = false;
+            double longitude = 0.0, latitude = 0.0;
+            glm::dvec3 direction{0.0}, normal{0.0};
+        };
+        auto cast = [&](const glm::dvec2& window) {
+            const Ray ray = camera.pickRay(window, width, height);
+            const std::optional<RayInterval> interval = intersectRayEllipsoid(ray, kEarth);
+            Hit hit;
+            if (interval) {
+                const glm::dvec3 ground = ray.pointAt(interval->nearDistance);
+                hit.hit = true;
+                hit.normal = kEarth.geodeticSurfaceNormal(ground);
+                hit.longitude = std::atan2(ground.y, ground.x);
+                hit.latitude = std::asin(std::clamp(hit.normal.z, -1.0, 1.0));
+                hit.direction = glm::normalize(ray.direction);
+            }
+            return hit;
+        };
+        const double texelsAcrossLevel0Tile = layout.pageSize * std::exp2(layout.finestLevel);
+        int checked = 0, skipped = 0, mismatched = 0, covered = 0;
+        std::set<std::uint32_t> levels;
+        std::string mismatches;
+        for (int j = 0; j < feedback.height; ++j) {
+            for (int i = 0; i < feedback.width; ++i) {
+                const FeedbackSample& sample = feedback.samples[static_cast<std::size_t>(j) * feedback.width + i];
+                // The feedback's pixel centre in the frame's window positions (y down).
+                const glm::dvec2 window((i + 0.5) * width / feedback.width, height - (j + 0.5) * height / feedback.height);
+                const Hit centre = cast(window);
+                // Within 3 degrees of grazing, a pixel's footprint changes faster than a difference
+                // over the pixel can follow: the limb is left out.
+                if (centre.hit && -glm::dot(centre.direction, centre.normal) < 0.05) {
+                    ++skipped;
+                    continue;
+                }
+                INFO("pixel " << i << ", " << j);
+                REQUIRE(sample.covered == centre.hit);
+                if (!centre.hit) {
+                    continue;
+                }
+                ++covered;
+                auto squaredFootprint = [&](const glm::dvec2& step) {
+                    const Hit a = cast(window - 0.5 * step), b = cast(window + 0.5 * step);
+                    const glm::dvec2 change(std::remainder(b.longitude - a.longitude, kTwoPi), b.latitude - a.latitude);
+                    const glm::dvec2 texels = change / kPi * texelsAcrossLevel0Tile;
+                    return glm::dot(texels, texels);
+                };
+                const double across = squaredFootprint({1.0, 0.0}), up = squaredFootprint({0.0, 1.0});
+                const double longAxis = 0.5 * std::log2(std::max(across, up));
+                const double shortAxis = 0.5 * std::log2(std::min(across, up));
+                const double lod = longAxis - std::min(longAxis - shortAxis, std::log2(static_cast<double>(view.maximumAnisotropy)));
+                const double asked = std::clamp(std::floor(lod), 0.0, static_cast<double>(layout.finestLevel));
+                const std::uint32_t level = layout.finestLevel - static_cast<std::uint32_t>(asked);
+                const double u = (centre.longitude + kPi) / kTwoPi * std::exp2(level + 1.0);
+                const double v = (centre.latitude + 0.5 * kPi) / kPi * std::exp2(level);
+                // Float's rounding: near a level's boundary (the shader's log2 is within 9e-4) or
+                // within a two-thousandth of a page of a page's edge either may be named.
+                auto nearBoundary = [](double x, double margin) { return std::abs(x - std::round(x)) < margin; };
+                if ((lod > 0.0 && lod < layout.finestLevel + 1.0 && nearBoundary(lod, 0.01)) || nearBoundary(u, 2e-3) ||
+                    nearBoundary(v, 2e-3)) {
+                    ++skipped;
+                    continue;
+                }
+                ++checked;
+                levels.insert(level);
+                const PageKey expected{level, static_cast<std::uint32_t>(std::floor(u)), static_cast<std::uint32_t>(std::floor(v))};
+                if (sample.page != expected) {
+                    ++mismatched;
+                    auto name = [](const PageKey& page) {
+                        return std::to_string(page.level) + "/" + std::to_string(page.x) + "/" + std::to_string(page.y);
+                    };
+                    mismatches += "pixel " + std::to_string(i) + ", " + std::to_string(j) + ": " + name(sample.page) +
+                                  " named, " + name(expected) + " expected (level of detail " + std::to_string(lod) +
+                                  ", page row " + std::to_string(v) + ")\n";
+                }
+            }
+        }
+        INFO(mismatches);
+        CHECK(mismatched == 0);
+        // Most pixels were checked, over several levels.
+        CHECK(checked > 200);
+        CHECK(skipped * 10 < covered);
+        CHECK(levels.size() >= view.levels);
+    }
+}
+
 namespace {
 
 /// A procedural virtual texture: 64-texel tiles and pages, levels 0..5.
@@ -655,10 +789,10 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a s
     const std::vector<std::string> withEffects = first.statistics.effectsRun();
     CHECK(std::find(withEffects.begin(), withEffects.end(), "virtual texture") != withEffects.end());
     CHECK(std::find(withEffects.begin(), withEffects.end(), "feedback pass") != withEffects.end());
-    // Each tile into the feedback buffer, then into the frame (in parts, each with the program its
-    // pixels need).
+    // One rectangle into the feedback buffer (its pixels cast their rays), then each tile into the
+    // frame (in parts, each with the program its pixels need).
     REQUIRE(first.statistics.tiles);
-    CHECK(first.statistics.renderer.drawCalls == first.statistics.tiles->drawn + first.statistics.commandsExecuted);
+    CHECK(first.statistics.renderer.drawCalls == 1 + first.statistics.commandsExecuted);
     CHECK(first.statistics.commandsExecuted > first.statistics.tiles->drawn);
     CHECK(first.statistics.toJson().find("\"virtualTexture\": {\"pagesWanted\"") != std::string::npos);
     CHECK(first.statistics.toText().find("virtual texture:") != std::string::npos);
@@ -680,7 +814,7 @@ TEST_CASE("A scene without a virtual texture runs no feedback pass, nor does a s
     placeCamera(virtualScene, Geodetic3D::fromDegrees(8.01, 44.0, 300000.0), 0.0, -35.0);
     const RenderedFrame moved = renderFrame(virtualScene, 160, 90);
     CHECK(moved.statistics.virtualTexture->feedbackWidth == 40);
-    CHECK(moved.statistics.renderer.drawCalls == moved.statistics.tiles->drawn + moved.statistics.commandsExecuted);
+    CHECK(moved.statistics.renderer.drawCalls == 1 + moved.statistics.commandsExecuted);
 }
 
 TEST_CASE("A scene without a virtual texture compiles no virtual-texture program", "[scene][virtual][gl]")

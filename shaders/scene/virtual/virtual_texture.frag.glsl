@@ -13,26 +13,38 @@
 // small fractions (where in the page), so that the precision does not depend on how deep the
 // virtual texture goes.
 //
-// VT_FEEDBACK draws the feedback pass instead: each pixel writes the page its texels ask for and
-// whether it was shown a coarser one (orbis::packFeedback, VirtualTextureLayout.h). The functions
-// take their inputs as arguments, so that a test can run them in a vertex shader against a CPU
-// reference (tests/scene/VirtualTextureGlobeTests.cpp).
+// VT_FEEDBACK draws the feedback pass instead (feedback.vert.glsl: a rectangle over the globe's
+// outline): each pixel casts its ray at the ellipsoid and writes the page the frame's own pixel
+// there asks for and whether it was shown a coarser one (orbis::packFeedback,
+// VirtualTextureLayout.h). It works from level 0's two tiles, which places a point within 2.4e-4
+// of a page at the twelfth level, the deepest a feedback sample names. The functions take their
+// inputs as arguments, so that a test can run them in a vertex shader against a CPU reference
+// (tests/scene/VirtualTextureGlobeTests.cpp).
 
 #ifdef OG_FRAGMENT_SHADER
+#ifdef VT_FEEDBACK
+in vec3 v_ray; // feedback.vert.glsl
+#else
 in vec2 v_tileCoordinates; // u and v within the surface tile, 0..1 west to east and south to north
 in vec3 v_normal;
+#endif
 out vec4 fragmentColor;
 #endif
 
 uniform sampler2D og_texture0; // page table: every level in one image (VirtualTextureLayout::pageTableOrigin); RG32F, PageTable::texels
 uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border
 uniform sampler2D og_texture2; // LOD clamp, RG32F, a texel per page of the finest level
+#if defined(VT_FEEDBACK) && defined(OG_FRAGMENT_SHADER)
+ivec3 vtTileKey; // level 0's tile under the pixel: main sets it
+#else
 uniform ivec3 u_tileKey;       // the surface tile: level, column, row (from the south)
+#define vtTileKey u_tileKey
+#endif
 uniform ivec4 u_layout;        // finest level N, page size P, border B, slot size S (texels)
 uniform vec2 u_physicalTexelSize; // 1 / the physical texture's width and height
 uniform vec2 u_tailOrigin;        // the mip tail's strip in the physical texture (texels)
 uniform int u_tailLevels;         // VirtualTextureLayout::tailLevels
-uniform float u_lodBias;          // levels, > 0 coarser; the feedback pass adds log2 of its divisor
+uniform float u_lodBias;          // levels, > 0 coarser
 uniform float u_maximumAnisotropyLog2;
 
 const int kMissing = 4; // PageTableEntry::kMissing
@@ -53,15 +65,15 @@ PagePosition vtPagePosition(int level, vec2 tileCoordinates)
 {
     // Without a branch (llvmpipe runs both sides of one for every pixel): `up` levels finer than
     // the tile, or `down` levels coarser.
-    int finer = level - u_tileKey.x;
+    int finer = level - vtTileKey.x;
     int up = max(finer, 0);
     int down = max(-finer, 0);
     float pages = vtPowerOfTwo(up); // pages of this level across the tile; 1 when coarser
     vec2 scaled = tileCoordinates * pages;
     // Interpolated coordinates overshoot 0 and 1 by a rounding at the tile's edges.
     vec2 whole = clamp(floor(scaled), vec2(0.0), vec2(pages - 1.0));
-    ivec2 within = u_tileKey.yz - ((u_tileKey.yz >> down) << down); // the tile within the coarser page
-    return PagePosition(((u_tileKey.yz << up) >> down) + ivec2(whole), (vec2(within) + scaled - whole) * vtPowerOfTwo(-down));
+    ivec2 within = vtTileKey.yz - ((vtTileKey.yz >> down) << down); // the tile within the coarser page
+    return PagePosition(((vtTileKey.yz << up) >> down) + ivec2(whole), (vec2(within) + scaled - whole) * vtPowerOfTwo(-down));
 }
 
 // A page-table entry: the slot, the level of the page in it (the page's own or an ancestor's), and
@@ -104,7 +116,7 @@ vec2 vtPhysicalPosition(PageEntry entry, int level, PagePosition wanted, vec2 ti
     int coarser = max(level - entry.level, 0);
     vec2 inPage = (vec2(wanted.page - ((wanted.page >> coarser) << coarser)) + wanted.inPage) * vtPowerOfTwo(-coarser);
     vec2 texel = entry.slot * float(u_layout.w) + float(u_layout.z) + inPage * float(u_layout.y);
-    texelsPerTile = float(u_layout.y) * vtPowerOfTwo(entry.level - u_tileKey.x);
+    texelsPerTile = float(u_layout.y) * vtPowerOfTwo(entry.level - vtTileKey.x);
     return texel * u_physicalTexelSize;
 }
 
@@ -119,14 +131,12 @@ float vtLog2(float x)
 }
 
 // The level of detail, in levels above the finest (0: the finest level's texels match the pixels),
-// from the derivatives of the tile coordinates across and up one pixel; within 5e-4 of a level.
-float vtLevelOfDetail(vec2 dx, vec2 dy)
+// from the squared lengths of a pixel's footprint across and up, in the finest level's texels;
+// within 5e-4 of a level.
+float vtLevelOfDetailSquared(float across, float up)
 {
-    float texelsPerTile = float(u_layout.y) * vtPowerOfTwo(u_layout.x - u_tileKey.x);
-    vec2 a = dx * texelsPerTile;
-    vec2 b = dy * texelsPerTile;
-    float pa = max(dot(a, a), 1e-30);
-    float pb = max(dot(b, b), 1e-30);
+    float pa = max(across, 1e-30);
+    float pb = max(up, 1e-30);
     float maxLod = 0.5 * vtLog2(max(pa, pb));
 #ifdef VT_ANISOTROPIC
     // The anisotropic filter covers the footprint's long axis with up to maxAnisotropy probes.
@@ -135,6 +145,15 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
 #else
     return maxLod + u_lodBias; // the long axis alone
 #endif
+}
+
+// The same from the derivatives of the tile coordinates across and up one pixel.
+float vtLevelOfDetail(vec2 dx, vec2 dy)
+{
+    float texelsPerTile = float(u_layout.y) * vtPowerOfTwo(u_layout.x - vtTileKey.x);
+    vec2 a = dx * texelsPerTile;
+    vec2 b = dy * texelsPerTile;
+    return vtLevelOfDetailSquared(dot(a, a), dot(b, b));
 }
 
 // The coarsest level of detail the pages there allow (course 6.1.2's LOD clamp): never finer than
@@ -222,8 +241,8 @@ vec2 vtTailPosition(int t, vec2 tileCoordinates, out float texelsPerTile)
     int twoPages = 2 * u_layout.y;
     int border = u_layout.z;
     vec2 size = vec2(float(max(twoPages >> t, 1)), float(max(u_layout.y >> t, 1)));
-    vec2 tiles = vec2(float(2 << u_tileKey.x), float(1 << u_tileKey.x));
-    vec2 onGlobe = (vec2(u_tileKey.yz) + tileCoordinates) / tiles; // u and v over the globe
+    vec2 tiles = vec2(float(2 << vtTileKey.x), float(1 << vtTileKey.x));
+    vec2 onGlobe = (vec2(vtTileKey.yz) + tileCoordinates) / tiles; // u and v over the globe
     float offset = float(twoPages - (twoPages >> (t - 1)) + 2 * border * (t - 1) + border);
     texelsPerTile = size.x / tiles.x;
     return (u_tailOrigin + vec2(offset, float(border)) + onGlobe * size) * u_physicalTexelSize;
@@ -244,10 +263,89 @@ vec4 vtRead(vec2 physical, float texelsPerTile, vec2 dx, vec2 dy)
 
 #ifdef VT_FEEDBACK
 
+// The ellipsoid in its radii's units (as globe.frag.glsl casts it): the eye there, and |eye|^2 - 1
+// worked out in double on the CPU, the quadratic's constant term, which float would lose near the
+// surface.
+uniform vec3 u_cameraScaled;
+uniform float u_cameraScaledLengthSquaredMinusOne;
+uniform vec3 u_oneOverRadii;
+uniform float u_polarOverEquatorialSquared; // (b / a)^2
+uniform float u_texelsPerMetre; // the finest level's texels a metre along the equator
+// How the ray changes from one of the frame's pixels to the next, across and up: the level of
+// detail is the frame's pixels' own.
+uniform vec3 u_pixelRight;
+uniform vec3 u_pixelUp;
+
+// The squared lengths of the frame's pixel's footprint across and up where its ray d meets the
+// ellipsoid (t along it, normal n, facing = n . d < 0), in the finest level's texels: how far the
+// point moves along the tangent plane as the ray moves by u_pixelRight or u_pixelUp, in longitude
+// (over the radius of curvature across the meridian times cos(latitude)) and in latitude (over the
+// one along it). Squared, so that neither radius needs a root: N = a / sqrt(q) and
+// M = a (b/a)^2 / q^1.5, q = cos^2 + (b/a)^2 sin^2 of the latitude.
+vec2 vtSquaredFootprints(vec3 d, float t, vec3 n, float facing)
+{
+    float cosSquared = max(dot(n.xy, n.xy), 1e-14);
+    // Both of length cos(latitude); at a pole itself east is any way: there the longitude changes
+    // fastest.
+    vec3 east = dot(n.xy, n.xy) > 1e-14 ? vec3(-n.y, n.x, 0.0) : vec3(0.0, 1e-7, 0.0);
+    vec3 north = vec3(-n.z * n.x, -n.z * n.y, cosSquared);
+    float q = cosSquared + u_polarOverEquatorialSquared * n.z * n.z;
+    float scale = t * u_texelsPerMetre;
+    float alongLatitude = scale * scale * q / (cosSquared * cosSquared);
+    float alongMeridian = alongLatitude * q * q * cosSquared / (u_polarOverEquatorialSquared * u_polarOverEquatorialSquared);
+    // The point moves by p - d (n . p) / facing, times t.
+    float eastD = dot(east, d) / facing;
+    float northD = dot(north, d) / facing;
+    float eastRight = dot(east, u_pixelRight) - eastD * dot(n, u_pixelRight);
+    float northRight = dot(north, u_pixelRight) - northD * dot(n, u_pixelRight);
+    float eastUp = dot(east, u_pixelUp) - eastD * dot(n, u_pixelUp);
+    float northUp = dot(north, u_pixelUp) - northD * dot(n, u_pixelUp);
+    return vec2(alongLatitude * eastRight * eastRight + alongMeridian * northRight * northRight,
+                alongLatitude * eastUp * eastUp + alongMeridian * northUp * northUp);
+}
+
+// atan(y, x) within 1e-8 radians before float's rounding (a minimax polynomial in the square of
+// the smaller argument over the larger): drivers' own atan and asin may be 1e-4 off (llvmpipe's
+// asin put pixels 120 m from where they are), which names the wrong page near its edges at the
+// deep levels.
+float vtAtan2(float y, float x)
+{
+    vec2 a = abs(vec2(x, y));
+    float r = min(a.x, a.y) / max(max(a.x, a.y), 1e-30); // 0..1
+    float s = r * r;
+    float angle = r * (0.999999982 + s * (-0.333330367 + s * (0.19991872 + s * (-0.141977978 + s * (0.106183706 +
+                  s * (-0.0745685483 + s * (0.0421376236 + s * (-0.0157312491 + s * 0.0027662835))))))));
+    angle = a.y > a.x ? 1.5707963 - angle : angle;
+    angle = x < 0.0 ? 3.1415927 - angle : angle;
+    return y < 0.0 ? -angle : angle;
+}
+
 void main()
 {
-    vec2 tc = v_tileCoordinates;
-    LevelChoice choice = vtChooseLevels(vtLevelOfDetail(dFdx(tc), dFdy(tc)), tc);
+    // The ray through the pixel meets the ellipsoid, or the pixel packs to 0 (nothing asked for).
+    vec3 d = v_ray;
+    vec3 scaled = d * u_oneOverRadii;
+    float a = dot(scaled, scaled);
+    float b = dot(u_cameraScaled, scaled);
+    float c = u_cameraScaledLengthSquaredMinusOne;
+    float discriminant = b * b - a * c;
+    if (discriminant < 0.0 || b >= 0.0) {
+        fragmentColor = vec4(0.0);
+        return;
+    }
+    float t = c / (sqrt(discriminant) - b); // the near root, without cancellation
+    vec3 n = normalize((u_cameraScaled + t * scaled) * u_oneOverRadii); // the geodetic normal
+    // At the limb the footprint grows without bound: a grazing cosine of 1e-4 (d is at least a
+    // unit long, the view's axis plus offsets across it) already asks for the coarsest level.
+    float facing = min(dot(n, d), -1e-4);
+    vec2 footprints = vtSquaredFootprints(d, t, n, facing);
+    // Level 0's two tiles are pi wide: the western from -pi, the eastern from 0.
+    float longitude = vtAtan2(n.y, n.x);
+    int east = longitude < 0.0 ? 0 : 1;
+    vtTileKey = ivec3(0, east, 0);
+    vec2 tc = vec2(longitude * og_oneOverPi + float(1 - east), vtAtan2(n.z, length(n.xy)) * og_oneOverPi + 0.5);
+
+    LevelChoice choice = vtChooseLevels(vtLevelOfDetailSquared(footprints.x, footprints.y), tc);
     PagePosition asked = vtPagePosition(choice.asked, tc);
     PageEntry askedEntry = vtPageEntries(choice.asked, asked.page).own;
     // A coarser level than asked for is shown where the clamp chose one (then whatever its page)

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 #include <optional>
 #include <string>
 
@@ -95,8 +96,10 @@ struct VirtualTextureGlobeOptions {
 ///  1. pages loaded on the workers (cut from the source's tiles, world::VirtualTextureSource) go
 ///     into free or least recently used slots of the physical texture, coarse before fine, under
 ///     an upload budget; the page table's changed rectangles and the LOD clamp follow;
-///  2. the feedback pass draws the tiles at reduced resolution, each pixel writing the page it
-///     asks for, into a pixel buffer read a frame or more later (no stall);
+///  2. the feedback pass, at reduced resolution, casts each pixel's ray at the ellipsoid (one
+///     rectangle around the globe's outline, not the tiles' triangles) and writes the page that
+///     the frame's own pixel there asks for, into a pixel buffer read a frame or more later (no
+///     stall);
 ///  3. the feedback read back this frame is reduced to pages with pixel counts; the pages and their
 ///     ancestors not resident are requested, most pixels and coarsest first, requests no longer
 ///     seen are cancelled, and the LOD bias rises while the view needs more pages than fit.
@@ -131,6 +134,14 @@ public:
     /// the latest feedback buffer read back, coloured by the level asked for, fallbacks in white,
     /// top row first. Empty before the first read-back.
     Image feedbackImage() const;
+    /// The latest feedback buffer read back, a sample a pixel, rows from the bottom; empty before
+    /// the first read-back.
+    struct Feedback {
+        int width = 0;
+        int height = 0;
+        std::vector<FeedbackSample> samples;
+    };
+    Feedback feedback() const;
     /// The colour (RGBA) pageTableImage and feedbackImage give a level.
     static std::array<std::uint8_t, 4> levelColor(std::uint32_t level) noexcept;
 
