@@ -72,6 +72,7 @@ renderer::ShaderProgram& Globe::program(FrameState& frameState)
     description.fragment = renderer::ShaderSource::embedded("scene/globe/globe.frag.glsl");
     if (rayCast) {
         description.defines.push_back({"RAY_CAST"});
+        description.fragment.text.insert(0, renderer::ShaderSource::embedded("scene/globe/ray_cast_ellipsoid.glsl").text);
     }
     if (!_options.dayTexture.empty()) {
         description.defines.push_back({"DAY_TEXTURE"});

@@ -756,6 +756,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     description.fragment = renderer::ShaderSource::embedded("scene/virtual/virtual_texture.frag.glsl");
     if (feedback) {
         description.defines.push_back({"VT_FEEDBACK"});
+        description.fragment.text.insert(0, renderer::ShaderSource::embedded("scene/globe/ray_cast_ellipsoid.glsl").text);
     } else if (options->lighting) {
         description.defines.push_back({"LIGHTING"});
     }

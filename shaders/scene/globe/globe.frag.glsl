@@ -1,6 +1,8 @@
 // Globe shading (book chapter 4). With RAY_CAST the fragment belongs to the bounding box drawn
-// with front-face culling: a ray from the eye finds the ellipsoid, or the fragment is discarded,
-// and the depth of the hit is written, as the frame's depth strategy maps it (og_windowDepth). Variants: DAY_TEXTURE, NIGHT_TEXTURE, LIGHTING, GRID.
+// with front-face culling: a ray from the eye finds the ellipsoid (ray_cast_ellipsoid.glsl, put
+// before this source), or the fragment is discarded, and the depth of the hit is written, as the
+// frame's depth strategy maps it (og_windowDepth). Variants: DAY_TEXTURE, NIGHT_TEXTURE, LIGHTING,
+// GRID.
 
 in vec3 v_positionRelativeToEye;
 out vec4 fragmentColor;
@@ -13,10 +15,6 @@ uniform vec4 u_color; // without a day texture
 #ifdef RAY_CAST
 uniform mat4 og_projectionMatrix;
 uniform mat4 og_modelViewMatrixRelativeToEye;
-// The eye in ellipsoid-scaled space, and |eye|^2 - 1 there computed in double on the CPU: the
-// quadratic's constant term, which float would lose near the surface.
-uniform vec3 u_cameraScaled;
-uniform float u_cameraScaledLengthSquaredMinusOne;
 #endif
 #if defined(LIGHTING) || defined(NIGHT_TEXTURE)
 uniform vec3 og_sunDirection;
@@ -30,28 +28,6 @@ uniform sampler2D og_texture1;
 #ifdef GRID
 uniform float u_gridSpacing;    // radians between lines
 uniform vec4 u_gridColor;
-#endif
-
-#ifdef RAY_CAST
-// Distance along the unit ray direction to the visible surface, or a negative number for a miss.
-// Solved in scaled space with the cancellation-free root (the near one from outside, the exit
-// from inside).
-float rayCastEllipsoid(vec3 direction)
-{
-    vec3 d = direction * u_oneOverRadii;
-    float a = dot(d, d);
-    float b = dot(u_cameraScaled, d);
-    float c = u_cameraScaledLengthSquaredMinusOne;
-    float discriminant = b * b - a * c;
-    if (discriminant < 0.0 || (c > 0.0 && b >= 0.0)) {
-        return -1.0;
-    }
-    float root = sqrt(discriminant);
-    if (c > 0.0) {
-        return c / (root - b);
-    }
-    return b <= 0.0 ? (root - b) / a : -c / (root + b);
-}
 #endif
 
 // Longitude and latitude texture coordinates of a unit normal, and their screen derivatives.
@@ -114,7 +90,7 @@ void main()
 {
 #ifdef RAY_CAST
     vec3 direction = normalize(v_positionRelativeToEye);
-    float t = rayCastEllipsoid(direction);
+    float t = rayCastEllipsoid(direction * u_oneOverRadii); // ray_cast_ellipsoid.glsl
     vec3 hitRelativeToEye = max(t, 0.0) * direction;
     vec3 normal = normalize((u_cameraScaled + max(t, 0.0) * direction * u_oneOverRadii) * u_oneOverRadii);
     vec4 clip = og_projectionMatrix * (og_modelViewMatrixRelativeToEye * vec4(hitRelativeToEye, 1.0));

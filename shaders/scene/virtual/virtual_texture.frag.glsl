@@ -263,11 +263,6 @@ vec4 vtRead(vec2 physical, float texelsPerTile, vec2 dx, vec2 dy)
 
 #ifdef VT_FEEDBACK
 
-// The ellipsoid in its radii's units (as globe.frag.glsl casts it): the eye there, and |eye|^2 - 1
-// worked out in double on the CPU, the quadratic's constant term, which float would lose near the
-// surface.
-uniform vec3 u_cameraScaled;
-uniform float u_cameraScaledLengthSquaredMinusOne;
 uniform vec3 u_oneOverRadii;
 uniform float u_polarOverEquatorialSquared; // (b / a)^2
 uniform float u_texelsPerMetre; // the finest level's texels a metre along the equator
@@ -322,18 +317,15 @@ float vtAtan2(float y, float x)
 
 void main()
 {
-    // The ray through the pixel meets the ellipsoid, or the pixel packs to 0 (nothing asked for).
+    // The ray through the pixel meets the ellipsoid (ray_cast_ellipsoid.glsl, put before this
+    // source), or the pixel packs to 0 (nothing asked for).
     vec3 d = v_ray;
     vec3 scaled = d * u_oneOverRadii;
-    float a = dot(scaled, scaled);
-    float b = dot(u_cameraScaled, scaled);
-    float c = u_cameraScaledLengthSquaredMinusOne;
-    float discriminant = b * b - a * c;
-    if (discriminant < 0.0 || b >= 0.0) {
+    float t = rayCastEllipsoid(scaled);
+    if (t < 0.0) {
         fragmentColor = vec4(0.0);
         return;
     }
-    float t = c / (sqrt(discriminant) - b); // the near root, without cancellation
     vec3 n = normalize((u_cameraScaled + t * scaled) * u_oneOverRadii); // the geodetic normal
     // At the limb the footprint grows without bound: a grazing cosine of 1e-4 (d is at least a
     // unit long, the view's axis plus offsets across it) already asks for the coarsest level.
