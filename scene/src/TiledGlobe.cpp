@@ -1316,6 +1316,7 @@ renderer::ShaderProgram& TiledGlobe::Impl::program(FrameState& frameState, int t
     replace("// OG_IMAGERY_UNIFORMS", uniforms);
     replace("// OG_IMAGERY_BLENDS", blends);
     renderer::ShaderProgramDescription description;
+    fragment.text.insert(0, renderer::ShaderSource::embedded("scene/tiles/imagery_over.glsl").text);
     if (options->shading.any()) {
         fragment.text.insert(0, terrainShadingSource());
         addTerrainShadingDefines(options->shading, description.defines);

@@ -757,8 +757,11 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     if (feedback) {
         description.defines.push_back({"VT_FEEDBACK"});
         description.fragment.text.insert(0, renderer::ShaderSource::embedded("scene/globe/ray_cast_ellipsoid.glsl").text);
-    } else if (options->lighting) {
-        description.defines.push_back({"LIGHTING"});
+    } else {
+        description.fragment.text.insert(0, renderer::ShaderSource::embedded("scene/tiles/imagery_over.glsl").text);
+        if (options->lighting) {
+            description.defines.push_back({"LIGHTING"});
+        }
     }
     if (trilinear) {
         description.defines.push_back({"VT_TRILINEAR"});

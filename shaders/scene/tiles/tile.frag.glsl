@@ -1,5 +1,6 @@
 // A tile's colour: a base colour, then each imagery texture in layer order (course 3.5), each only
-// inside its rectangle of the tile, adjusted (brightness, contrast, gamma) and blended by its alpha;
+// inside its rectangle of the tile, adjusted (brightness, contrast, gamma) and blended by its alpha
+// (imagery_over.glsl, put before this text);
 // then the terrain's shading options (TERRAIN_SHADING, terrain_shading.glsl put before this text)
 // and sunlight (LIGHTING), with water where the terrain's mask says so (WATER_MASK: the mask is
 // WATER_MASK_TEXTURE, declared in place of OG_IMAGERY_UNIFORMS). The TiledGlobe writes one block of uniforms and one call per texture
@@ -32,19 +33,7 @@ vec3 blendImagery(vec3 color, sampler2D imagery, vec4 transform, vec4 rectangle,
     if (uv.x < rectangle.x || uv.x > rectangle.z || uv.y < rectangle.y || uv.y > rectangle.w) {
         return color;
     }
-    vec4 texel = texture(imagery, transform.xy + transform.zw * uv);
-    vec3 adjusted = texel.rgb;
-#ifdef COLOR_ADJUSTMENT
-    // Compiled in only for a globe with a layer that adjusts its colours: llvmpipe runs a
-    // branch's body for every pixel even where its condition is a uniform, and the pow per channel
-    // was a quarter of a tile's pixel. Among those layers, the ones left as they are skip it on a
-    // GPU.
-    if (any(notEqual(adjustment.yzw, vec3(1.0)))) {
-        adjusted = mix(vec3(0.5), adjusted * adjustment.y, adjustment.z);
-        adjusted = pow(max(adjusted, vec3(0.0)), vec3(adjustment.w));
-    }
-#endif
-    return mix(color, adjusted, texel.a * adjustment.x);
+    return imageryOver(color, texture(imagery, transform.xy + transform.zw * uv), adjustment); // imagery_over.glsl
 }
 
 // OG_IMAGERY_UNIFORMS

@@ -390,15 +390,9 @@ void main()
     if (coarserWeight > 0.0) {
         texel = mix(texel, vtRead(coarser, coarserTexels, dx, dy), coarserWeight);
     }
-    vec3 color = u_baseColor.rgb;
-    vec3 adjusted = texel.rgb;
-#ifdef COLOR_ADJUSTMENT
-    // Compiled in only for a style that adjusts the colours: llvmpipe runs a branch's body for
-    // every pixel, even where its condition is a uniform (tile.frag.glsl's blendImagery).
-    adjusted = mix(vec3(0.5), adjusted * u_textureAdjustment.y, u_textureAdjustment.z);
-    adjusted = pow(max(adjusted, vec3(0.0)), vec3(u_textureAdjustment.w));
-#endif
-    color = mix(color, adjusted, texel.a * u_textureAdjustment.x);
+    // The adjustment compiled in only for a style that adjusts the colours (imagery_over.glsl, put
+    // before this source).
+    vec3 color = imageryOver(u_baseColor.rgb, texel, u_textureAdjustment);
 #ifdef LIGHTING
     // In linear space, as models are lit: the imagery and colours are sRGB-encoded.
     color = og_linearToSrgb(og_srgbToLinear(color) * (0.2 + 0.8 * max(dot(normalize(v_normal), og_sunDirection), 0.0)));
