@@ -337,8 +337,8 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
     }
     bytes += clampValues.size() * sizeof(glm::vec2);
     if (feedbackTarget) {
-        // Colour and depth-stencil, and the pixel buffers in flight or spare.
-        bytes += static_cast<std::size_t>(feedbackTarget->width()) * feedbackTarget->height() * 8;
+        // Colour alone (the pass casts rays: no depth), and the pixel buffers in flight or spare.
+        bytes += static_cast<std::size_t>(feedbackTarget->width()) * feedbackTarget->height() * 4;
     }
     for (const FeedbackRead& read : feedbackReads) {
         bytes += read.buffer.sizeInBytes();
