@@ -25,28 +25,6 @@ double targetReach(const glm::dvec3& eye) noexcept
     return std::max(1.0, glm::length(eye));
 }
 
-/// The view's orthonormal axes: right, true up (perpendicular to the direction) and direction.
-struct ViewAxes {
-    glm::dvec3 right;
-    glm::dvec3 up;
-    glm::dvec3 direction;
-};
-
-ViewAxes viewAxes(const Camera& camera) noexcept
-{
-    const glm::dvec3 direction = camera.direction();
-    const glm::dvec3 right = camera.right();
-    return {right, glm::cross(right, direction), direction};
-}
-
-/// Half the view's extent at unit distance, across and up.
-glm::dvec2 halfExtent(const Camera& camera, int width, int height) noexcept
-{
-    const double up = std::tan(0.5 * camera.fieldOfViewY());
-    const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
-    return {up * aspect, up};
-}
-
 } // namespace
 
 Camera::Camera(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up, double fieldOfViewYRadians)
@@ -88,7 +66,7 @@ void Camera::setView(const Ellipsoid& ellipsoid, const Geodetic3D& position, con
 
 HeadingPitchRoll Camera::headingPitchRoll(const Ellipsoid& ellipsoid) const noexcept
 {
-    const ViewAxes axes = viewAxes(*this);
+    const Axes axes = this->axes();
     const HeadingPitch aim = viewToHeadingPitch(ellipsoid, _eye, axes.direction);
     // The roll is the turn of the true up from the up the same heading and pitch have unrolled.
     const ViewOrientation unrolled = headingPitchRollToView(ellipsoid, _eye, aim.heading, aim.pitch, 0.0);
@@ -99,8 +77,8 @@ HeadingPitchRoll Camera::headingPitchRoll(const Ellipsoid& ellipsoid) const noex
 
 Ray Camera::pickRay(const glm::dvec2& windowPosition, int width, int height) const noexcept
 {
-    const ViewAxes axes = viewAxes(*this);
-    const glm::dvec2 extent = halfExtent(*this, width, height);
+    const Axes axes = this->axes();
+    const glm::dvec2 extent = halfExtent(width, height);
     const double x = width > 0 ? 2.0 * windowPosition.x / width - 1.0 : 0.0;
     const double y = height > 0 ? 1.0 - 2.0 * windowPosition.y / height : 0.0;
     const glm::dvec3 direction = axes.direction + (x * extent.x) * axes.right + (y * extent.y) * axes.up;
@@ -120,13 +98,13 @@ std::optional<glm::dvec3> Camera::pickEllipsoid(const glm::dvec2& windowPosition
 
 std::optional<glm::dvec2> Camera::worldToWindow(const glm::dvec3& point, int width, int height) const noexcept
 {
-    const ViewAxes axes = viewAxes(*this);
+    const Axes axes = this->axes();
     const glm::dvec3 offset = point - _eye;
     const double depth = glm::dot(offset, axes.direction);
     if (!(depth > 0.0)) {
         return std::nullopt;
     }
-    const glm::dvec2 extent = halfExtent(*this, width, height);
+    const glm::dvec2 extent = halfExtent(width, height);
     const double x = glm::dot(offset, axes.right) / (depth * extent.x);
     const double y = glm::dot(offset, axes.up) / (depth * extent.y);
     return glm::dvec2((x + 1.0) * 0.5 * width, (1.0 - y) * 0.5 * height);
@@ -140,6 +118,20 @@ glm::dvec3 Camera::direction() const noexcept
 glm::dvec3 Camera::right() const noexcept
 {
     return glm::normalize(glm::cross(direction(), _up));
+}
+
+Camera::Axes Camera::axes() const noexcept
+{
+    const glm::dvec3 forward = direction();
+    const glm::dvec3 across = right();
+    return {forward, across, glm::cross(across, forward)};
+}
+
+glm::dvec2 Camera::halfExtent(int width, int height) const noexcept
+{
+    const double up = std::tan(0.5 * _fieldOfViewY);
+    const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
+    return {up * aspect, up};
 }
 
 glm::dmat4 Camera::viewMatrix() const noexcept

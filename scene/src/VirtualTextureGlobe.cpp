@@ -197,18 +197,10 @@ struct VirtualTextureGlobe::Impl {
     void adjustBias();
     void requestPages();
     void drawFeedback(FrameState& frameState, const FeedbackView& drawnFrom);
-    /// The view's axis, the unit vectors across and up it, and its half extents at unit distance.
-    struct ViewFrame {
-        glm::dvec3 forward{0.0};
-        glm::dvec3 right{0.0};
-        glm::dvec3 up{0.0};
-        double halfWidth = 0.0;
-        double halfHeight = 0.0;
-    };
-    /// The rectangle of the view, in clip coordinates (x and y of its lower left and upper right
-    /// corners), holding the globe's outline with a margin of two of a width x height target's
-    /// pixels; the whole view where the outline reaches behind the eye.
-    glm::vec4 globeBounds(const glm::dvec3& eye, const ViewFrame& view, int width, int height) const;
+    /// The rectangle of a width x height view, in clip coordinates (x and y of its lower left and
+    /// upper right corners), holding the globe's outline with a margin of `margin` pixels; the
+    /// whole view where the outline reaches behind the eye.
+    glm::vec4 globeBounds(const Camera& camera, int width, int height, double margin) const;
     void ensureMeshes(FrameState& frameState);
     /// The program of a pass: for the main pass, reading the levels a tile's pixels may show;
     /// with the LOD clamp's ramp while a page the view asks for is loading. Variants rather than
@@ -821,7 +813,7 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     reach.down = glm::normalize(camera.eye());
     reach.opposite = std::remainder(std::atan2(reach.down.y, reach.down.x) + kPi, kTwoPi);
     const glm::dvec3& down = reach.down;
-    reach.pixelAngle = 2.0 * std::tan(0.5 * camera.fieldOfViewY()) / std::max(frameState.height, 1);
+    reach.pixelAngle = 2.0 * camera.halfExtent(frameState.width, frameState.height).y / std::max(frameState.height, 1);
     const double rho = reach.pixelAngle;
     const glm::dvec3 axis = camera.direction();
     constexpr int kSamples = 9;
@@ -947,13 +939,13 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
     return parts;
 }
 
-glm::vec4 VirtualTextureGlobe::Impl::globeBounds(const glm::dvec3& eye, const ViewFrame& view, int width, int height) const
+glm::vec4 VirtualTextureGlobe::Impl::globeBounds(const Camera& camera, int width, int height, double margin) const
 {
     // Where the rays from the eye graze the ellipsoid: in its radii's units (a unit sphere) the
     // circle of points q with q . e = 1, e the eye there; its picture on the screen is the
     // globe's outline, sampled at kSamples points.
     const glm::vec4 wholeView(-1.0f, -1.0f, 1.0f, 1.0f);
-    const glm::dvec3 eyeScaled = eye * ellipsoid.oneOverRadii();
+    const glm::dvec3 eyeScaled = camera.eye() * ellipsoid.oneOverRadii();
     const double distanceSquared = glm::dot(eyeScaled, eyeScaled);
     if (distanceSquared <= 1.0) {
         return wholeView;
@@ -969,21 +961,20 @@ glm::vec4 VirtualTextureGlobe::Impl::globeBounds(const glm::dvec3& eye, const Vi
     for (int k = 0; k < kSamples; ++k) {
         const double angle = kTwoPi * k / kSamples;
         const glm::dvec3 onOutline = (centre + radius * (std::cos(angle) * u + std::sin(angle) * v)) * ellipsoid.radii();
-        const glm::dvec3 toPoint = onOutline - eye;
-        const double depth = glm::dot(toPoint, view.forward);
-        if (depth <= 0.0) {
+        const std::optional<glm::dvec2> window = camera.worldToWindow(onOutline, width, height);
+        if (!window) {
             return wholeView; // the outline reaches behind the eye
         }
-        const glm::dvec2 clip(glm::dot(toPoint, view.right) / (depth * view.halfWidth),
-                              glm::dot(toPoint, view.up) / (depth * view.halfHeight));
-        low = glm::min(low, clip);
-        high = glm::max(high, clip);
+        low = glm::min(low, *window);
+        high = glm::max(high, *window);
     }
     // Between two samples the outline bulges out by less than 1 - cos(pi / kSamples) of its size
-    // (0.12 %): 1 % of the size, and two of the feedback's pixels, more.
-    const glm::dvec2 margin = 0.01 * (high - low) + glm::dvec2(4.0 / width, 4.0 / height);
-    low = glm::max(low - margin, glm::dvec2(-1.0));
-    high = glm::min(high + margin, glm::dvec2(1.0));
+    // (0.12 %): 1 % of the size, and the margin, more.
+    const glm::dvec2 extra = 0.01 * (high - low) + glm::dvec2(margin);
+    const glm::dvec2 size(width, height);
+    // Window positions count y down; clip coordinates up.
+    low = glm::max(glm::dvec2(2.0 * (low.x - extra.x) / size.x - 1.0, 1.0 - 2.0 * (high.y + extra.y) / size.y), glm::dvec2(-1.0));
+    high = glm::min(glm::dvec2(2.0 * (high.x + extra.x) / size.x - 1.0, 1.0 - 2.0 * (low.y - extra.y) / size.y), glm::dvec2(1.0));
     if (low.x >= high.x || low.y >= high.y) {
         return glm::vec4(0.0f); // the globe is out of view: an empty rectangle
     }
@@ -1022,13 +1013,9 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
                                         {renderer::ComponentType::Float, 3, false, false, 0, 0});
     }
     const Camera& camera = frameState.camera;
-    ViewFrame view;
-    view.forward = camera.direction();
-    view.right = glm::normalize(glm::cross(view.forward, camera.up()));
-    view.up = glm::cross(view.right, view.forward);
-    view.halfHeight = std::tan(0.5 * camera.fieldOfViewY());
-    view.halfWidth = view.halfHeight * frameState.width / std::max(frameState.height, 1);
-    const double pixel = 2.0 * view.halfHeight / std::max(frameState.height, 1); // the frame's own pixels
+    const Camera::Axes axes = camera.axes();
+    const glm::dvec2 extent = camera.halfExtent(frameState.width, frameState.height);
+    const double pixel = 2.0 * extent.y / std::max(frameState.height, 1); // the frame's own pixels
     const glm::dvec3 eyeScaled = camera.eye() * ellipsoid.oneOverRadii();
     const double flattening = ellipsoid.radii().z / ellipsoid.radii().x;
     renderer::ClearState clear;
@@ -1045,12 +1032,13 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     draw.renderState.depthTest.enabled = false;
     draw.textures = {{0, &*pageTableTexture, &*pointSampler}, {2, &*lodClamp, &*pointSampler}};
     setUniforms(draw, bias());
-    draw.uniforms.set("u_bounds", globeBounds(camera.eye(), view, width, height));
-    draw.uniforms.set("u_rayCentre", glm::vec3(view.forward));
-    draw.uniforms.set("u_rayRight", glm::vec3(view.right * view.halfWidth));
-    draw.uniforms.set("u_rayUp", glm::vec3(view.up * view.halfHeight));
-    draw.uniforms.set("u_pixelRight", glm::vec3(view.right * pixel));
-    draw.uniforms.set("u_pixelUp", glm::vec3(view.up * pixel));
+    // Two of the feedback's pixels, in the frame's.
+    draw.uniforms.set("u_bounds", globeBounds(camera, frameState.width, frameState.height, 2.0 * divisor));
+    draw.uniforms.set("u_rayCentre", glm::vec3(axes.direction));
+    draw.uniforms.set("u_rayRight", glm::vec3(axes.right * extent.x));
+    draw.uniforms.set("u_rayUp", glm::vec3(axes.up * extent.y));
+    draw.uniforms.set("u_pixelRight", glm::vec3(axes.right * pixel));
+    draw.uniforms.set("u_pixelUp", glm::vec3(axes.up * pixel));
     draw.uniforms.set("u_cameraScaled", glm::vec3(eyeScaled));
     draw.uniforms.set("u_cameraScaledLengthSquaredMinusOne", static_cast<float>(glm::dot(eyeScaled, eyeScaled) - 1.0));
     draw.uniforms.set("u_oneOverRadii", glm::vec3(ellipsoid.oneOverRadii()));

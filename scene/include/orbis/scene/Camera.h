@@ -64,6 +64,16 @@ public:
     glm::dvec3 direction() const noexcept;
     /// Unit vector to the right of the view direction, perpendicular to up.
     glm::dvec3 right() const noexcept;
+    /// The view's unit axes: its direction, right, and the true up (perpendicular to both).
+    struct Axes {
+        glm::dvec3 direction{0.0};
+        glm::dvec3 right{0.0};
+        glm::dvec3 up{0.0};
+    };
+    Axes axes() const noexcept;
+    /// Half the view's extent at unit distance, across and up, for a width x height view: the ray
+    /// through clip coordinates x, y (-1..1) is direction + x extent.x right + y extent.y up.
+    glm::dvec2 halfExtent(int width, int height) const noexcept;
 
     double fieldOfViewY() const noexcept { return _fieldOfViewY; }
     void setFieldOfViewY(double radians) noexcept { _fieldOfViewY = radians; }
