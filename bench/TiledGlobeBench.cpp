@@ -361,10 +361,6 @@ Table pipelineTable(const Options& options, Device& device)
 /// true limb by their geometric error (what the screen-space error allows), which is no hole.
 bool hasHole(const Image& image, const Camera& camera)
 {
-    const double tanY = std::tan(0.5 * camera.fieldOfViewY());
-    const double tanX = tanY * image.width / image.height;
-    const glm::dvec3 right = camera.right();
-    const glm::dvec3 up = glm::cross(right, camera.direction()); // the camera's up need not be square to it
     const double distance = glm::length(camera.eye());
     const double limb = std::asin(std::min(1.0, kEarth.minimumRadius() / distance));
     const double margin = 2.0 * camera.fieldOfViewY() / image.height;
@@ -375,9 +371,7 @@ bool hasHole(const Image& image, const Camera& camera)
             if (!(p[0] == 255 && p[1] == 0 && p[2] == 255)) {
                 continue;
             }
-            const glm::dvec3 direction = glm::normalize(
-                camera.direction() + right * ((2.0 * (x + 0.5) / image.width - 1.0) * tanX) +
-                up * ((1.0 - 2.0 * (y + 0.5) / image.height) * tanY));
+            const glm::dvec3 direction = camera.pickRay({x + 0.5, y + 0.5}, image.width, image.height).direction;
             const double offCentre = std::acos(std::clamp(glm::dot(direction, toCentre), -1.0, 1.0));
             if (offCentre < limb - margin) {
                 return true;

@@ -49,7 +49,7 @@ struct FramebufferRestorer {
 
 double FrameState::metersPerPixel(double distance) const noexcept
 {
-    return 2.0 * distance * std::tan(0.5 * camera.fieldOfViewY()) / std::max(height, 1);
+    return 2.0 * distance * camera.halfExtent(width, height).y / std::max(height, 1);
 }
 
 std::optional<HeightInterval> FrameState::groundHeights(const GeodeticExtent& extent) const
@@ -243,7 +243,7 @@ Scene::FrameView Scene::frameView(renderer::Framebuffer* target) const
     const MultiFrustumOptions& limits = _options.multiFrustum;
     const glm::dmat4 view = _camera.viewMatrix();
     const glm::dmat4 wholeProjection = _camera.projectionMatrix(aspect, limits.nearLimit, limits.farLimit);
-    const double tanHalfY = std::tan(0.5 * _camera.fieldOfViewY());
+    const glm::dvec2 halfExtent = _camera.halfExtent(width, height);
     return {target,
             width,
             height,
@@ -252,7 +252,7 @@ Scene::FrameView Scene::frameView(renderer::Framebuffer* target) const
             _camera.eye(),
             _camera.direction(),
             Frustum::fromViewProjection(wholeProjection * view),
-            1.0 / std::sqrt(1.0 + tanHalfY * tanHalfY * (1.0 + aspect * aspect))};
+            1.0 / std::sqrt(1.0 + glm::dot(halfExtent, halfExtent))};
 }
 
 Scene::SurvivorDepth Scene::cullPrimitives(const FrameView& frame, FrameStatistics& statistics)
