@@ -813,7 +813,7 @@ VirtualTextureGlobe::Impl::ViewReach VirtualTextureGlobe::Impl::viewReach(const 
     reach.down = glm::normalize(camera.eye());
     reach.opposite = std::remainder(std::atan2(reach.down.y, reach.down.x) + kPi, kTwoPi);
     const glm::dvec3& down = reach.down;
-    reach.pixelAngle = 2.0 * camera.halfExtent(frameState.width, frameState.height).y / std::max(frameState.height, 1);
+    reach.pixelAngle = frameState.metersPerPixel(1.0); // a pixel's size at unit distance: its angle
     const double rho = reach.pixelAngle;
     const glm::dvec3 axis = camera.direction();
     constexpr int kSamples = 9;
@@ -1015,7 +1015,7 @@ void VirtualTextureGlobe::Impl::drawFeedback(FrameState& frameState, const Feedb
     const Camera& camera = frameState.camera;
     const Camera::Axes axes = camera.axes();
     const glm::dvec2 extent = camera.halfExtent(frameState.width, frameState.height);
-    const double pixel = 2.0 * extent.y / std::max(frameState.height, 1); // the frame's own pixels
+    const double pixel = frameState.metersPerPixel(1.0); // the frame's own pixels' angle
     const glm::dvec3 eyeScaled = camera.eye() * ellipsoid.oneOverRadii();
     const double flattening = ellipsoid.radii().z / ellipsoid.radii().x;
     renderer::ClearState clear;
