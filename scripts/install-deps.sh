@@ -1,6 +1,7 @@
 #!/bin/sh
-# Installs Orbis's build and run-time dependencies from Debian's archive, only those missing.
-# Needs root (or sudo) the first time; a second run with everything present installs nothing.
+# Installs Orbis's build and run-time dependencies from Debian's archive, only those missing, and
+# unpacks the newer Mesa the sparse-texture tests run on (scripts/install-sparse-mesa.sh). Needs
+# root (or sudo) the first time; a second run with everything present installs nothing.
 set -eu
 
 packages="
@@ -10,7 +11,7 @@ packages="
   libstb-dev libtinygltf-dev nlohmann-json3-dev
   libglfw3-dev xvfb xauth
   xplanet-images fonts-dejavu-core libfontconfig-dev
-  clang-14 libclang-rt-14-dev
+  clang-14 libclang-rt-14-dev libvulkan1
   libturbojpeg0-dev libspng-dev libwebp-dev libsqlite3-dev libcurl4-openssl-dev libgdal-dev zlib1g-dev
 "
 
@@ -21,13 +22,15 @@ done
 
 if [ -z "$missing" ]; then
   echo "install-deps: all dependencies present"
-  exit 0
+else
+  echo "install-deps: installing$missing"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  # shellcheck disable=SC2086
+  $sudo apt-get install -y -qq --no-install-recommends $missing
 fi
 
-echo "install-deps: installing$missing"
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-# shellcheck disable=SC2086
-$sudo apt-get install -y -qq --no-install-recommends $missing
+# The sparse-texture path's tests run on a newer Mesa, unpacked in the checkout (not installed).
+"$(dirname "$0")/install-sparse-mesa.sh"

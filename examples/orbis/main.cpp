@@ -581,7 +581,7 @@ int runInfo(Arguments arguments)
     if (!arguments.empty()) {
         throw UsageError{format("info takes no arguments, got %s", orbis::world::quote(arguments[0]).c_str())};
     }
-    const orbis::renderer::Device device;
+    orbis::renderer::Device device;
     const orbis::renderer::DeviceInfo& info = device.info();
     auto yes = [](bool value) { return value ? "yes" : "no"; };
     std::printf("orbis:            %s\n", ORBIS_VERSION);
@@ -602,8 +602,12 @@ int runInfo(Arguments arguments)
                 yes(info.clipControl));
     std::printf("  gpu_shader5:    %s (\"precise\" arithmetic for GPU relative-to-eye and emulated doubles)\n",
                 yes(info.gpuShader5));
-    std::printf("  sparse texture: %s (ARB_sparse_texture, for virtual textures)\n",
-                yes(info.hasExtension("GL_ARB_sparse_texture")));
+    std::printf("  sparse texture: %s (ARB_sparse_texture, for virtual textures' \"sparse\" path)\n", yes(info.sparseTexture));
+    if (info.sparseTexture) {
+        const orbis::renderer::SparsePageSize page = device.sparsePageSize(orbis::renderer::TextureFormat::RGBA8);
+        std::printf("                  pages of %d x %d RGBA8 texels, textures up to %d texels a side\n", page.width,
+                    page.height, info.maxSparseTextureSize);
+    }
     return kExitOk;
 }
 

@@ -174,6 +174,11 @@ Device::Device(const DeviceOptions& options)
                            static_cast<bool>(gl->glClipControl);
         // The shaders are GLSL 3.30, so `precise` needs the extension's directive even on GL 4.
         info.gpuShader5 = extensions.count("GL_ARB_gpu_shader5") != 0;
+        info.sparseTexture = extensions.count("GL_ARB_sparse_texture") && gl->glTexStorage2D &&
+                             gl->glGetInternalformativ && gl->glGetTexParameteriv && gl->glTexPageCommitmentARB;
+        if (info.sparseTexture) {
+            info.maxSparseTextureSize = glInteger(*gl, GL_MAX_SPARSE_TEXTURE_SIZE_ARB);
+        }
 
         auto state = std::make_unique<detail::ContextState>(*this, *gl, std::move(backendContext), info.maxTextureUnits);
         state->debugOutput = checks && info.khrDebug;

@@ -130,12 +130,17 @@ namespace orbis::renderer::detail {
     X(PFNGLBINDBUFFERBASEPROC, glBindBufferBase)
 
 /// KHR_debug (core in 4.3): used when present, for messages and object labels. ARB_clip_control
-/// (core in 4.5): complementary depth with a 0..1 clip-space depth range.
+/// (core in 4.5): complementary depth with a 0..1 clip-space depth range. ARB_sparse_texture with
+/// immutable storage (core in 4.2) and format queries (4.2): partially resident textures.
 #define ORBIS_GL_OPTIONAL_FUNCTIONS(X)                                                             \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback)                                       \
     X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl)                                         \
     X(PFNGLOBJECTLABELPROC, glObjectLabel)                                                         \
-    X(PFNGLCLIPCONTROLPROC, glClipControl)
+    X(PFNGLCLIPCONTROLPROC, glClipControl)                                                         \
+    X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D)                                                       \
+    X(PFNGLGETINTERNALFORMATIVPROC, glGetInternalformativ)                                         \
+    X(PFNGLGETTEXPARAMETERIVPROC, glGetTexParameteriv)                                             \
+    X(PFNGLTEXPAGECOMMITMENTARBPROC, glTexPageCommitmentARB)
 // clang-format on
 
 class GlApi;

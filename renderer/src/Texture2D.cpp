@@ -123,6 +123,8 @@ Texture2D::Texture2D(Texture2D&& other) noexcept
     , _serial(std::exchange(other._serial, 0u))
     , _description(other._description)
     , _levels(other._levels)
+    , _sparseLevels(other._sparseLevels)
+    , _sparsePage(other._sparsePage)
 {
 }
 
@@ -135,6 +137,8 @@ Texture2D& Texture2D::operator=(Texture2D&& other) noexcept
         std::swap(_serial, moved._serial);
         std::swap(_description, moved._description);
         std::swap(_levels, moved._levels);
+        std::swap(_sparseLevels, moved._sparseLevels);
+        std::swap(_sparsePage, moved._sparsePage);
     }
     return *this;
 }
@@ -142,6 +146,14 @@ Texture2D& Texture2D::operator=(Texture2D&& other) noexcept
 Texture2D Device::createTexture2D(const TextureDescription& description)
 {
     detail::ContextState& state = detail::requireCurrent(this, "Device::createTexture2D");
+    if (description.sparse && (!info().sparseTexture || description.samples > 1 ||
+                               std::max(description.width, description.height) > info().maxSparseTextureSize)) {
+        throw Error("Device::createTexture2D: a sparse " + std::to_string(description.width) + " x " +
+                    std::to_string(description.height) + " texture" +
+                    (info().sparseTexture ? " is beyond this device's " + std::to_string(info().maxSparseTextureSize) +
+                                                " texels for one (or multisampled)"
+                                          : " needs GL_ARB_sparse_texture, which this device lacks"));
+    }
     const int maximum = info().maxTextureSize;
     if (description.width < 1 || description.height < 1 || description.width > maximum ||
         description.height > maximum) {
@@ -181,9 +193,20 @@ Texture2D Device::createTexture2D(const TextureDescription& description)
     Texture2D texture(*this, name, description, levels);
     state.bindTextureForUpload(texture._serial, name);
     const GlFormat f = glFormat(description.format);
-    for (int level = 0; level < levels; ++level) {
-        gl.glTexImage2D(GL_TEXTURE_2D, level, f.internalFormat, levelSize(description.width, level),
-                        levelSize(description.height, level), 0, f.format, f.type, nullptr);
+    if (description.sparse) {
+        // Immutable storage, reserved and not backed; the first virtual page size (sparsePageSize).
+        texture._sparsePage = sparsePageSize(description.format);
+        gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SPARSE_ARB, GL_TRUE);
+        gl.glTexParameteri(GL_TEXTURE_2D, GL_VIRTUAL_PAGE_SIZE_INDEX_ARB, 0);
+        gl.glTexStorage2D(GL_TEXTURE_2D, levels, f.internalFormat, description.width, description.height);
+        GLint sparseLevels = 0;
+        gl.glGetTexParameteriv(GL_TEXTURE_2D, GL_NUM_SPARSE_LEVELS_ARB, &sparseLevels);
+        texture._sparseLevels = sparseLevels;
+    } else {
+        for (int level = 0; level < levels; ++level) {
+            gl.glTexImage2D(GL_TEXTURE_2D, level, f.internalFormat, levelSize(description.width, level),
+                            levelSize(description.height, level), 0, f.format, f.type, nullptr);
+        }
     }
     const bool depth = isDepthFormat(description.format);
     gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
@@ -194,6 +217,24 @@ Texture2D Device::createTexture2D(const TextureDescription& description)
     gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     gl.glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return texture;
+}
+
+SparsePageSize Device::sparsePageSize(TextureFormat format)
+{
+    detail::ContextState& state = detail::requireCurrent(this, "Device::sparsePageSize");
+    if (!info().sparseTexture) {
+        return {};
+    }
+    const GLenum internalFormat = glFormat(format).internalFormat;
+    GLint count = 0;
+    state.gl.glGetInternalformativ(GL_TEXTURE_2D, internalFormat, GL_NUM_VIRTUAL_PAGE_SIZES_ARB, 1, &count);
+    if (count < 1) {
+        return {};
+    }
+    GLint width = 0, height = 0;
+    state.gl.glGetInternalformativ(GL_TEXTURE_2D, internalFormat, GL_VIRTUAL_PAGE_SIZE_X_ARB, 1, &width);
+    state.gl.glGetInternalformativ(GL_TEXTURE_2D, internalFormat, GL_VIRTUAL_PAGE_SIZE_Y_ARB, 1, &height);
+    return {width, height};
 }
 
 Texture2D Device::createTexture2D(const Image& image, bool mipmaps)
@@ -283,6 +324,31 @@ void Texture2D::copyFromSystemMemory(std::span<const std::byte> texels, const Pi
     const GlFormat f = glFormat(format());
     state.gl.glTexSubImage2D(GL_TEXTURE_2D, level, region.x, region.y, region.width, region.height, f.format, f.type,
                              texels.data());
+}
+
+void Texture2D::commit(const PixelRectangle& region, int level, bool committed)
+{
+    checkLevel(level, "Texture2D::commit");
+    if (!_description.sparse) {
+        throw Error("Texture2D::commit: the texture is not sparse (TextureDescription::sparse)");
+    }
+    const int w = levelSize(width(), level), h = levelSize(height(), level);
+    auto onGrid = [](int start, int size, int page, int extent) {
+        return start % page == 0 && (size % page == 0 || start + size == extent);
+    };
+    if (region.x < 0 || region.y < 0 || region.width < 1 || region.height < 1 || region.x + region.width > w ||
+        region.y + region.height > h ||
+        (level < _sparseLevels && !(onGrid(region.x, region.width, _sparsePage.width, w) &&
+                                    onGrid(region.y, region.height, _sparsePage.height, h)))) {
+        throw Error("Texture2D::commit: " + std::to_string(region.width) + " x " + std::to_string(region.height) +
+                    " at (" + std::to_string(region.x) + ", " + std::to_string(region.y) + ") is not whole pages of " +
+                    std::to_string(_sparsePage.width) + " x " + std::to_string(_sparsePage.height) + " inside level " +
+                    std::to_string(level) + " (" + std::to_string(w) + " x " + std::to_string(h) + ")");
+    }
+    detail::ContextState& state = detail::requireCurrent(_device, "Texture2D::commit");
+    state.bindTextureForUpload(_serial, _name);
+    state.gl.glTexPageCommitmentARB(GL_TEXTURE_2D, level, region.x, region.y, 0, region.width, region.height, 1,
+                                    committed ? GL_TRUE : GL_FALSE);
 }
 
 void Texture2D::copyFromImage(const Image& image, int level)

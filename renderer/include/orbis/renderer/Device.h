@@ -70,6 +70,10 @@ struct DeviceInfo {
     /// The GLSL `precise` qualifier (GLSL 4.00 or ARB_gpu_shader5), which keeps the compiler from
     /// reassociating or fusing float arithmetic (ShaderProgramDescription::extensions).
     bool gpuShader5 = false;
+    /// ARB_sparse_texture with immutable storage: textures whose memory is committed a page at a
+    /// time (TextureDescription::sparse, Texture2D::commit); the largest such texture's side.
+    bool sparseTexture = false;
+    int maxSparseTextureSize = 0;
     std::vector<std::string> extensions; ///< GL_EXTENSIONS, sorted
 
     /// Whether the driver lists the extension ("GL_ARB_clip_control").
@@ -130,6 +134,10 @@ public:
     /// orbis::mipmapChain makes them, e.g. on a loader's worker thread): a software rasteriser
     /// takes ten times a JPEG's decoding to make them itself. Throws for a chain of the wrong sizes.
     Texture2D createTexture2D(const Image& image, std::span<const Image> mipmapLevels);
+    /// The texels a page of a sparse texture of the format spans, across and up (the driver's
+    /// first virtual page size): what Texture2D::commit commits at least. {0, 0} without
+    /// DeviceInfo::sparseTexture.
+    SparsePageSize sparsePageSize(TextureFormat format);
     Sampler createSampler(const SamplerDescription& description = {});
     /// A fence after the commands issued so far in the context current on this thread.
     Fence createFence();

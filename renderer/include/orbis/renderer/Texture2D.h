@@ -51,6 +51,17 @@ struct TextureDescription {
     /// be drawn into (a Framebuffer attachment) and resolved by Context::blit or copyDepth: it has
     /// no mipmaps, is not sampled by commands and cannot be copied to or from memory (orbis::Error).
     int samples = 1;
+    /// Partially resident (ARB_sparse_texture; DeviceInfo::sparseTexture): the texture's size is
+    /// reserved but no memory is, until Texture2D::commit gives it page by page. Reading texels
+    /// that are not committed gives undefined values: the reader must keep off them.
+    bool sparse = false;
+};
+
+/// The texels a page of a sparse texture spans (Device::sparsePageSize).
+struct SparsePageSize {
+    int width = 0;
+    int height = 0;
+    friend bool operator==(const SparsePageSize&, const SparsePageSize&) = default;
 };
 
 /// A 2D texture: one GL texture object, move-only, shared between the device's contexts. Rows in
@@ -91,6 +102,16 @@ public:
     /// Recomputes levels 1.. from level 0. Throws when the texture has no mipmaps.
     void generateMipmaps();
 
+    /// Of a sparse texture: the levels committed page by page; the levels from this one on (those
+    /// smaller than a page: the "mip tail") are committed and released as one. 0 otherwise.
+    int sparseLevelCount() const noexcept { return _sparseLevels; }
+    /// Of a sparse texture: gives memory to (commit) or takes it from a rectangle of a level. The
+    /// rectangle must be whole pages (Device::sparsePageSize), or reach the level's edge; in the
+    /// mip tail (level >= sparseLevelCount()) any rectangle commits or releases the whole tail.
+    /// New memory holds undefined texels until copied to. Throws for a texture that is not sparse
+    /// or a rectangle out of the level or off the page grid.
+    void commit(const PixelRectangle& region, int level, bool committed);
+
     /// A whole level in the system-memory layout of the format.
     std::vector<std::byte> copyToSystemMemory(int level = 0) const;
     /// Level 0 as an image, top to bottom (RGBA8: 4 channels, RGB8: 3); throws for other formats.
@@ -108,6 +129,8 @@ private:
     std::uint64_t _serial = 0;
     TextureDescription _description;
     int _levels = 1;
+    int _sparseLevels = 0;
+    SparsePageSize _sparsePage;
 };
 
 } // namespace orbis::renderer
