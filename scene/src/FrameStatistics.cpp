@@ -71,6 +71,7 @@ void VirtualTextureStatistics::add(const VirtualTextureStatistics& other) noexce
     gpuBytes += other.gpuBytes;
     tilesWithMipTail += other.tilesWithMipTail;
     tilesBlendingLevels += other.tilesBlendingLevels;
+    sparse = sparse || other.sparse;
     converged = converged && other.converged;
 }
 
@@ -159,7 +160,8 @@ std::string FrameStatistics::toText() const
             << (v.lodBiasRaised ? " (raised: the view needs more pages than fit)" : "") << "\n"
             << "  uploaded " << number(static_cast<double>(v.uploadedBytes) / 1048576.0) << " MiB; GPU "
             << number(static_cast<double>(v.gpuBytes) / 1048576.0) << " MiB; " << v.tilesWithMipTail
-            << " tiles with the mip tail, " << v.tilesBlendingLevels << " blending two levels; " << (v.converged ? "converged" : "not converged") << "\n";
+            << " tiles with the mip tail, " << v.tilesBlendingLevels << " blending two levels; "
+            << (v.sparse ? "sparse texture; " : "") << (v.converged ? "converged" : "not converged") << "\n";
     }
     if (clipmap) {
         const ClipmapStatistics& c = *clipmap;
@@ -241,7 +243,7 @@ std::string FrameStatistics::toJson() const
             << ", \"feedbackHeight\": " << v.feedbackHeight << ", \"uploadedBytes\": " << v.uploadedBytes
             << ", \"lodBias\": " << number(v.lodBias) << ", \"lodBiasRaised\": " << (v.lodBiasRaised ? "true" : "false")
             << ", \"gpuBytes\": " << v.gpuBytes << ", \"tilesWithMipTail\": " << v.tilesWithMipTail
-            << ", \"tilesBlendingLevels\": " << v.tilesBlendingLevels
+            << ", \"tilesBlendingLevels\": " << v.tilesBlendingLevels << ", \"sparse\": " << (v.sparse ? "true" : "false")
             << ", \"converged\": " << (v.converged ? "true" : "false") << "}";
     }
     if (clipmap) {

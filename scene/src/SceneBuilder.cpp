@@ -333,6 +333,7 @@ VirtualTextureGlobeOptions virtualTextureGlobeOptions(const world::GlobeDescript
     pages.maximumAnisotropy = static_cast<float>(vt.maximumAnisotropy);
     pages.lodBias = vt.lodBias;
     pages.dynamicLodBias = vt.dynamicLodBias;
+    pages.sparse = vt.sparse;
     pages.uploadBytesPerFrame = static_cast<std::size_t>(vt.uploadMegabytesPerFrame * 1048576.0);
     // The cap on the tiles' memory holds the decoded source tiles here: the GPU's is the physical texture's.
     pages.tileCacheBytes = static_cast<std::size_t>(globe.cacheMegabytes * 1048576.0);

@@ -137,6 +137,10 @@ void validate(const VirtualTextureGlobeOptions& options)
         throw Error("VirtualTextureGlobe: maximumAnisotropy must be 1 to twice the border (" +
                     std::to_string(2 * vt.border) + "), so that the filter stays inside the page's border");
     }
+    if (vt.sparse && vt.maximumAnisotropy > 1.0f) {
+        throw Error("VirtualTextureGlobe: the sparse path filters with textureLod, trilinearly or the nearest level: "
+                    "maximumAnisotropy must be 1 with it");
+    }
     if (!std::isfinite(vt.lodBias)) {
         throw Error("VirtualTextureGlobe: lodBias must be a finite number of levels");
     }
@@ -180,12 +184,25 @@ struct VirtualTextureGlobe::Impl {
     }
 
     void start(FrameState& frameState);
+    /// The slots and the mip tail's strip in one texture (the software path).
+    void createPhysicalTexture(FrameState& frameState);
+    /// The sparse texture (VirtualTextureOptions::sparse), level 0 and the mip tail committed for
+    /// good; false, with a warning saying why, where the device cannot have it.
+    bool createSparseTexture(renderer::Device& device);
+    /// A page's texels in the sparse texture, at its level's mipmap level.
+    renderer::PixelRectangle sparseRegion(const PageKey& page) const noexcept
+    {
+        const int size = layout.pageSize;
+        return {static_cast<int>(page.x) * size, static_cast<int>(page.y) * size, size, size};
+    }
+    int sparseMipmapLevel(const PageKey& page) const noexcept { return static_cast<int>(layout.finestLevel - page.level); }
     void receive(world::TileLoadResult result);
     bool uploadPage(FrameState& frameState, const PageKey& page, const Image& image);
     /// Sends the page table's changed rectangles, and the LOD clamp's, to the GPU.
     void uploadTables();
     /// Level 0 halved down to 1 x 1 (level 0: its two pages side by side, rows from the north),
-    /// into the strip below the slots (VirtualTextureLayout::tailOffset).
+    /// into the strip below the slots (VirtualTextureLayout::tailOffset), or the sparse texture's
+    /// mipmap levels below level 0's.
     void uploadTail(const Image& level0);
     /// Whether it uploaded anything.
     bool updateLodClamp();
@@ -259,6 +276,7 @@ struct VirtualTextureGlobe::Impl {
     std::optional<PhysicalPageCache> cache;
     detail::TileIndexBuffers indexBuffers;
     bool started = false;
+    bool sparse = false; ///< the sparse texture is the physical texture (createSparseTexture)
     std::optional<std::uint64_t> streamedFrame;
     VirtualTextureStatistics statistics; ///< this frame's, being filled
     std::size_t missingCount = 0;
@@ -283,7 +301,7 @@ struct VirtualTextureGlobe::Impl {
     bool requestsOutstanding = false;
 
     // GPU resources, made on the first frame.
-    std::shared_ptr<renderer::Texture2D> physical;
+    std::shared_ptr<renderer::Texture2D> physical; ///< the slots, or the sparse texture
     std::optional<renderer::Texture2D> pageTableTexture;
     std::optional<renderer::Texture2D> lodClamp;
     /// Per page of the finest level: the coarsest level of detail its resident pages allow, and the
@@ -321,7 +339,15 @@ void VirtualTextureGlobe::Impl::warn(const std::string& message) const
 std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
 {
     std::size_t bytes = 0;
-    if (physical) {
+    if (sparse) {
+        // The pages committed, and level 0's mipmap levels below it (the tail: all but the
+        // smallest of them rounded up to whole sparse pages by the driver).
+        const std::size_t page = static_cast<std::size_t>(layout.pageSize) * layout.pageSize * 4;
+        bytes += cache->size() * page;
+        for (int t = 1; t <= layout.tailLevels(); ++t) {
+            bytes += static_cast<std::size_t>(layout.tailSize(t).x) * layout.tailSize(t).y * 4;
+        }
+    } else if (physical) {
         bytes += static_cast<std::size_t>(physical->width()) * physical->height() * 4;
     }
     if (pageTableTexture) {
@@ -356,7 +382,7 @@ bool VirtualTextureGlobe::Impl::evictable(const PageKey& page) const
     return true;
 }
 
-void VirtualTextureGlobe::Impl::start(FrameState& frameState)
+void VirtualTextureGlobe::Impl::createPhysicalTexture(FrameState& frameState)
 {
     renderer::Device& device = frameState.device;
     const int maximum = device.info().maxTextureSize;
@@ -370,6 +396,62 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
                     std::to_string(physicalHeight) + " texels, beyond this device's " + std::to_string(maximum) +
                     "; ask for fewer physicalPages or a smaller pageSize");
     }
+    physical = std::make_shared<renderer::Texture2D>(device.createTexture2D(
+        {physicalWidth, physicalHeight, renderer::TextureFormat::RGBA8, false}));
+    // Defined texels in the empty slots, dark grey in pictures of the physical texture; no pixel
+    // ever reads them.
+    renderer::Framebuffer target = frameState.context.createFramebuffer();
+    target.setColorAttachment(0, physical);
+    renderer::ClearState clear;
+    clear.color = glm::vec4(0.1f, 0.1f, 0.1f, 1.0f);
+    frameState.context.clear(clear, &target);
+}
+
+bool VirtualTextureGlobe::Impl::createSparseTexture(renderer::Device& device)
+{
+    const renderer::DeviceInfo& info = device.info();
+    const int width = static_cast<int>(layout.texelsX(layout.finestLevel));
+    const int height = static_cast<int>(layout.texelsY(layout.finestLevel));
+    const int finest = static_cast<int>(layout.finestLevel);
+    std::string why;
+    if (!info.sparseTexture) {
+        why = "the device lacks GL_ARB_sparse_texture";
+    } else if (width > info.maxSparseTextureSize) {
+        why = "its finest level, " + std::to_string(width) + " x " + std::to_string(height) +
+              " texels, is beyond the device's " + std::to_string(info.maxSparseTextureSize) + " for a sparse texture";
+    } else {
+        const renderer::SparsePageSize page = device.sparsePageSize(renderer::TextureFormat::RGBA8);
+        if (page.width < 1 || page.height < 1 || layout.pageSize % page.width != 0 || layout.pageSize % page.height != 0) {
+            why = "pages of " + std::to_string(layout.pageSize) + " texels are not whole sparse pages of " +
+                  std::to_string(page.width) + " x " + std::to_string(page.height);
+        }
+    }
+    if (why.empty()) {
+        renderer::TextureDescription description{width, height, renderer::TextureFormat::RGBA8, true};
+        description.sparse = true;
+        physical = std::make_shared<renderer::Texture2D>(device.createTexture2D(description));
+        if (physical->sparseLevelCount() < finest) {
+            why = "the device commits only " + std::to_string(physical->sparseLevelCount()) + " of its " +
+                  std::to_string(finest) + " finest levels a page at a time";
+            physical.reset();
+        }
+    }
+    if (!why.empty()) {
+        warn("virtual texture: the software path, not the sparse texture asked for: " + why);
+        return false;
+    }
+    // Level 0 and the levels below it never leave.
+    for (int level = finest; level < physical->levelCount(); ++level) {
+        physical->commit({0, 0, std::max(1, width >> level), std::max(1, height >> level)}, level, true);
+    }
+    return true;
+}
+
+void VirtualTextureGlobe::Impl::start(FrameState& frameState)
+{
+    renderer::Device& device = frameState.device;
+    const int maximum = device.info().maxTextureSize;
+    const int slot = layout.slotSize();
     const std::uint32_t pagesX = VirtualTextureLayout::pagesX(layout.finestLevel);
     const std::uint32_t pagesY = VirtualTextureLayout::pagesY(layout.finestLevel);
     const glm::uvec2 tableSize = VirtualTextureLayout::pageTableSize(layout.finestLevel);
@@ -378,16 +460,9 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
                     std::to_string(pagesX + 1) + " texels across, beyond this device's " + std::to_string(maximum) +
                     "; use larger pages");
     }
-    physical = std::make_shared<renderer::Texture2D>(device.createTexture2D(
-        {physicalWidth, physicalHeight, renderer::TextureFormat::RGBA8, false}));
-    {
-        // Defined texels in the empty slots, dark grey in pictures of the physical texture; no
-        // pixel ever reads them.
-        renderer::Framebuffer target = frameState.context.createFramebuffer();
-        target.setColorAttachment(0, physical);
-        renderer::ClearState clear;
-        clear.color = glm::vec4(0.1f, 0.1f, 0.1f, 1.0f);
-        frameState.context.clear(clear, &target);
+    sparse = options->virtualTexture.sparse && createSparseTexture(device);
+    if (!sparse) {
+        createPhysicalTexture(frameState);
     }
     pageTableTexture = device.createTexture2D(
         {static_cast<int>(tableSize.x), static_cast<int>(tableSize.y), renderer::TextureFormat::RG32F, false});
@@ -397,6 +472,12 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     waiting.assign(static_cast<std::size_t>(pagesX) * pagesY, 0);
     SamplerDescription linear;
     linear.maximumAnisotropy = options->virtualTexture.maximumAnisotropy;
+    if (sparse) {
+        // The hardware's own filtering across pages and levels; the antimeridian wraps.
+        linear.minificationFilter = options->virtualTexture.trilinear ? TextureMinificationFilter::LinearMipmapLinear
+                                                                      : TextureMinificationFilter::LinearMipmapNearest;
+        linear.wrapS = TextureWrap::Repeat;
+    }
     physicalSampler = device.createSampler(linear);
     SamplerDescription point;
     point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
@@ -438,17 +519,29 @@ bool VirtualTextureGlobe::Impl::uploadPage(FrameState& frameState, const PageKey
     if (placement->evicted) {
         pageTable.unmap(*placement->evicted);
         ++statistics.pagesEvicted;
+        if (sparse) {
+            physical->commit(sparseRegion(*placement->evicted), sparseMipmapLevel(*placement->evicted), false);
+        }
     }
-    const int slot = layout.slotSize();
-    // Rows from the north in the image, from the south in GL.
-    const std::size_t rowBytes = static_cast<std::size_t>(slot) * 4;
-    staging.resize(rowBytes * slot);
-    for (int row = 0; row < slot; ++row) {
-        std::memcpy(staging.data() + static_cast<std::size_t>(row) * rowBytes,
-                    image.pixels.data() + static_cast<std::size_t>(slot - 1 - row) * rowBytes, rowBytes);
+    // Rows from the north in the image, from the south in GL. The sparse path takes the page's own
+    // texels alone, to their place: the hardware filters across pages, so the border stays behind.
+    const int skip = sparse ? layout.border : 0;
+    const int size = sparse ? layout.pageSize : layout.slotSize();
+    const std::size_t rowBytes = static_cast<std::size_t>(size) * 4;
+    staging.resize(rowBytes * size);
+    for (int row = 0; row < size; ++row) {
+        std::memcpy(staging.data() + static_cast<std::size_t>(row) * rowBytes, image.pixel(skip, skip + size - 1 - row),
+                    rowBytes);
     }
-    physical->copyFromSystemMemory(std::as_bytes(std::span(staging)),
-                                   {placement->slot.x * slot, placement->slot.y * slot, slot, slot});
+    const std::span<const std::byte> texels = std::as_bytes(std::span(staging));
+    if (sparse) {
+        if (page.level > 0) {
+            physical->commit(sparseRegion(page), sparseMipmapLevel(page), true); // level 0's is for good
+        }
+        physical->copyFromSystemMemory(texels, sparseRegion(page), sparseMipmapLevel(page));
+    } else {
+        physical->copyFromSystemMemory(texels, {placement->slot.x * size, placement->slot.y * size, size, size});
+    }
     pageTable.map(page, placement->slot.x, placement->slot.y);
     statistics.uploadedBytes += staging.size();
     ++statistics.pagesLoaded;
@@ -461,6 +554,10 @@ void VirtualTextureGlobe::Impl::uploadTail(const Image& level0)
     const std::vector<Image> chain = mipmapChain(level0);
     for (int t = 1; t <= layout.tailLevels(); ++t) {
         const Image& level = chain[static_cast<std::size_t>(t) - 1];
+        if (sparse) {
+            physical->copyFromImage(level, static_cast<int>(layout.finestLevel) + t);
+            continue;
+        }
         const int width = level.width + 2 * border, height = level.height + 2 * border;
         // Rows from the south, as GL has them; the border as a page's: the antimeridian wraps,
         // beyond a pole the edge row repeats.
@@ -735,7 +832,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     // and reads no texels: the mip tail is the main pass's only, and the level it asks for is
     // the one trilinear filtering would blend from.
     const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
-    const bool mipTail = !feedback && levels == PixelLevels::WithMipTail;
+    const bool mipTail = !feedback && !sparse && levels == PixelLevels::WithMipTail;
     const bool ramp = !waitingFootprints.empty();
     const bool trilinear = feedback ? options->virtualTexture.trilinear : blendsLevels(levels);
     std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback, strategy, mipTail, ramp, trilinear}];
@@ -763,6 +860,9 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     }
     if (mipTail) {
         description.defines.push_back({"VT_MIP_TAIL"});
+    }
+    if (sparse) {
+        description.defines.push_back({"VT_SPARSE"});
     }
     if (!feedback && options->style.adjustsColors()) {
         description.defines.push_back({"COLOR_ADJUSTMENT"});
@@ -909,8 +1009,8 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
         const GeodeticExtent band{extent.west, latitude[south], extent.east, latitude[north]};
         return pixelLevels(frameState, band, std::max(farthest[north], farthest[south]), reach);
     };
-    if (!options->programsPerRow) {
-        return {{0, indices.indexCount(), rows(0, quads)}};
+    if (!options->programsPerRow || sparse) {
+        return {{0, indices.indexCount(), rows(0, quads)}}; // the sparse path has one program for all
     }
     // Each quad row's band spans the tile's width: its levels hold for the ring's quads in it too.
     std::array<PixelLevels, 1 << 7> rowLevels{};
@@ -1201,6 +1301,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         s.lodBias = impl.bias();
         s.lodBiasRaised = impl.dynamicBias > 0.0;
         s.gpuBytes = impl.gpuBytes();
+        s.sparse = impl.sparse;
         s.converged = impl.feedbackView && *impl.feedbackView == current && impl.summary.fallback == 0 &&
                       s.pagesPending == 0 && !impl.requestsOutstanding;
         _statistics = s;
@@ -1245,7 +1346,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         const std::vector<Impl::TilePart> parts = impl.tileParts(frameState, *tile, reach);
         bool withMipTail = false, blending = false;
         for (const Impl::TilePart& part : parts) {
-            withMipTail = withMipTail || part.levels == PixelLevels::WithMipTail;
+            withMipTail = withMipTail || (part.levels == PixelLevels::WithMipTail && !impl.sparse);
             blending = blending || impl.blendsLevels(part.levels);
         }
         _statistics.tilesWithMipTail += withMipTail ? 1 : 0;
@@ -1300,7 +1401,7 @@ std::array<std::uint8_t, 4> VirtualTextureGlobe::levelColor(std::uint32_t level)
 
 Image VirtualTextureGlobe::physicalTextureImage() const
 {
-    return _impl->physical ? _impl->physical->copyToImage() : Image();
+    return _impl->physical && !_impl->sparse ? _impl->physical->copyToImage() : Image();
 }
 
 Image VirtualTextureGlobe::pageTableImage() const

@@ -717,6 +717,10 @@ TEST_CASE("An imagery layer's virtualTexture reads every key, and the defaults w
     CHECK(vt.lodBias == 0.5);
     CHECK_FALSE(vt.dynamicLodBias);
     CHECK(vt.uploadMegabytesPerFrame == 8.0);
+    CHECK_FALSE(vt.sparse);
+    CHECK(parse(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {"sparse": true}}]}})")
+              .globe->imagery.front()
+              .virtualTexture->sparse);
 }
 
 TEST_CASE("virtualTexture values out of range are errors naming the key", "[world][scenefile][errors]")
@@ -731,6 +735,9 @@ TEST_CASE("virtualTexture values out of range are errors naming the key", "[worl
     CHECK_THAT(errorWith(R"("physicalPages": 2)"), Contains("/virtualTexture/physicalPages: 2 is out of range [4, 65536]"));
     CHECK_THAT(errorWith(R"("feedbackDivisor": 0)"), Contains("/virtualTexture/feedbackDivisor"));
     CHECK_THAT(errorWith(R"("border": 1, "maximumAnisotropy": 4)"), Contains("/virtualTexture/maximumAnisotropy: 4 is out of range [1, 2]"));
+    CHECK_THAT(errorWith(R"("maximumAnisotropy": 2, "sparse": true)"),
+               Contains("/virtualTexture/maximumAnisotropy: the sparse path filters trilinearly"));
+    CHECK_THAT(errorWith(R"("sparse": "yes")"), Contains("/virtualTexture/sparse"));
     CHECK_THAT(errorWith(R"("pagesize": 256)"), Contains("unknown key \"pagesize\" (did you mean \"pageSize\"?)"));
     CHECK_THAT(errorOf(R"({"version": 2, "globe": {"imagery": [{"source": "tiles", "virtualTexture": {},
         "rectangle": {"west": 0, "south": 0, "east": 10, "north": 10}}]}})"),

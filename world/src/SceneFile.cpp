@@ -105,9 +105,9 @@ constexpr std::array<std::string_view, 7> kTerrainFormatNames = {"quantized-mesh
 constexpr std::array<std::string_view, 11> kImageryKeys = {"source",   "scheme",    "alpha",        "brightness",
                                                           "contrast", "gamma",     "rectangle",    "minimumLevel",
                                                           "maximumLevel", "cacheFolder", "virtualTexture"};
-constexpr std::array<std::string_view, 11> kVirtualTextureKeys = {
+constexpr std::array<std::string_view, 12> kVirtualTextureKeys = {
     "pageSize",  "border",            "physicalPages", "feedbackDivisor", "feedbackLatencyFrames", "priorities",
-    "trilinear", "maximumAnisotropy", "lodBias",       "dynamicLodBias",  "uploadMegabytesPerFrame"};
+    "trilinear", "maximumAnisotropy", "lodBias",       "dynamicLodBias",  "uploadMegabytesPerFrame", "sparse"};
 constexpr std::array<std::string_view, 4> kRectangleKeys = {"west", "south", "east", "north"};
 constexpr std::array<std::string_view, 4> kLayerTypes = {"geojson", "points", "polyline", "model"};
 constexpr std::array<std::string_view, 8> kGeoJsonKeys = {"type",  "source",          "stroke", "fill", "granularity",
@@ -985,6 +985,11 @@ private:
             vt.lodBias = readNumber(*bias, pointer + "/lodBias", {-8.0, 16.0});
         }
         boolean("dynamicLodBias", vt.dynamicLodBias);
+        boolean("sparse", vt.sparse);
+        if (vt.sparse && vt.maximumAnisotropy > 1.0) {
+            fail(pointer + "/maximumAnisotropy", "the sparse path filters trilinearly or with the nearest level: "
+                                                 "maximumAnisotropy must be 1 with \"sparse\": true");
+        }
         if (const Json* upload = member(value, "uploadMegabytesPerFrame")) {
             vt.uploadMegabytesPerFrame = readNumber(*upload, pointer + "/uploadMegabytesPerFrame", {0.0, 4096.0, true});
         }

@@ -13,6 +13,11 @@
 // small fractions (where in the page), so that the precision does not depend on how deep the
 // virtual texture goes.
 //
+// VT_SPARSE is the hardware path (course chapter 5): og_texture1 is then one sparse texture the
+// size of the finest level, with its mip chain, every page at its own place and only the resident
+// ones backed by memory; the hardware filters across pages and levels, and the level of detail is
+// clamped so that no read touches a page that is not resident (vtSparseLod).
+//
 // VT_FEEDBACK draws the feedback pass instead (feedback.vert.glsl: a rectangle over the globe's
 // outline): each pixel casts its ray at the ellipsoid and writes the page the frame's own pixel
 // there asks for and whether it was shown a coarser one (orbis::packFeedback,
@@ -32,7 +37,7 @@ out vec4 fragmentColor;
 #endif
 
 uniform sampler2D og_texture0; // page table: every level in one image (VirtualTextureLayout::pageTableOrigin); RG32F, PageTable::texels
-uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border
+uniform sampler2D og_texture1; // physical texture: slots of S x S texels, a page and its border (VT_SPARSE: the sparse texture)
 uniform sampler2D og_texture2; // LOD clamp, RG32F, a texel per page of the finest level
 #if defined(VT_FEEDBACK) && defined(OG_FRAGMENT_SHADER)
 ivec3 vtTileKey; // level 0's tile under the pixel: main sets it
@@ -197,6 +202,44 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
     return allowed;
 }
 
+#ifdef VT_SPARSE
+// The level of detail a point of the sparse texture may be read at: the one asked for, clamped
+// by the LOD clamp (vtLodClamp), then raised until every bilinear tap of the two levels blended
+// lies on a resident page. The taps reach at most a texel of the coarser level from the point, so
+// the four corners of that square are checked, each by the resident level of its page of the
+// finest level (the clamp's red channel: the finest resident there, in levels above the finest):
+// a square smaller than a page lies on at most two pages a side, each holding a corner.
+// Residency is closed under ancestors (a page is put in after its parent, and no page with a
+// resident child is evicted), so a corner resident at level m is resident at every coarser one.
+// Level 0 and the mipmap levels below it are always resident.
+float vtSparseLod(vec2 tileCoordinates, float lod)
+{
+    PagePosition at = vtPagePosition(u_layout.x, tileCoordinates);
+    ivec2 size = textureSize(og_texture2, 0);
+    float shown = max(lod, vtLodClamp(tileCoordinates, lod));
+    for (int pass = 0; pass < u_layout.x; ++pass) {
+        float level = max(floor(shown), 0.0);
+        if (level >= float(u_layout.x)) {
+            break;
+        }
+        float reach = vtPowerOfTwo(int(level) + 1) / float(u_layout.y); // in pages of the finest level
+        float resident = 0.0;
+        for (int corner = 0; corner < 4; ++corner) {
+            vec2 offset = vec2((corner & 1) == 0 ? -reach : reach, (corner & 2) == 0 ? -reach : reach);
+            ivec2 page = at.page + ivec2(floor(at.inPage + offset));
+            page.x = (page.x + size.x) % size.x; // the antimeridian wraps, as the sampler does
+            page.y = clamp(page.y, 0, size.y - 1); // beyond a pole the sampler clamps
+            resident = max(resident, texelFetch(og_texture2, page, 0).r);
+        }
+        if (resident <= level) {
+            break;
+        }
+        shown = resident;
+    }
+    return shown;
+}
+#endif
+
 // What a point shows: the finer of the two levels blended and the weight of the coarser one; and,
 // for a footprint wider than a texel of level 0, how much wider (the mip tail's levels).
 struct LevelChoice {
@@ -209,7 +252,11 @@ struct LevelChoice {
 LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
 {
     float finest = float(u_layout.x);
-#ifdef VT_LOD_RAMP
+#if defined(VT_SPARSE)
+    // A clamp only where it raised the level: the nearest level of an unclamped lod is its own.
+    float clamped = vtSparseLod(tileCoordinates, lod);
+    float allowed = clamped > lod ? clamped : 0.0;
+#elif defined(VT_LOD_RAMP)
     float allowed = vtLodClamp(tileCoordinates, lod);
 #else
     // No page waits: the page table's entry alone keeps the levels shown resident (see main),
@@ -232,6 +279,14 @@ LevelChoice vtChooseLevels(float lod, vec2 tileCoordinates)
 
 #ifdef OG_FRAGMENT_SHADER
 
+// Where a point of the tile is on the whole globe: u and v, 0..1 from 180 degrees west and from the
+// south pole.
+vec2 vtGlobePosition(vec2 tileCoordinates)
+{
+    vec2 tiles = vec2(float(2 << vtTileKey.x), float(1 << vtTileKey.x));
+    return (vec2(vtTileKey.yz) + tileCoordinates) / tiles;
+}
+
 // Where a point of the tile is in tail level t (Mayer 4.1: no page is smaller than a page, so the
 // levels coarser than level 0 are its two pages halved t times, 1 .. VirtualTextureLayout::
 // tailLevels), kept side by side in a strip of the physical texture (VirtualTextureLayout::
@@ -241,11 +296,9 @@ vec2 vtTailPosition(int t, vec2 tileCoordinates, out float texelsPerTile)
     int twoPages = 2 * u_layout.y;
     int border = u_layout.z;
     vec2 size = vec2(float(max(twoPages >> t, 1)), float(max(u_layout.y >> t, 1)));
-    vec2 tiles = vec2(float(2 << vtTileKey.x), float(1 << vtTileKey.x));
-    vec2 onGlobe = (vec2(vtTileKey.yz) + tileCoordinates) / tiles; // u and v over the globe
     float offset = float(twoPages - (twoPages >> (t - 1)) + 2 * border * (t - 1) + border);
-    texelsPerTile = size.x / tiles.x;
-    return (u_tailOrigin + vec2(offset, float(border)) + onGlobe * size) * u_physicalTexelSize;
+    texelsPerTile = size.x / float(2 << vtTileKey.x);
+    return (u_tailOrigin + vec2(offset, float(border)) + vtGlobePosition(tileCoordinates) * size) * u_physicalTexelSize;
 }
 
 // The physical texture's texels at a position, for a footprint (dx, dy in tile coordinates) at
@@ -364,6 +417,11 @@ void main()
     vec2 dx = dFdx(tc);
     vec2 dy = dFdy(tc);
     float lod = vtLevelOfDetail(dx, dy);
+#ifdef VT_SPARSE
+    // The sampler blends the levels (or takes the nearest, without VT_TRILINEAR) at the level the
+    // resident pages allow.
+    vec4 texel = textureLod(og_texture1, vtGlobePosition(tc), vtSparseLod(tc, lod));
+#else
     LevelChoice choice = vtChooseLevels(lod, tc);
     PagePosition wanted = vtPagePosition(choice.finer, tc);
     PageEntries entries = vtPageEntries(choice.finer, wanted.page);
@@ -390,6 +448,7 @@ void main()
     if (coarserWeight > 0.0) {
         texel = mix(texel, vtRead(coarser, coarserTexels, dx, dy), coarserWeight);
     }
+#endif
     // The adjustment compiled in only for a style that adjusts the colours (imagery_over.glsl, put
     // before this source).
     vec3 color = imageryOver(u_baseColor.rgb, texel, u_textureAdjustment);

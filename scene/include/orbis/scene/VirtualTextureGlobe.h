@@ -60,6 +60,14 @@ struct VirtualTextureOptions {
     std::size_t uploadBytesPerFrame = std::size_t{4} << 20;
     /// Decoded source tiles kept to cut the next pages from (world::VirtualTextureSourceOptions).
     std::size_t tileCacheBytes = std::size_t{64} << 20;
+    /// The hardware path (course chapter 5, partially resident textures): one sparse texture the
+    /// size of the finest level, with its mip chain, each page committed at its own place when it
+    /// arrives and released when evicted (physicalPages then caps the pages committed), read with
+    /// the hardware's filtering across pages: no border, no page-table translation. Needs
+    /// GL_ARB_sparse_texture, a finest level within the device's sparse texture size and pages of
+    /// whole sparse pages; otherwise the software path, with a warning saying why. Filters with
+    /// textureLod (trilinear or the nearest level): maximumAnisotropy must be 1.
+    bool sparse = false;
 };
 
 struct VirtualTextureGlobeOptions {
@@ -127,7 +135,7 @@ public:
     const PageTable& pageTable() const noexcept;
 
     /// Pictures of the machinery, for the example and for debugging (each reads the GPU, slowly):
-    /// the physical texture as it is;
+    /// the physical texture as it is (empty on the sparse path, which has none);
     Image physicalTextureImage() const;
     /// the finest level of the page table, a pixel per page, coloured by the level it shows;
     Image pageTableImage() const;

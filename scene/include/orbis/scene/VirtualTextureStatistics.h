@@ -41,12 +41,15 @@ struct VirtualTextureStatistics {
     /// texture a pixel); the other rows have every pixel magnifying the finest level, which they
     /// read alone.
     std::size_t tilesBlendingLevels = 0;
+    /// Drawn through a sparse texture (VirtualTextureOptions::sparse, on a device that has it);
+    /// false on the software path (physical texture and page table).
+    bool sparse = false;
     /// Every page the view asks for is resident (or missing from the source), no load is pending,
     /// and the latest feedback, of the present view, shows no fallback.
     bool converged = false;
 
     /// Adds another virtual texture's figures: counts and bytes summed, the fallback fraction
-    /// of all their pixels, the larger latency and bias, flags: all converged, any raised.
+    /// of all their pixels, the larger latency and bias, flags: all converged, any raised or sparse.
     void add(const VirtualTextureStatistics& other) noexcept;
 };
 

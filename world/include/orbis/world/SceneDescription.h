@@ -80,6 +80,8 @@ struct VirtualTextureDescription {
     double lodBias = 0.0;            ///< levels, -8..16
     bool dynamicLodBias = true;
     double uploadMegabytesPerFrame = 4.0; ///< > 0
+    /// The hardware path where the device has GL_ARB_sparse_texture (scene::VirtualTextureOptions::sparse).
+    bool sparse = false;
 
     friend bool operator==(const VirtualTextureDescription&, const VirtualTextureDescription&) = default;
 };
