@@ -21,7 +21,9 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace orbis::renderer;
@@ -124,6 +126,40 @@ FrameTimes compareFrameTimes(Scene& first, Scene& second, Context& context, int 
     return {median(a), median(b), median(ratios)};
 }
 
+/// Two scenes' frames timed in turn on a view: still, then moving (both cameras a metre higher
+/// every other frame, so that a virtual texture draws its feedback pass every frame, as in
+/// flight; a still one draws none once its feedback stands).
+std::pair<FrameTimes, FrameTimes> stillAndMoving(Scene& first, Scene& second, Context& context, int frames,
+                                                 const ViewPoint& view)
+{
+    const FrameTimes still = compareFrameTimes(first, second, context, frames, [](int) {});
+    ViewPoint higher = view;
+    higher.position.height += 1.0;
+    const FrameTimes moving = compareFrameTimes(first, second, context, frames, [&](int frame) {
+        const ViewPoint& at = frame % 2 == 0 ? higher : view;
+        place(first.camera(), at);
+        place(second.camera(), at);
+    });
+    return {still, moving};
+}
+
+/// The converged views' tables: a device with a framebuffer of the frames' size current on it,
+/// and how many frame pairs to time.
+struct ViewBench {
+    explicit ViewBench(const Options& options)
+        : width(options.quick ? 320 : 1280)
+        , height(options.quick ? 180 : 720)
+        , timed(options.quick ? 3 : 15)
+        , target(device.context(), width, height)
+    {
+    }
+    Device device;
+    int width;
+    int height;
+    int timed;
+    Target target;
+};
+
 std::string percent(double fraction)
 {
     return formatNumber(100.0 * fraction, 3) + "%";
@@ -145,17 +181,14 @@ const ViewPoint kViews[] = {
 
 Table convergenceTable(const Options& options)
 {
-    Device device;
-    Context& context = device.context();
-    const int width = options.quick ? 320 : 1280;
-    const int height = options.quick ? 180 : 720;
-    const int timed = options.quick ? 3 : 15;
-    Target target(context, width, height);
+    ViewBench bench(options);
+    Context& context = bench.device.context();
+    const int timed = bench.timed;
 
     Table table;
     table.title = "Virtual texture against per-tile imagery, converged views";
     table.description =
-        "The Blue Marble (levels 0-4) at " + std::to_string(width) + " x " + std::to_string(height) +
+        "The Blue Marble (levels 0-4) at " + std::to_string(bench.width) + " x " + std::to_string(bench.height) +
         " as one virtual texture (base configuration: 256-texel pages with a 4-texel border, 256 slots, feedback at "
         "quarter resolution read back a frame late, 8 page loads a frame arriving 2 frames after they start) and, "
         "beside it, the same tiles with per-tile imagery (TiledGlobe, the same source, screen-space error 2 px). "
@@ -184,14 +217,7 @@ Table convergenceTable(const Options& options)
         place(tiled.camera(), view);
         int tiledFrames = 0;
         converge(tiled, context, 200, tiledFrames);
-        const FrameTimes still = compareFrameTimes(virtualScene, tiled, context, timed, [](int) {});
-        ViewPoint higher = view;
-        higher.position.height += 1.0;
-        const FrameTimes moving = compareFrameTimes(virtualScene, tiled, context, timed, [&](int frame) {
-            const ViewPoint& at = frame % 2 == 0 ? higher : view;
-            place(virtualScene.camera(), at);
-            place(tiled.camera(), at);
-        });
+        const auto [still, moving] = stillAndMoving(virtualScene, tiled, context, timed, view);
 
         table.rows.push_back({view.name, vt.converged ? std::to_string(frames) : "not in " + std::to_string(frames),
                               std::to_string(vt.pagesResident), percent(vt.fallbackFraction), formatNumber(still.first, 3),
@@ -379,7 +405,61 @@ std::vector<Table> run(const Options& options)
     return {convergenceTable(options), flightTable(options), comparisonsTable(options)};
 }
 
+// ---- The sparse path against the software path (course chapter 5) -----------------------------
+
+std::vector<Table> runSparse(const Options& options)
+{
+    ViewBench bench(options);
+    Device& device = bench.device;
+    Context& context = device.context();
+    const int timed = bench.timed;
+
+    Table table;
+    table.title = "Virtual texture: the sparse path against the software path";
+    table.description =
+        "The views of the first table at " + std::to_string(bench.width) + " x " + std::to_string(bench.height) +
+        ", the base configuration drawn twice on the same device: through a sparse texture (\"sparse\": true; pages "
+        "committed at their places, the hardware's filtering, the LOD clamped to resident pages) and the software way "
+        "(physical texture, page table, borders). Frames timed whole, the two scenes in turn, " +
+        std::to_string(timed) + " pairs, still and moving as in the first table. Device: " + device.info().renderer + ".";
+    table.columns = {"view", "sparse: frames to converge", "fallback after convergence", "sparse ms/frame",
+                     "software ms/frame", "sparse / software", "sparse ms/frame, moving", "software ms/frame, moving",
+                     "sparse / software, moving", "sparse GPU memory", "software GPU memory"};
+    if (!device.info().sparseTexture) {
+        table.notes = "Not measured: this device lacks GL_ARB_sparse_texture. Run the section on zink over lavapipe "
+                      "(docs/building.md): scripts/with-sparse-mesa.sh build/bin/orbis_bench --only \"sparse virtual "
+                      "texture\".";
+        return {table};
+    }
+    for (const ViewPoint& view : kViews) {
+        auto scene = [&](bool sparse) {
+            VirtualTextureGlobeOptions configured = baseOptions();
+            configured.virtualTexture.sparse = sparse;
+            auto made = std::make_unique<Scene>(kEarth);
+            made->add(std::make_shared<VirtualTextureGlobe>(kEarth, configured));
+            place(made->camera(), view);
+            return made;
+        };
+        const std::unique_ptr<Scene> sparse = scene(true);
+        const std::unique_ptr<Scene> software = scene(false);
+        int frames = 0, softwareFrames = 0;
+        const VirtualTextureStatistics vt = *converge(*sparse, context, 200, frames).virtualTexture;
+        const VirtualTextureStatistics softwareVt = *converge(*software, context, 200, softwareFrames).virtualTexture;
+        const auto [still, moving] = stillAndMoving(*sparse, *software, context, timed, view);
+        table.rows.push_back({view.name,
+                              vt.converged && vt.sparse ? std::to_string(frames) : "not in " + std::to_string(frames),
+                              percent(vt.fallbackFraction), formatNumber(still.first, 3), formatNumber(still.second, 3),
+                              formatNumber(still.ratio, 3), formatNumber(moving.first, 3), formatNumber(moving.second, 3),
+                              formatNumber(moving.ratio, 3), mebibytes(static_cast<double>(vt.gpuBytes)),
+                              mebibytes(static_cast<double>(softwareVt.gpuBytes))});
+    }
+    table.notes = "The sparse path's memory is the pages committed (at most the 256 of the physical texture) and the "
+                  "levels below level 0; the software path's, the whole physical texture, whatever the view holds.";
+    return {table};
+}
+
 const SectionRegistration registration("virtual texturing", 72, run);
+const SectionRegistration sparseRegistration("sparse virtual texture", 73, runSparse);
 
 } // namespace
 

@@ -414,8 +414,8 @@ bool VirtualTextureGlobe::Impl::createSparseTexture(renderer::Device& device)
     const int height = static_cast<int>(layout.texelsY(layout.finestLevel));
     const int finest = static_cast<int>(layout.finestLevel);
     std::string why;
-    if (!info.sparseTexture) {
-        why = "the device lacks GL_ARB_sparse_texture";
+    if (!info.sparseTexture || !info.hasExtension("GL_ARB_texture_gather")) {
+        why = "the device lacks GL_ARB_sparse_texture" + std::string(info.sparseTexture ? " with GL_ARB_texture_gather" : "");
     } else if (width > info.maxSparseTextureSize) {
         why = "its finest level, " + std::to_string(width) + " x " + std::to_string(height) +
               " texels, is beyond the device's " + std::to_string(info.maxSparseTextureSize) + " for a sparse texture";
@@ -482,6 +482,7 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     SamplerDescription point;
     point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
     point.magnificationFilter = TextureMagnificationFilter::Nearest;
+    point.wrapS = TextureWrap::Repeat; // the sparse path's gather of the LOD clamp wraps at the antimeridian
     pointSampler = device.createSampler(point);
 
     // The coarsest level, here and now: every pixel of the first frame has a page; and the mip
@@ -863,6 +864,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     }
     if (sparse) {
         description.defines.push_back({"VT_SPARSE"});
+        description.extensions.push_back("GL_ARB_texture_gather"); // vtSparseLod
     }
     if (!feedback && options->style.adjustsColors()) {
         description.defines.push_back({"COLOR_ADJUSTMENT"});

@@ -986,18 +986,30 @@ TEST_CASE("A virtual texture refuses options it cannot honour", "[scene][virtual
     CHECK_NOTHROW(make([](auto&) {}));
 }
 
-TEST_CASE("A virtual texture asked for the sparse path takes it only where the device has it", "[scene][virtual][gl]")
+namespace {
+
+/// A procedural virtual texture of `pageSize`-texel pages asked for the sparse path, converged on
+/// Europe from 1,500 km at 160 x 90; its warnings collected.
+RenderedFrame convergedAskingForSparse(int pageSize, std::vector<std::string>& warnings)
 {
-    VirtualTextureGlobeOptions options = procedural(64);
+    VirtualTextureGlobeOptions options = procedural(64, placePattern, {}, pageSize);
     options.virtualTexture.sparse = true;
-    std::vector<std::string> warnings;
     options.onWarning = [&](const std::string& message) { warnings.push_back(message); };
     Scene scene(kEarth);
     scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
     placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 1500000.0), 0.0, -70.0);
-    const RenderedFrame frame = renderUntilTilesConverge(scene, 160, 90, 100);
+    return renderUntilTilesConverge(scene, 160, 90, 100);
+}
+
+} // namespace
+
+TEST_CASE("A virtual texture asked for the sparse path takes it only where the device has it", "[scene][virtual][gl]")
+{
+    std::vector<std::string> warnings;
+    const RenderedFrame frame = convergedAskingForSparse(64, warnings);
     INFO(frame.statistics.toText());
     CHECK(frame.statistics.virtualTexture->converged);
+    using Catch::Matchers::Contains;
     if (test::sharedDevice().info().sparseTexture) {
         // 64-texel pages: whole sparse pages on a device with pages of 64 texels or fewer.
         const renderer::SparsePageSize page = test::sharedDevice().sparsePageSize(renderer::TextureFormat::RGBA8);
@@ -1006,12 +1018,12 @@ TEST_CASE("A virtual texture asked for the sparse path takes it only where the d
         // The software path, said once.
         CHECK_FALSE(frame.statistics.virtualTexture->sparse);
         REQUIRE(warnings.size() == 1);
-        CHECK_THAT(warnings.front(), Catch::Matchers::Contains("software path") &&
-                                         Catch::Matchers::Contains("lacks GL_ARB_sparse_texture"));
+        CHECK_THAT(warnings.front(), Contains("software path") && Contains("lacks GL_ARB_sparse_texture"));
     }
-    using Catch::Matchers::Contains;
-    options.virtualTexture.maximumAnisotropy = 2.0f;
-    CHECK_THROWS_WITH(std::make_shared<VirtualTextureGlobe>(kEarth, options), Contains("maximumAnisotropy must be 1"));
+    VirtualTextureGlobeOptions anisotropic = procedural(64);
+    anisotropic.virtualTexture.sparse = true;
+    anisotropic.virtualTexture.maximumAnisotropy = 2.0f;
+    CHECK_THROWS_WITH(std::make_shared<VirtualTextureGlobe>(kEarth, anisotropic), Contains("maximumAnisotropy must be 1"));
 }
 
 // The sparse path's own tests: hidden from the suite's run on the system's llvmpipe, which lacks
@@ -1144,14 +1156,8 @@ TEST_CASE("The sparse path is refused, with the software path drawn, for pages t
     REQUIRE(test::sharedDevice().info().sparseTexture);
     const renderer::SparsePageSize page = test::sharedDevice().sparsePageSize(renderer::TextureFormat::RGBA8);
     REQUIRE(page.width > 16);
-    VirtualTextureGlobeOptions options = procedural(64, placePattern, {}, page.width / 2);
-    options.virtualTexture.sparse = true;
     std::vector<std::string> warnings;
-    options.onWarning = [&](const std::string& message) { warnings.push_back(message); };
-    Scene scene(kEarth);
-    scene.add(std::make_shared<VirtualTextureGlobe>(kEarth, options));
-    placeCamera(scene, Geodetic3D::fromDegrees(8.0, 44.0, 1500000.0), 0.0, -70.0);
-    const RenderedFrame frame = renderUntilTilesConverge(scene, 160, 90, 100);
+    const RenderedFrame frame = convergedAskingForSparse(page.width / 2, warnings);
     INFO(frame.statistics.toText());
     CHECK(frame.statistics.virtualTexture->converged);
     CHECK_FALSE(frame.statistics.virtualTexture->sparse);

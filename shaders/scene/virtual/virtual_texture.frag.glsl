@@ -215,7 +215,7 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
 float vtSparseLod(vec2 tileCoordinates, float lod)
 {
     PagePosition at = vtPagePosition(u_layout.x, tileCoordinates);
-    ivec2 size = textureSize(og_texture2, 0);
+    vec2 size = vec2(textureSize(og_texture2, 0));
     float shown = max(lod, vtLodClamp(tileCoordinates, lod));
     for (int pass = 0; pass < u_layout.x; ++pass) {
         float level = max(floor(shown), 0.0);
@@ -223,14 +223,17 @@ float vtSparseLod(vec2 tileCoordinates, float lod)
             break;
         }
         float reach = vtPowerOfTwo(int(level) + 1) / float(u_layout.y); // in pages of the finest level
-        float resident = 0.0;
-        for (int corner = 0; corner < 4; ++corner) {
-            vec2 offset = vec2((corner & 1) == 0 ? -reach : reach, (corner & 2) == 0 ? -reach : reach);
-            ivec2 page = at.page + ivec2(floor(at.inPage + offset));
-            page.x = (page.x + size.x) % size.x; // the antimeridian wraps, as the sampler does
-            page.y = clamp(page.y, 0, size.y - 1); // beyond a pole the sampler clamps
-            resident = max(resident, texelFetch(og_texture2, page, 0).r);
-        }
+        // The square's corners lie on the point's page or the next ones, -1, 0 or +1 away a side:
+        // one gather reads the 2 x 2 pages from the lower corner's (the sampler wraps across the
+        // antimeridian and clamps beyond a pole, as the sparse texture's does), of which the
+        // corners' are kept.
+        vec2 low = floor(at.inPage - reach);
+        vec2 high = floor(at.inPage + reach);
+        vec4 pages = textureGather(og_texture2, (vec2(at.page) + low + 1.0) / size, 0);
+        // w: the lower corner's page, z: east of it, x: north of it, y: north-east.
+        float wide = step(low.x + 0.5, high.x); // 1 where the square reaches the next page east
+        float tall = step(low.y + 0.5, high.y);
+        float resident = max(max(pages.w, pages.z * wide), max(pages.x * tall, pages.y * wide * tall));
         if (resident <= level) {
             break;
         }
