@@ -131,4 +131,31 @@ void PageTable::clearDirty() noexcept
     std::fill(_dirty.begin(), _dirty.end(), std::nullopt);
 }
 
+PageRectangle packResidencyNeighbours(std::span<glm::vec4> texels, std::uint32_t width, std::uint32_t height,
+                                      const PageRectangle& changed)
+{
+    assert(texels.size() == static_cast<std::size_t>(width) * height);
+    const bool wraps = changed.x0 == 0 || changed.x1 == width;
+    const PageRectangle grown{wraps ? 0 : changed.x0 - 1, changed.y0 > 0 ? changed.y0 - 1 : 0, wraps ? width : changed.x1 + 1,
+                              std::min(changed.y1 + 1, height)};
+    const auto w = static_cast<int>(width), h = static_cast<int>(height);
+    auto resident = [&](std::uint32_t x, std::uint32_t y, int dx, int dy) {
+        const int column = (static_cast<int>(x) + dx + w) % w;
+        const int row = std::clamp(static_cast<int>(y) + dy, 0, h - 1);
+        return static_cast<std::uint32_t>(texels[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(column)].r);
+    };
+    for (std::uint32_t y = grown.y0; y < grown.y1; ++y) {
+        for (std::uint32_t x = grown.x0; x < grown.x1; ++x) {
+            // 24 bits a channel at most: integers exact in a float.
+            const std::uint32_t sides = resident(x, y, 1, 0) | resident(x, y, -1, 0) << 4 | resident(x, y, 0, 1) << 8 |
+                                        resident(x, y, 0, -1) << 12 | resident(x, y, 1, 1) << 16 | resident(x, y, -1, 1) << 20;
+            const std::uint32_t corners = resident(x, y, 1, -1) | resident(x, y, -1, -1) << 4;
+            glm::vec4& texel = texels[static_cast<std::size_t>(y) * width + x];
+            texel.b = static_cast<float>(sides);
+            texel.a = static_cast<float>(corners);
+        }
+    }
+    return grown;
+}
+
 } // namespace orbis::scene

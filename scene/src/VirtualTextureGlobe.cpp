@@ -305,8 +305,10 @@ struct VirtualTextureGlobe::Impl {
     std::optional<renderer::Texture2D> pageTableTexture;
     std::optional<renderer::Texture2D> lodClamp;
     /// Per page of the finest level: the coarsest level of detail its resident pages allow, and the
-    /// same where a page the view asks for is still missing there (else none): see vtLodClamp.
-    std::vector<glm::vec2> clampValues;
+    /// same where a page the view asks for is still missing there (else none): see vtLodClamp. On
+    /// the sparse path also its eight neighbours' first, packed (packResidencyNeighbours).
+    std::vector<glm::vec4> clampValues;
+    int clampChannels = 2; ///< in the LOD clamp texture: RG32F, RGBA32F on the sparse path
     std::vector<std::uint8_t> waiting;               ///< finest pages under a page asked for, not resident
     std::vector<PageRectangle> waitingFootprints;    ///< those pages' extents at the finest level
     std::optional<renderer::Sampler> physicalSampler;
@@ -353,7 +355,7 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
     if (pageTableTexture) {
         bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 8;
     }
-    bytes += clampValues.size() * sizeof(glm::vec2);
+    bytes += clampValues.size() * sizeof(float) * static_cast<std::size_t>(clampChannels);
     if (feedbackTarget) {
         // Colour alone (the pass casts rays: no depth), and the pixel buffers in flight or spare.
         bytes += static_cast<std::size_t>(feedbackTarget->width()) * feedbackTarget->height() * 4;
@@ -414,8 +416,13 @@ bool VirtualTextureGlobe::Impl::createSparseTexture(renderer::Device& device)
     const int height = static_cast<int>(layout.texelsY(layout.finestLevel));
     const int finest = static_cast<int>(layout.finestLevel);
     std::string why;
-    if (!info.sparseTexture || !info.hasExtension("GL_ARB_texture_gather")) {
-        why = "the device lacks GL_ARB_sparse_texture" + std::string(info.sparseTexture ? " with GL_ARB_texture_gather" : "");
+    if (!info.sparseTexture) {
+        why = "the device lacks GL_ARB_sparse_texture";
+    } else if ((1 << finest) >= layout.pageSize) {
+        // vtSparseLod: the square the taps reach (up to 2^finest texels of the finest level from
+        // the point) must stay within a page's neighbours.
+        why = "pages of " + std::to_string(layout.pageSize) + " texels are too small for a finest level " +
+              std::to_string(finest) + " deep (more than 2^" + std::to_string(finest) + " texels are needed)";
     } else if (width > info.maxSparseTextureSize) {
         why = "its finest level, " + std::to_string(width) + " x " + std::to_string(height) +
               " texels, is beyond the device's " + std::to_string(info.maxSparseTextureSize) + " for a sparse texture";
@@ -466,9 +473,11 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     }
     pageTableTexture = device.createTexture2D(
         {static_cast<int>(tableSize.x), static_cast<int>(tableSize.y), renderer::TextureFormat::RG32F, false});
-    lodClamp = device.createTexture2D(
-        {static_cast<int>(pagesX), static_cast<int>(pagesY), renderer::TextureFormat::RG32F, false});
-    clampValues.assign(static_cast<std::size_t>(pagesX) * pagesY, glm::vec2(static_cast<float>(layout.finestLevel), kNoClamp));
+    clampChannels = sparse ? 4 : 2;
+    lodClamp = device.createTexture2D({static_cast<int>(pagesX), static_cast<int>(pagesY),
+                                       sparse ? renderer::TextureFormat::RGBA32F : renderer::TextureFormat::RG32F, false});
+    clampValues.assign(static_cast<std::size_t>(pagesX) * pagesY,
+                       glm::vec4(static_cast<float>(layout.finestLevel), kNoClamp, 0.0f, 0.0f));
     waiting.assign(static_cast<std::size_t>(pagesX) * pagesY, 0);
     SamplerDescription linear;
     linear.maximumAnisotropy = options->virtualTexture.maximumAnisotropy;
@@ -482,7 +491,6 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     SamplerDescription point;
     point.minificationFilter = TextureMinificationFilter::NearestMipmapNearest;
     point.magnificationFilter = TextureMagnificationFilter::Nearest;
-    point.wrapS = TextureWrap::Repeat; // the sparse path's gather of the LOD clamp wraps at the antimeridian
     pointSampler = device.createSampler(point);
 
     // The coarsest level, here and now: every pixel of the first frame has a page; and the mip
@@ -662,22 +670,32 @@ bool VirtualTextureGlobe::Impl::updateLodClamp()
         }
     }
     const std::span<const PageTableEntry> entries = pageTable.level(finest);
-    std::vector<glm::vec2> region;
-    region.reserve(static_cast<std::size_t>(dirty->x1 - dirty->x0) * (dirty->y1 - dirty->y0));
     for (std::uint32_t y = dirty->y0; y < dirty->y1; ++y) {
         for (std::uint32_t x = dirty->x0; x < dirty->x1; ++x) {
             const std::size_t at = static_cast<std::size_t>(y) * pagesX + x;
             const PageTableEntry& entry = entries[at];
             const float own = (entry.flags & PageTableEntry::kValid) ? static_cast<float>(finest - entry.level)
                                                                       : static_cast<float>(finest);
-            clampValues[at] = {own, waiting[at] ? own : kNoClamp};
-            region.push_back(clampValues[at]);
+            clampValues[at].r = own;
+            clampValues[at].g = waiting[at] ? own : kNoClamp;
+        }
+    }
+    PageRectangle sent = *dirty;
+    if (sparse) {
+        sent = packResidencyNeighbours(clampValues, pagesX, VirtualTextureLayout::pagesY(finest), sent);
+    }
+    std::vector<float> region;
+    region.reserve(static_cast<std::size_t>(sent.x1 - sent.x0) * (sent.y1 - sent.y0) * clampChannels);
+    for (std::uint32_t y = sent.y0; y < sent.y1; ++y) {
+        for (std::uint32_t x = sent.x0; x < sent.x1; ++x) {
+            const glm::vec4& value = clampValues[static_cast<std::size_t>(y) * pagesX + x];
+            region.insert(region.end(), &value.r, &value.r + clampChannels);
         }
     }
     lodClamp->copyFromSystemMemory(std::as_bytes(std::span(region)),
-                                   {static_cast<int>(dirty->x0), static_cast<int>(dirty->y0),
-                                    static_cast<int>(dirty->x1 - dirty->x0), static_cast<int>(dirty->y1 - dirty->y0)});
-    statistics.uploadedBytes += region.size() * sizeof(glm::vec2);
+                                   {static_cast<int>(sent.x0), static_cast<int>(sent.y0), static_cast<int>(sent.x1 - sent.x0),
+                                    static_cast<int>(sent.y1 - sent.y0)});
+    statistics.uploadedBytes += region.size() * sizeof(float);
     return true;
 }
 
@@ -864,7 +882,6 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     }
     if (sparse) {
         description.defines.push_back({"VT_SPARSE"});
-        description.extensions.push_back("GL_ARB_texture_gather"); // vtSparseLod
     }
     if (!feedback && options->style.adjustsColors()) {
         description.defines.push_back({"COLOR_ADJUSTMENT"});

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <map>
 #include <random>
 
@@ -230,4 +231,58 @@ TEST_CASE("The texels of the dirty rectangles keep a copy of the page table equa
     fresh.markMissing({2, 4, 1});
     fresh.texels(2, {4, 1, 5, 2}, texel);
     CHECK(texel[0] == encoded(7, 1, 1, PageTableEntry::kValid | PageTableEntry::kMissing));
+}
+
+TEST_CASE("Each page's neighbours' resident levels are packed beside its own, kept true as reds change",
+          "[scene][virtual]")
+{
+    const std::uint32_t width = 16, height = 8;
+    std::mt19937 random(7);
+    std::uniform_int_distribution<int> level(0, 12);
+    std::vector<glm::vec4> texels(width * height);
+    for (glm::vec4& texel : texels) {
+        texel.r = static_cast<float>(level(random));
+    }
+    CHECK(packResidencyNeighbours(texels, width, height, {0, 0, width, height}) == PageRectangle{0, 0, width, height});
+    // Page (x, y)'s neighbour dx, dy from scratch: the antimeridian wraps, a pole repeats the row.
+    auto red = [&](int x, int y) {
+        const int column = (x + static_cast<int>(width)) % static_cast<int>(width);
+        const int row = std::clamp(y, 0, static_cast<int>(height) - 1);
+        return static_cast<std::uint32_t>(texels[static_cast<std::size_t>(row) * width + column].r);
+    };
+    auto checkAll = [&]() {
+        for (int y = 0; y < static_cast<int>(height); ++y) {
+            for (int x = 0; x < static_cast<int>(width); ++x) {
+                const glm::vec4& texel = texels[static_cast<std::size_t>(y) * width + x];
+                const auto sides = static_cast<std::uint32_t>(texel.b);
+                const auto corners = static_cast<std::uint32_t>(texel.a);
+                INFO("page " << x << ", " << y);
+                REQUIRE((sides & 15) == red(x + 1, y));
+                REQUIRE(((sides >> 4) & 15) == red(x - 1, y));
+                REQUIRE(((sides >> 8) & 15) == red(x, y + 1));
+                REQUIRE(((sides >> 12) & 15) == red(x, y - 1));
+                REQUIRE(((sides >> 16) & 15) == red(x + 1, y + 1));
+                REQUIRE(((sides >> 20) & 15) == red(x - 1, y + 1));
+                REQUIRE((corners & 15) == red(x + 1, y - 1));
+                REQUIRE(((corners >> 4) & 15) == red(x - 1, y - 1));
+            }
+        }
+    };
+    checkAll();
+    // Reds changed in a rectangle, and only its repacking asked for: every page stays true.
+    std::uniform_int_distribution<std::uint32_t> column(0, width - 1), row(0, height - 1);
+    for (int round = 0; round < 200; ++round) {
+        std::uint32_t x0 = column(random), x1 = column(random), y0 = row(random), y1 = row(random);
+        const PageRectangle changed{std::min(x0, x1), std::min(y0, y1), std::max(x0, x1) + 1, std::max(y0, y1) + 1};
+        for (std::uint32_t y = changed.y0; y < changed.y1; ++y) {
+            for (std::uint32_t x = changed.x0; x < changed.x1; ++x) {
+                texels[y * width + x].r = static_cast<float>(level(random));
+            }
+        }
+        const PageRectangle repacked = packResidencyNeighbours(texels, width, height, changed);
+        INFO("round " << round);
+        CHECK(repacked.x0 <= changed.x0);
+        CHECK(repacked.x1 >= changed.x1);
+        checkAll();
+    }
 }

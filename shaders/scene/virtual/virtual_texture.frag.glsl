@@ -205,17 +205,20 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
 #ifdef VT_SPARSE
 // The level of detail a point of the sparse texture may be read at: the one asked for, clamped
 // by the LOD clamp (vtLodClamp), then raised until every bilinear tap of the two levels blended
-// lies on a resident page. The taps reach at most a texel of the coarser level from the point, so
-// the four corners of that square are checked, each by the resident level of its page of the
-// finest level (the clamp's red channel: the finest resident there, in levels above the finest):
-// a square smaller than a page lies on at most two pages a side, each holding a corner.
+// lies on a resident page. The taps reach at most a texel of the coarser level from the point: a
+// square smaller than a page (the CPU makes sure), so it lies on the point's page of the finest
+// level and those of its eight neighbours it reaches into. The clamp's texel of the point's page
+// carries the finest level resident on each of them (red: its own; blue and alpha: its
+// neighbours', 4 bits each: packResidencyNeighbours, PageTable.h), so no other texel is read.
 // Residency is closed under ancestors (a page is put in after its parent, and no page with a
-// resident child is evicted), so a corner resident at level m is resident at every coarser one.
+// resident child is evicted), so a page resident at level m is resident at every coarser one.
 // Level 0 and the mipmap levels below it are always resident.
 float vtSparseLod(vec2 tileCoordinates, float lod)
 {
     PagePosition at = vtPagePosition(u_layout.x, tileCoordinates);
-    vec2 size = vec2(textureSize(og_texture2, 0));
+    vec4 own = texelFetch(og_texture2, at.page, 0);
+    int sides = int(own.b);   // east, west, north, south, north-east, north-west, from bit 0
+    int corners = int(own.a); // south-east, south-west
     float shown = max(lod, vtLodClamp(tileCoordinates, lod));
     for (int pass = 0; pass < u_layout.x; ++pass) {
         float level = max(floor(shown), 0.0);
@@ -223,17 +226,19 @@ float vtSparseLod(vec2 tileCoordinates, float lod)
             break;
         }
         float reach = vtPowerOfTwo(int(level) + 1) / float(u_layout.y); // in pages of the finest level
-        // The square's corners lie on the point's page or the next ones, -1, 0 or +1 away a side:
-        // one gather reads the 2 x 2 pages from the lower corner's (the sampler wraps across the
-        // antimeridian and clamps beyond a pole, as the sparse texture's does), of which the
-        // corners' are kept.
-        vec2 low = floor(at.inPage - reach);
-        vec2 high = floor(at.inPage + reach);
-        vec4 pages = textureGather(og_texture2, (vec2(at.page) + low + 1.0) / size, 0);
-        // w: the lower corner's page, z: east of it, x: north of it, y: north-east.
-        float wide = step(low.x + 0.5, high.x); // 1 where the square reaches the next page east
-        float tall = step(low.y + 0.5, high.y);
-        float resident = max(max(pages.w, pages.z * wide), max(pages.x * tall, pages.y * wide * tall));
+        bool east = at.inPage.x + reach >= 1.0;
+        bool west = at.inPage.x - reach < 0.0;
+        bool north = at.inPage.y + reach >= 1.0;
+        bool south = at.inPage.y - reach < 0.0;
+        float resident = own.r;
+        resident = max(resident, east ? float(sides & 15) : 0.0);
+        resident = max(resident, west ? float((sides >> 4) & 15) : 0.0);
+        resident = max(resident, north ? float((sides >> 8) & 15) : 0.0);
+        resident = max(resident, south ? float((sides >> 12) & 15) : 0.0);
+        resident = max(resident, north && east ? float((sides >> 16) & 15) : 0.0);
+        resident = max(resident, north && west ? float((sides >> 20) & 15) : 0.0);
+        resident = max(resident, south && east ? float(corners & 15) : 0.0);
+        resident = max(resident, south && west ? float((corners >> 4) & 15) : 0.0);
         if (resident <= level) {
             break;
         }

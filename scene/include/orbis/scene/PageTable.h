@@ -2,6 +2,8 @@
 
 #include <orbis/core/VirtualTextureLayout.h>
 
+#include <glm/vec4.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -90,5 +92,16 @@ private:
     std::vector<std::optional<PageRectangle>> _dirty;
     std::size_t _mapped = 0;
 };
+
+/// The sparse path's LOD clamp (VirtualTextureGlobe, vtSparseLod): for a level of pages, each
+/// texel's red the finest level resident there in levels above the finest (0..12), and blue and
+/// alpha its eight neighbours' reds packed 4 bits each, so that the shader learns which levels the
+/// pages around a point hold from the point's own texel: blue east, west, north, south,
+/// north-east, north-west from bit 0; alpha south-east, south-west. Rows from the south; the
+/// antimeridian wraps; beyond a pole the row itself (as a sampler clamps). Repacks the texels whose
+/// neighbours lie in `changed`, whose reds changed, and returns the rectangle repacked: `changed`
+/// grown by a texel, across the whole width where it reaches the antimeridian.
+PageRectangle packResidencyNeighbours(std::span<glm::vec4> texels, std::uint32_t width, std::uint32_t height,
+                                      const PageRectangle& changed);
 
 } // namespace orbis::scene
