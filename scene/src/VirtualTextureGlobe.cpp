@@ -306,7 +306,7 @@ struct VirtualTextureGlobe::Impl {
     std::optional<renderer::Texture2D> lodClamp;
     /// Per page of the finest level: the coarsest level of detail its resident pages allow, and the
     /// same where a page the view asks for is still missing there (else none): see vtLodClamp. On
-    /// the sparse path also its eight neighbours' first, packed (packResidencyNeighbours).
+    /// the sparse path also its eight neighbours' reds, packed (packResidencyNeighbours).
     std::vector<glm::vec4> clampValues;
     int clampChannels = 2; ///< in the LOD clamp texture: RG32F, RGBA32F on the sparse path
     std::vector<std::uint8_t> waiting;               ///< finest pages under a page asked for, not resident
@@ -342,8 +342,8 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
 {
     std::size_t bytes = 0;
     if (sparse) {
-        // The pages committed, and level 0's mipmap levels below it (the tail: all but the
-        // smallest of them rounded up to whole sparse pages by the driver).
+        // The pages committed, and level 0's mipmap levels below it, counted in texels (the
+        // driver rounds the smallest up to a whole sparse page).
         const std::size_t page = static_cast<std::size_t>(layout.pageSize) * layout.pageSize * 4;
         bytes += cache->size() * page;
         for (int t = 1; t <= layout.tailLevels(); ++t) {

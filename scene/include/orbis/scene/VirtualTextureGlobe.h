@@ -65,7 +65,8 @@ struct VirtualTextureOptions {
     /// arrives and released when evicted (physicalPages then caps the pages committed), read with
     /// the hardware's filtering across pages: no border, no page-table translation. Needs
     /// GL_ARB_sparse_texture, a finest level within the device's sparse texture size and pages of
-    /// whole sparse pages; otherwise the software path, with a warning saying why. Filters with
+    /// whole sparse pages wider than 2^(finest level) texels; otherwise the software path, with a
+    /// warning saying why. Filters with
     /// textureLod (trilinear or the nearest level): maximumAnisotropy must be 1.
     bool sparse = false;
 };

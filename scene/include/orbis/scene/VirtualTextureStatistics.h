@@ -33,7 +33,10 @@ struct VirtualTextureStatistics {
     /// the configured bias while the view needs more pages than the physical texture holds.
     double lodBias = 0.0;
     bool lodBiasRaised = false;      ///< the dynamic bias is above the configured one
-    std::size_t gpuBytes = 0;        ///< physical texture, page table, LOD clamp, feedback buffers: fixed
+    /// Physical texture, page table, LOD clamp, feedback buffers: fixed. On the sparse path the
+    /// pages committed (at most physicalPages) and the levels below level 0 in place of the
+    /// physical texture.
+    std::size_t gpuBytes = 0;
     /// Tiles with rows drawn with the mip tail's lookup compiled in: the rows with pixels that may
     /// be coarser than level 0 (near the horizon, a pole, or from afar); the others leave it out.
     std::size_t tilesWithMipTail = 0;
