@@ -33,4 +33,6 @@ else
 fi
 
 # The sparse-texture path's tests run on a newer Mesa, unpacked in the checkout (not installed).
-"$(dirname "$0")/install-sparse-mesa.sh"
+# Without the network the build goes on; those tests then fail, saying what is missing.
+"$(dirname "$0")/install-sparse-mesa.sh" ||
+  echo "install-deps: warning: the sparse-texture tests' Mesa could not be fetched; ctest -L sparse fails until scripts/install-sparse-mesa.sh succeeds" >&2
