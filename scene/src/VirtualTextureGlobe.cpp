@@ -308,7 +308,8 @@ struct VirtualTextureGlobe::Impl {
     /// same where a page the view asks for is still missing there (else none): see vtLodClamp. On
     /// the sparse path also its eight neighbours' reds, packed (packResidencyNeighbours).
     std::vector<glm::vec4> clampValues;
-    int clampChannels = 2; ///< in the LOD clamp texture: RG32F, RGBA32F on the sparse path
+    /// Channels of the LOD clamp texture: RG32F, RGBA32F on the sparse path.
+    int clampChannels() const noexcept { return sparse ? 4 : 2; }
     std::vector<std::uint8_t> waiting;               ///< finest pages under a page asked for, not resident
     std::vector<PageRectangle> waitingFootprints;    ///< those pages' extents at the finest level
     std::optional<renderer::Sampler> physicalSampler;
@@ -355,7 +356,7 @@ std::size_t VirtualTextureGlobe::Impl::gpuBytes() const noexcept
     if (pageTableTexture) {
         bytes += static_cast<std::size_t>(pageTableTexture->width()) * pageTableTexture->height() * 8;
     }
-    bytes += clampValues.size() * sizeof(float) * static_cast<std::size_t>(clampChannels);
+    bytes += clampValues.size() * sizeof(float) * static_cast<std::size_t>(clampChannels());
     if (feedbackTarget) {
         // Colour alone (the pass casts rays: no depth), and the pixel buffers in flight or spare.
         bytes += static_cast<std::size_t>(feedbackTarget->width()) * feedbackTarget->height() * 4;
@@ -473,7 +474,6 @@ void VirtualTextureGlobe::Impl::start(FrameState& frameState)
     }
     pageTableTexture = device.createTexture2D(
         {static_cast<int>(tableSize.x), static_cast<int>(tableSize.y), renderer::TextureFormat::RG32F, false});
-    clampChannels = sparse ? 4 : 2;
     lodClamp = device.createTexture2D({static_cast<int>(pagesX), static_cast<int>(pagesY),
                                        sparse ? renderer::TextureFormat::RGBA32F : renderer::TextureFormat::RG32F, false});
     clampValues.assign(static_cast<std::size_t>(pagesX) * pagesY,
@@ -685,11 +685,12 @@ bool VirtualTextureGlobe::Impl::updateLodClamp()
         sent = packResidencyNeighbours(clampValues, pagesX, VirtualTextureLayout::pagesY(finest), sent);
     }
     std::vector<float> region;
-    region.reserve(static_cast<std::size_t>(sent.x1 - sent.x0) * (sent.y1 - sent.y0) * clampChannels);
+    const int channels = clampChannels();
+    region.reserve(static_cast<std::size_t>(sent.x1 - sent.x0) * (sent.y1 - sent.y0) * channels);
     for (std::uint32_t y = sent.y0; y < sent.y1; ++y) {
         for (std::uint32_t x = sent.x0; x < sent.x1; ++x) {
             const glm::vec4& value = clampValues[static_cast<std::size_t>(y) * pagesX + x];
-            region.insert(region.end(), &value.r, &value.r + clampChannels);
+            region.insert(region.end(), &value.r, &value.r + channels);
         }
     }
     lodClamp->copyFromSystemMemory(std::as_bytes(std::span(region)),
@@ -851,7 +852,7 @@ renderer::ShaderProgram& VirtualTextureGlobe::Impl::program(FrameState& frameSta
     // and reads no texels: the mip tail is the main pass's only, and the level it asks for is
     // the one trilinear filtering would blend from.
     const DepthStrategy strategy = feedback ? DepthStrategy::MultiFrustum : frameState.depthStrategy;
-    const bool mipTail = !feedback && !sparse && levels == PixelLevels::WithMipTail;
+    const bool mipTail = !feedback && levels == PixelLevels::WithMipTail;
     const bool ramp = !waitingFootprints.empty();
     const bool trilinear = feedback ? options->virtualTexture.trilinear : blendsLevels(levels);
     std::shared_ptr<renderer::ShaderProgram>& program = programs[{feedback, strategy, mipTail, ramp, trilinear}];
@@ -1009,9 +1010,13 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
                                                                                      const QuadtreeTile& tile,
                                                                                      const ViewReach& reach) const
 {
-    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
     const SurfaceTile& surface = static_cast<const SurfaceTile&>(*tile.data);
     const TileMesh::IndexLayout indices = TileMesh::indexLayout(options->samplesLog2, *surface.mesh->coarsening, false);
+    if (sparse) {
+        // The hardware filters every pixel, at any level: one program for the whole tile.
+        return {{0, indices.indexCount(), PixelLevels::Blended}};
+    }
+    const GeodeticExtent extent = quadtree.scheme().tileExtent(tile.key);
     // The farthest angle along each row of vertices, from the north: a run of rows reaches its
     // largest on its northern or southern row (along a meridian the angle has its one extreme
     // between the poles at the nearest point, so the farthest is at an end).
@@ -1028,8 +1033,8 @@ std::vector<VirtualTextureGlobe::Impl::TilePart> VirtualTextureGlobe::Impl::tile
         const GeodeticExtent band{extent.west, latitude[south], extent.east, latitude[north]};
         return pixelLevels(frameState, band, std::max(farthest[north], farthest[south]), reach);
     };
-    if (!options->programsPerRow || sparse) {
-        return {{0, indices.indexCount(), rows(0, quads)}}; // the sparse path has one program for all
+    if (!options->programsPerRow) {
+        return {{0, indices.indexCount(), rows(0, quads)}};
     }
     // Each quad row's band spans the tile's width: its levels hold for the ring's quads in it too.
     std::array<PixelLevels, 1 << 7> rowLevels{};
@@ -1365,7 +1370,7 @@ void VirtualTextureGlobe::update(FrameState& frameState, CommandList& commands)
         const std::vector<Impl::TilePart> parts = impl.tileParts(frameState, *tile, reach);
         bool withMipTail = false, blending = false;
         for (const Impl::TilePart& part : parts) {
-            withMipTail = withMipTail || (part.levels == PixelLevels::WithMipTail && !impl.sparse);
+            withMipTail = withMipTail || part.levels == PixelLevels::WithMipTail;
             blending = blending || impl.blendsLevels(part.levels);
         }
         _statistics.tilesWithMipTail += withMipTail ? 1 : 0;

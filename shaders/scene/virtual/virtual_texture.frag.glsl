@@ -173,10 +173,9 @@ float vtLevelOfDetail(vec2 dx, vec2 dy)
 // anywhere: otherwise only the page's own clamp counts.
 const float kRampPixels = 4.0;
 
-float vtLodClamp(vec2 tileCoordinates, float lod)
+// The same from the point's page of the finest level and that page's clamp texel (red, green).
+float vtLodClampAt(PagePosition finest, vec2 own, float lod)
 {
-    PagePosition finest = vtPagePosition(u_layout.x, tileCoordinates);
-    vec2 own = texelFetch(og_texture2, finest.page, 0).rg;
     float allowed = max(own.r, own.g);
 #ifdef VT_LOD_RAMP
     ivec2 size = textureSize(og_texture2, 0);
@@ -202,6 +201,12 @@ float vtLodClamp(vec2 tileCoordinates, float lod)
     return allowed;
 }
 
+float vtLodClamp(vec2 tileCoordinates, float lod)
+{
+    PagePosition finest = vtPagePosition(u_layout.x, tileCoordinates);
+    return vtLodClampAt(finest, texelFetch(og_texture2, finest.page, 0).rg, lod);
+}
+
 #ifdef VT_SPARSE
 // The level of detail a point of the sparse texture may be read at: the one asked for, clamped
 // by the LOD clamp (vtLodClamp), then raised until every bilinear tap of the two levels blended
@@ -219,7 +224,7 @@ float vtSparseLod(vec2 tileCoordinates, float lod)
     vec4 own = texelFetch(og_texture2, at.page, 0);
     int sides = int(own.b);   // east, west, north, south, north-east, north-west, from bit 0
     int corners = int(own.a); // south-east, south-west
-    float shown = max(lod, vtLodClamp(tileCoordinates, lod));
+    float shown = max(lod, vtLodClampAt(at, own.rg, lod));
     for (int pass = 0; pass < u_layout.x; ++pass) {
         float level = max(floor(shown), 0.0);
         if (level >= float(u_layout.x)) {
